@@ -1,0 +1,30 @@
+//! The `moorfret` command line: argument types and one module per command family.
+//! Each command returns `anyhow::Result`; `main` maps errors to exit codes.
+
+use clap::{Parser, Subcommand};
+
+pub mod run;
+
+/// moorfret: fretting fatigue of spiral-strand mooring ropes over a site's long-term sea climate.
+#[derive(Debug, Parser)]
+#[command(name = "moorfret", version, about, long_about = None)]
+pub struct Cli {
+    /// The command to run.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Top-level commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Single runs of one stage for one case, outside any campaign.
+    #[command(subcommand)]
+    Run(run::RunCommand),
+}
+
+/// Execute a parsed command line.
+pub fn execute(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Run(cmd) => run::execute(cmd),
+    }
+}

@@ -1,0 +1,6 @@
+//! # moorfret-orchestrator
+//!
+//! Campaign specifications, planning (scatter diagram → sea-state jobs), the campaign store,
+//! the local worker pool, aggregation, queries, reports, and the `moorfret` command line.
+
+pub mod cli;

@@ -1,0 +1,3 @@
+//! Geometrically exact wire beams: finite rotations and the two-node corotational element.
+
+pub mod rotation;

@@ -1,0 +1,1 @@
+//! contact (module under construction).

@@ -1,0 +1,1 @@
+//! fatigue (module under construction).

@@ -1,0 +1,1 @@
+//! floater (module under construction).

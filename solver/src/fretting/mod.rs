@@ -1,0 +1,1 @@
+//! fretting (module under construction).

@@ -1,0 +1,1 @@
+//! io (module under construction).

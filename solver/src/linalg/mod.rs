@@ -1,0 +1,1 @@
+//! linalg (module under construction).

@@ -1,0 +1,1 @@
+//! Shared sample problems (published reference cases) reused by tests, benchmarks and examples.

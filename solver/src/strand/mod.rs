@@ -1,0 +1,1 @@
+//! strand (module under construction).
