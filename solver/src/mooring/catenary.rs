@@ -1,0 +1,1 @@
+//! Analytical elastic catenary with seabed contact (under construction).
