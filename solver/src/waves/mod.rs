@@ -13,12 +13,16 @@ pub mod dispersion;
 pub mod fft;
 pub mod kinematics;
 pub mod realisation;
+pub mod scatter;
 pub mod series;
 pub mod spectrum;
+pub mod wind;
 
 pub use error::WavesError;
 pub use kinematics::{AiryField, WaveComponent};
 pub use realisation::{IrregularSea, RealisationParams, RegularWave, RepeatPeriod};
+pub use scatter::{ScatterCell, ScatterError, ScatterTable, TotalKind, TotalMismatch};
 pub use sea::{FluidKinematics, SeaKinematics, StillWater};
 pub use series::{PointKinematicsSeries, PointSample, SeriesParams, SeriesStats};
 pub use spectrum::{Jonswap, PeakEnhancement};
+pub use wind::{RotorLoads, RotorTable, WindLaw};
