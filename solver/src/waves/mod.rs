@@ -1,43 +1,28 @@
-//! Sea states: the JONSWAP spectrum (DNV-RP-C205), seeded random realisations, finite-depth
-//! dispersion and Airy kinematics with Wheeler stretching.
+//! Sea states: the JONSWAP spectrum (DNV-RP-C205), finite-depth dispersion, seeded random
+//! realisations, Airy kinematics with Wheeler stretching, precomputed kinematics at fixed points,
+//! steady wind loads on the rotor and the wave scatter diagram of a site.
 //!
 //! Every consumer of water kinematics (Morison loads on lines and floater members) goes through
 //! [`SeaKinematics`], so a still sea, a regular wave or an irregular realisation are
 //! interchangeable.
 
-use nalgebra::Vector3;
+mod error;
+mod sea;
 
-/// Water particle kinematics at one point and instant.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct FluidKinematics {
-    /// Particle velocity (m/s).
-    pub velocity: Vector3<f64>,
-    /// Particle acceleration (m/s²).
-    pub acceleration: Vector3<f64>,
-    /// Dynamic pressure, hydrostatic part excluded (Pa).
-    pub dynamic_pressure_pa: f64,
-}
+pub mod dispersion;
+pub mod fft;
+pub mod kinematics;
+pub mod realisation;
+pub mod scatter;
+pub mod series;
+pub mod spectrum;
+pub mod wind;
 
-/// A wave field that can be sampled anywhere in the water column.
-///
-/// Points above the instantaneous free surface are dry: implementations return zero kinematics
-/// there.
-pub trait SeaKinematics: Sync {
-    /// Kinematics at point `x` (m, global frame) and time `t` (s).
-    fn kinematics(&self, x: &Vector3<f64>, t: f64) -> FluidKinematics;
-    /// Free-surface elevation (m) above still water at horizontal position (x, y) and time t.
-    fn elevation(&self, x: f64, y: f64, t: f64) -> f64;
-}
-
-/// Calm water: no waves, no current.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct StillWater;
-
-impl SeaKinematics for StillWater {
-    fn kinematics(&self, _x: &Vector3<f64>, _t: f64) -> FluidKinematics {
-        FluidKinematics::default()
-    }
-    fn elevation(&self, _x: f64, _y: f64, _t: f64) -> f64 {
-        0.0
-    }
-}
+pub use error::WavesError;
+pub use kinematics::{AiryField, WaveComponent};
+pub use realisation::{IrregularSea, RealisationParams, RegularWave, RepeatPeriod};
+pub use scatter::{ScatterCell, ScatterError, ScatterTable, TotalKind, TotalMismatch};
+pub use sea::{FluidKinematics, SeaKinematics, StillWater};
+pub use series::{PointKinematicsSeries, PointSample, SeriesParams, SeriesStats};
+pub use spectrum::{Jonswap, PeakEnhancement};
+pub use wind::{RotorLoads, RotorTable, WindLaw};

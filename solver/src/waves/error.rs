@@ -1,0 +1,92 @@
+//! Errors of the wave module: rejected parameters (naming the field, the value and the rule it
+//! broke) and numerical failures (with the data needed to reproduce them). All are permanent:
+//! retrying with the same input gives the same error.
+
+use thiserror::Error;
+
+/// Why a wave computation was refused or failed.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum WavesError {
+    /// A parameter is out of its admissible range, e.g. `tp_s must be > 0, got -1`.
+    #[error("{field} must be {rule}, got {value}")]
+    InvalidParameter {
+        /// Name of the offending field (with its unit suffix).
+        field: &'static str,
+        /// The value that was given.
+        value: f64,
+        /// The rule it broke, e.g. `> 0`.
+        rule: &'static str,
+    },
+    /// The dispersion relation did not converge (should not happen for finite positive input).
+    #[error(
+        "dispersion Newton iteration did not converge for omega = {omega_rad_s} rad/s, \
+         depth = {depth_m} m after {iterations} iterations (relative residual {residual})"
+    )]
+    DispersionNotConverged {
+        /// Angular frequency (rad/s).
+        omega_rad_s: f64,
+        /// Water depth (m).
+        depth_m: f64,
+        /// Iterations done.
+        iterations: usize,
+        /// Last relative residual |ω² − g k tanh(kd)| / ω².
+        residual: f64,
+    },
+    /// The frequency band left no wave component on the discrete grid.
+    #[error("no wave component in the band [{omega_min_rad_s}, {omega_max_rad_s}] rad/s with d_omega = {d_omega_rad_s} rad/s")]
+    EmptyBand {
+        /// Lower band edge (rad/s).
+        omega_min_rad_s: f64,
+        /// Upper band edge (rad/s).
+        omega_max_rad_s: f64,
+        /// Grid spacing (rad/s).
+        d_omega_rad_s: f64,
+    },
+    /// Two tables that must have equal lengths do not.
+    #[error("{field}: expected {expected} values, got {got}")]
+    LengthMismatch {
+        /// Name of the offending field.
+        field: &'static str,
+        /// Required length.
+        expected: usize,
+        /// Given length.
+        got: usize,
+    },
+}
+
+/// Check `value > 0` and finite.
+pub(crate) fn positive(field: &'static str, value: f64) -> Result<f64, WavesError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(value)
+    } else {
+        Err(WavesError::InvalidParameter {
+            field,
+            value,
+            rule: "> 0",
+        })
+    }
+}
+
+/// Check `value` finite.
+pub(crate) fn finite(field: &'static str, value: f64) -> Result<f64, WavesError> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(WavesError::InvalidParameter {
+            field,
+            value,
+            rule: "finite",
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn invalid_parameter_message_names_field_rule_and_value() {
+        let e = positive("tp_s", -1.0).unwrap_err();
+        assert_eq!(e.to_string(), "tp_s must be > 0, got -1");
+    }
+}
