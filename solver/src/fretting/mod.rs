@@ -1,1 +1,24 @@
-//! fretting (module under construction).
+//! Fretting statistics of inter-wire contacts (DESIGN §4.5).
+//!
+//! - [`reversals`]: peak / valley extraction with a hysteresis gate;
+//! - [`rainflow`]: batch rainflow counting, ASTM E1049-85 §5.4.4 (half cycles kept) and §5.4.5
+//!   (repeating histories);
+//! - [`streaming`]: the same count one sample at a time with a serialisable state;
+//! - [`cycles`]: per-contact slip cycles with the normal and tangential forces over them;
+//! - [`histogram`]: 2D histograms of cycles (slip amplitude × normal force);
+//!
+//! Units follow the counted history (slip in m, forces in N); indices are zero-based samples.
+
+pub mod cycles;
+pub mod error;
+pub mod histogram;
+pub mod rainflow;
+pub mod reversals;
+pub mod streaming;
+
+pub use cycles::{ContactCycleAccumulator, ContactSample, ForceStats, SlipCycle};
+pub use error::FrettingError;
+pub use histogram::{BinEdges, CycleHistogram, ForceMeasure};
+pub use rainflow::{count_cycles, Cycle, RainflowCounter, RainflowOptions};
+pub use reversals::{extract_reversals, Reversal, ReversalDetector};
+pub use streaming::{SegmentSummary, StreamingRainflow};
