@@ -63,7 +63,6 @@ pub(crate) fn positive(field: &'static str, value: f64) -> Result<f64, FrettingE
 }
 
 /// Checks that `value` is finite and not negative.
-#[allow(dead_code)]
 pub(crate) fn non_negative(field: &'static str, value: f64) -> Result<f64, FrettingError> {
     if value.is_finite() && value >= 0.0 {
         Ok(value)

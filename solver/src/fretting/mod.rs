@@ -6,19 +6,28 @@
 //! - [`streaming`]: the same count one sample at a time with a serialisable state;
 //! - [`cycles`]: per-contact slip cycles with the normal and tangential forces over them;
 //! - [`histogram`]: 2D histograms of cycles (slip amplitude × normal force);
+//! - [`hertz`]: Hertz contact of crossed cylinders (ellipse semi-axes, peak pressure);
+//! - [`indicators`]: fretting regime (Mindlin), Ruiz products, fretting S-N damage.
 //!
 //! Units follow the counted history (slip in m, forces in N); indices are zero-based samples.
 
 pub mod cycles;
 pub mod error;
+pub mod hertz;
 pub mod histogram;
+pub mod indicators;
 pub mod rainflow;
 pub mod reversals;
 pub mod streaming;
 
 pub use cycles::{ContactCycleAccumulator, ContactSample, ForceStats, SlipCycle};
 pub use error::FrettingError;
+pub use hertz::{CrossedCylinders, ElasticMaterial, HertzContact, HertzModel};
 pub use histogram::{BinEdges, CycleHistogram, ForceMeasure};
+pub use indicators::{
+    evaluate_cycle, CycleIndicators, FrettingParams, FrettingRegime, FrettingSnLaw,
+    RegimeCriterion, WireStress,
+};
 pub use rainflow::{count_cycles, Cycle, RainflowCounter, RainflowOptions};
 pub use reversals::{extract_reversals, Reversal, ReversalDetector};
 pub use streaming::{SegmentSummary, StreamingRainflow};
