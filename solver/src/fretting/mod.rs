@@ -1,1 +1,33 @@
-//! fretting (module under construction).
+//! Fretting statistics of inter-wire contacts (DESIGN §4.5).
+//!
+//! - [`reversals`]: peak / valley extraction with a hysteresis gate;
+//! - [`rainflow`]: batch rainflow counting, ASTM E1049-85 §5.4.4 (half cycles kept) and §5.4.5
+//!   (repeating histories);
+//! - [`streaming`]: the same count one sample at a time with a serialisable state;
+//! - [`cycles`]: per-contact slip cycles with the normal and tangential forces over them;
+//! - [`histogram`]: 2D histograms of cycles (slip amplitude × normal force);
+//! - [`hertz`]: Hertz contact of crossed cylinders (ellipse semi-axes, peak pressure);
+//! - [`indicators`]: fretting regime (Mindlin), Ruiz products, fretting S-N damage.
+//!
+//! Units follow the counted history (slip in m, forces in N); indices are zero-based samples.
+
+pub mod cycles;
+pub mod error;
+pub mod hertz;
+pub mod histogram;
+pub mod indicators;
+pub mod rainflow;
+pub mod reversals;
+pub mod streaming;
+
+pub use cycles::{ContactCycleAccumulator, ContactSample, ForceStats, SlipCycle};
+pub use error::FrettingError;
+pub use hertz::{CrossedCylinders, ElasticMaterial, HertzContact, HertzModel};
+pub use histogram::{BinEdges, CycleHistogram, ForceMeasure};
+pub use indicators::{
+    evaluate_cycle, CycleIndicators, FrettingParams, FrettingRegime, FrettingSnLaw,
+    RegimeCriterion, WireStress,
+};
+pub use rainflow::{count_cycles, Cycle, RainflowCounter, RainflowOptions};
+pub use reversals::{extract_reversals, Reversal, ReversalDetector};
+pub use streaming::{SegmentSummary, StreamingRainflow};
