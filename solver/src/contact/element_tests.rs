@@ -1,0 +1,314 @@
+//! Unit tests of the contact element: tangent against central finite differences, force against
+//! the gradient of the gap functions, objectivity, history handling.
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::element::{
+    ContactHistory, ContactPair, ContactStatus, ElementMatrix, ElementVector, NodeKinematics,
+};
+use super::laws::{ContactParameters, NormalLaw, TangentialLaw};
+use crate::beam::rotation::exp_so3;
+
+const R1: f64 = 2.3e-3;
+const R2: f64 = 2.0e-3;
+
+struct Setup {
+    pair: ContactPair,
+    history: ContactHistory,
+    ref1: NodeKinematics,
+    ref2: NodeKinematics,
+}
+
+/// A generic crossed configuration (tangents at ≈ 70°, arbitrary node triads) with nodes at the
+/// closest points of the two axes.
+fn setup(params: &ContactParameters) -> Setup {
+    let lam1 = exp_so3(&Vector3::new(0.3, -0.2, 0.5));
+    let lam2 = exp_so3(&Vector3::new(-0.1, 0.4, 0.2));
+    let tm1 = Vector3::new(1.0, 0.2, -0.3).normalize();
+    let tm2 = Vector3::new(-0.2, 1.0, 0.4).normalize();
+    let (t1, t2) = (lam1 * tm1, lam2 * tm2);
+    let n = t1.cross(&t2).normalize();
+    let x1 = Vector3::new(0.01, -0.02, 0.03);
+    let ref1 = NodeKinematics {
+        position: x1,
+        rotation: lam1,
+    };
+    let ref2 = NodeKinematics {
+        position: x1 + (R1 + R2) * n,
+        rotation: lam2,
+    };
+    let (pair, history) = ContactPair::new(params, R1, R2, &ref1, &tm1, &ref2, &tm2).unwrap();
+    Setup {
+        pair,
+        history,
+        ref1,
+        ref2,
+    }
+}
+
+/// Moves the reference configuration: translations (m) and spatial rotation increments (rad).
+fn moved(node: &NodeKinematics, du: Vector3<f64>, dtheta: Vector3<f64>) -> NodeKinematics {
+    NodeKinematics {
+        position: node.position + du,
+        rotation: exp_so3(&dtheta) * node.rotation,
+    }
+}
+
+/// Perturbs DOF `j` of the pair by `h` (rotations through exp_so3, spatial).
+fn perturbed(
+    a: &NodeKinematics,
+    b: &NodeKinematics,
+    j: usize,
+    h: f64,
+) -> (NodeKinematics, NodeKinematics) {
+    let (mut a, mut b) = (*a, *b);
+    let mut e = Vector3::zeros();
+    e[j % 3] = h;
+    match j / 3 {
+        0 => a.position += e,
+        1 => a.rotation = exp_so3(&e) * a.rotation,
+        2 => b.position += e,
+        _ => b.rotation = exp_so3(&e) * b.rotation,
+    }
+    (a, b)
+}
+
+fn step_size(j: usize) -> f64 {
+    if (j / 3) % 2 == 0 {
+        1e-10
+    } else {
+        1e-7
+    }
+}
+
+fn check_tangent(
+    s: &Setup,
+    h: &ContactHistory,
+    a: &NodeKinematics,
+    b: &NodeKinematics,
+    expect: ContactStatus,
+) {
+    let mut f = ElementVector::zeros();
+    let mut k = ElementMatrix::zeros();
+    let resp = s.pair.residual_and_tangent(h, a, b, &mut f, &mut k);
+    assert_eq!(resp.status, expect);
+    let scale = k.amax();
+    for j in 0..12 {
+        let hj = step_size(j);
+        let (ap, bp) = perturbed(a, b, j, hj);
+        let (am, bm) = perturbed(a, b, j, -hj);
+        let (mut fp, mut fm) = (ElementVector::zeros(), ElementVector::zeros());
+        assert_eq!(s.pair.residual(h, &ap, &bp, &mut fp).status, expect);
+        assert_eq!(s.pair.residual(h, &am, &bm, &mut fm).status, expect);
+        let fd = (fp - fm) / (2.0 * hj);
+        let col = k.column(j);
+        let err = (fd - col).amax();
+        let tol = 1e-6 * col.amax().max(1e-4 * scale);
+        assert!(
+            err <= tol,
+            "column {j}: error {err:.3e} > {tol:.3e}\nK: {col}\nFD: {fd}"
+        );
+    }
+    // The value part of the tangent evaluation equals the plain residual.
+    let mut f2 = ElementVector::zeros();
+    s.pair.residual(h, a, b, &mut f2);
+    assert!((f - f2).amax() <= 1e-12 * f.amax());
+}
+
+fn params(normal: NormalLaw, tangential: TangentialLaw) -> ContactParameters {
+    ContactParameters {
+        normal,
+        tangential,
+        friction_coefficient: 0.3,
+        ..Default::default()
+    }
+}
+
+/// History after one accepted stick step with a tangential offset, then a current configuration
+/// with penetration, tangential motion `slide` and small rotations of both nodes.
+fn loaded(s: &Setup, slide: f64, rot: f64) -> (ContactHistory, NodeKinematics, NodeKinematics) {
+    let n = s.history.normal;
+    let t1 = s.ref1.rotation * Vector3::new(1.0, 0.2, -0.3).normalize();
+    let a0 = moved(
+        &s.ref1,
+        Vector3::new(5e-9, -1e-8, 3e-9),
+        Vector3::new(2e-6, -1e-6, 3e-6),
+    );
+    let b0 = moved(
+        &s.ref2,
+        -8e-6 * n + 1e-8 * t1,
+        Vector3::new(-1e-6, 2e-6, 1e-6),
+    );
+    let mut h = s.history;
+    let mut f = ElementVector::zeros();
+    let r = s.pair.residual(&h, &a0, &b0, &mut f);
+    assert_eq!(r.status, ContactStatus::Stick);
+    h.accept(&r);
+    let dir = (t1 + 0.5 * n.cross(&t1)).normalize();
+    let a = moved(
+        &a0,
+        Vector3::new(3e-8, 1e-8, -2e-8),
+        rot * Vector3::new(1.0, 2.0, -1.0),
+    );
+    let b = moved(
+        &b0,
+        -4e-6 * n + slide * dir,
+        rot * Vector3::new(-2.0, 1.0, 1.5),
+    );
+    (h, a, b)
+}
+
+#[test]
+fn tangent_matches_finite_differences_in_stick_with_penalty_and_elastic_slip() {
+    let s = setup(&params(
+        NormalLaw::Penalty {
+            stiffness_n_per_m: 2e6,
+        },
+        TangentialLaw::ElasticSlip {
+            elastic_slip_m: 1e-4,
+        },
+    ));
+    let (h, a, b) = loaded(&s, 3e-7, 1e-3);
+    check_tangent(&s, &h, &a, &b, ContactStatus::Stick);
+}
+
+#[test]
+fn tangent_matches_finite_differences_in_slip_with_penalty_and_elastic_slip() {
+    let s = setup(&params(
+        NormalLaw::Penalty {
+            stiffness_n_per_m: 2e6,
+        },
+        TangentialLaw::ElasticSlip {
+            elastic_slip_m: 1e-7,
+        },
+    ));
+    let (h, a, b) = loaded(&s, 3e-6, 1e-3);
+    check_tangent(&s, &h, &a, &b, ContactStatus::Slip);
+}
+
+#[test]
+fn tangent_matches_finite_differences_with_hertz_and_mindlin_in_stick_and_slip() {
+    let s = setup(&params(NormalLaw::Hertz, TangentialLaw::Mindlin));
+    let (h, a, b) = loaded(&s, 2e-8, 1e-4);
+    check_tangent(&s, &h, &a, &b, ContactStatus::Stick);
+    let (h, a, b) = loaded(&s, 5e-6, 1e-3);
+    check_tangent(&s, &h, &a, &b, ContactStatus::Slip);
+}
+
+#[test]
+fn internal_force_is_the_gradient_of_the_gap_functions() {
+    let s = setup(&params(
+        NormalLaw::Penalty {
+            stiffness_n_per_m: 2e6,
+        },
+        TangentialLaw::ElasticSlip {
+            elastic_slip_m: 1e-7,
+        },
+    ));
+    let (h, a, b) = loaded(&s, 3e-6, 1e-3);
+    let mut f = ElementVector::zeros();
+    let r = s.pair.residual(&h, &a, &b, &mut f);
+    for j in 0..12 {
+        let hj = step_size(j);
+        let (ap, bp) = perturbed(&a, &b, j, hj);
+        let (am, bm) = perturbed(&a, &b, j, -hj);
+        let (gnp, gtp) = s.pair.gaps(&h, &ap, &bp);
+        let (gnm, gtm) = s.pair.gaps(&h, &am, &bm);
+        let dgn = (gnp - gnm) / (2.0 * hj);
+        let dgt = (gtp - gtm) / (2.0 * hj);
+        let expect = -r.normal_force_n * dgn + r.tangential_force.dot(&dgt);
+        assert!(
+            (f[j] - expect).abs() <= 1e-6 * f.amax(),
+            "dof {j}: {} vs {expect}",
+            f[j]
+        );
+    }
+}
+
+#[test]
+fn rigid_motion_of_a_stuck_pair_rotates_the_forces_with_it() {
+    let s = setup(&params(
+        NormalLaw::Penalty {
+            stiffness_n_per_m: 2e6,
+        },
+        TangentialLaw::ElasticSlip {
+            elastic_slip_m: 1e-4,
+        },
+    ));
+    let (mut h, a, b) = loaded(&s, 3e-7, 1e-3);
+    let mut f = ElementVector::zeros();
+    let r = s.pair.residual(&h, &a, &b, &mut f);
+    assert_eq!(r.status, ContactStatus::Stick);
+    h.accept(&r);
+    // Same configuration, accepted history: same forces, no new slip.
+    let r0 = s.pair.residual(&h, &a, &b, &mut f);
+    assert!((r0.tangential_force - r.tangential_force).norm() <= 1e-12 * r.tangential_force_n);
+    // Large rigid rotation (about 1.2 rad) about a point, plus a translation.
+    let q: Matrix3<f64> = exp_so3(&Vector3::new(0.7, -0.5, 0.8));
+    let c = Vector3::new(0.1, 0.2, -0.3);
+    let rig = |n: &NodeKinematics| NodeKinematics {
+        position: q * n.position + c,
+        rotation: q * n.rotation,
+    };
+    let mut g = ElementVector::zeros();
+    let r1 = s.pair.residual(&h, &rig(&a), &rig(&b), &mut g);
+    assert_eq!(r1.status, ContactStatus::Stick);
+    assert!((r1.normal_force_n - r0.normal_force_n).abs() <= 1e-10 * r0.normal_force_n);
+    assert!((r1.tangential_force - q * r0.tangential_force).norm() <= 1e-9 * r0.tangential_force_n);
+    assert!(
+        r1.slip_increment.norm() <= 1e-15,
+        "{}",
+        r1.slip_increment.norm()
+    );
+    for i in 0..4 {
+        let fi = q * Vector3::new(f[3 * i], f[3 * i + 1], f[3 * i + 2]);
+        let gi = Vector3::new(g[3 * i], g[3 * i + 1], g[3 * i + 2]);
+        assert!(
+            (fi - gi).norm() <= 1e-9 * f.amax(),
+            "node part {i}: {fi} vs {gi}"
+        );
+    }
+}
+
+#[test]
+fn accepted_slip_step_leaves_the_elastic_gap_at_the_regularisation_and_counts_the_sliding() {
+    let ge = 1e-7;
+    let s = setup(&params(
+        NormalLaw::Penalty {
+            stiffness_n_per_m: 2e6,
+        },
+        TangentialLaw::ElasticSlip { elastic_slip_m: ge },
+    ));
+    let (mut h, a, b) = loaded(&s, 3e-6, 1e-3);
+    let mut f = ElementVector::zeros();
+    let r = s.pair.residual(&h, &a, &b, &mut f);
+    assert_eq!(r.status, ContactStatus::Slip);
+    assert!((r.tangential_force_n - 0.3 * r.normal_force_n).abs() <= 1e-12 * r.normal_force_n);
+    let before = h;
+    // Trial evaluations never touch the history.
+    s.pair.residual(&h, &a, &b, &mut f);
+    assert_eq!(h, before);
+    h.accept(&r);
+    let t1 = a.rotation * Vector3::new(1.0, 0.2, -0.3).normalize();
+    let t2 = b.rotation * Vector3::new(-0.2, 1.0, 0.4).normalize();
+    let e = t1 * h.elastic_gap_m[0] + t2 * h.elastic_gap_m[1];
+    assert!((e.norm() - ge).abs() <= 1e-12 * ge);
+    assert!((h.slip_path_m - (r.tangential_gap.norm() - ge)).abs() <= 1e-12 * h.slip_path_m);
+    assert_eq!(h.status, ContactStatus::Slip);
+}
+
+#[test]
+fn separated_nodes_give_no_force_and_reset_the_elastic_gap() {
+    let s = setup(&ContactParameters::default());
+    let b = moved(&s.ref2, 1e-6 * s.history.normal, Vector3::zeros());
+    let mut f = ElementVector::from_element(1.0);
+    let mut k = ElementMatrix::from_element(1.0);
+    let r = s
+        .pair
+        .residual_and_tangent(&s.history, &s.ref1, &b, &mut f, &mut k);
+    assert_eq!(r.status, ContactStatus::Open);
+    assert!((r.normal_gap_m - 1e-6).abs() < 1e-15);
+    assert_eq!(f.amax(), 0.0);
+    assert_eq!(k.amax(), 0.0);
+    assert_eq!(r.next_history.elastic_gap_m, [0.0, 0.0]);
+}

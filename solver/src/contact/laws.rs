@@ -1,0 +1,261 @@
+//! Contact laws and their parameters: normal law (linear penalty or Hertz for crossed cylinders),
+//! tangential law (elastic slip or Mindlin compliance) and Coulomb friction.
+//!
+//! Normal force (compression positive) from the penetration p = −g_N ≥ 0:
+//!   penalty  f_N = ε_N p                  (seed Sec. 2.1; ε_N in N/m),
+//!   Hertz    f_N = K_H p^{3/2}            (K_H from [`super::hertz::CrossedCylinders`]).
+//! Tangential stiffness before sliding, k_T, with the Coulomb limit |f_T| ≤ μ f_N:
+//!   elastic slip  k_T = μ f_N / γ_e       (seed Sec. 2.1: slides once |g_T| = γ_e),
+//!   Mindlin       k_T = 8 G* c(f_N)       (Mindlin 1949, initial stiffness; c ∝ f_N^{1/3}).
+//! Both tangential laws are elastic–perfectly-plastic in the tangential gap with this k_T: the
+//! Mindlin choice gives the physical micro-slip stiffness, not the full Cattaneo–Mindlin
+//! hysteresis.
+
+use serde::{Deserialize, Serialize};
+
+use super::hertz::{contact_modulus, tangential_modulus, CrossedCylinders};
+
+/// Normal contact law.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "law", rename_all = "snake_case", deny_unknown_fields)]
+pub enum NormalLaw {
+    /// Linear penalty f_N = ε_N (−g_N).
+    Penalty {
+        /// Penalty stiffness ε_N (N/m).
+        stiffness_n_per_m: f64,
+    },
+    /// Hertz elliptical contact of crossed cylinders, f_N = K_H (−g_N)^{3/2}.
+    Hertz,
+}
+
+/// Tangential (stick) law before Coulomb sliding.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "law", rename_all = "snake_case", deny_unknown_fields)]
+pub enum TangentialLaw {
+    /// Elastic slip γ_e: k_T = μ f_N / γ_e.
+    ElasticSlip {
+        /// Elastic slip γ_e (m).
+        elastic_slip_m: f64,
+    },
+    /// Mindlin initial compliance: k_T = 8 G* c with c the Hertz equivalent contact radius.
+    Mindlin,
+}
+
+/// Parameters shared by the contacts of a model.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactParameters {
+    /// Normal law.
+    pub normal: NormalLaw,
+    /// Tangential law.
+    pub tangential: TangentialLaw,
+    /// Coulomb friction coefficient μ.
+    pub friction_coefficient: f64,
+    /// Young's modulus of the wires (Pa), used by the Hertz and Mindlin laws.
+    pub young_modulus_pa: f64,
+    /// Poisson's ratio of the wires.
+    pub poisson_ratio: f64,
+}
+
+impl Default for ContactParameters {
+    /// The seed's regularisation for comparison with the analytical solution (Sec. 2.2:
+    /// ε_N = 2e5 N/mm, γ_e = 1e-4 mm), steel wires, μ = 0.12 (seed Sec. 2.4).
+    fn default() -> Self {
+        Self {
+            normal: NormalLaw::Penalty {
+                stiffness_n_per_m: 2e8,
+            },
+            tangential: TangentialLaw::ElasticSlip {
+                elastic_slip_m: 1e-7,
+            },
+            friction_coefficient: 0.12,
+            young_modulus_pa: 210e9,
+            poisson_ratio: 0.3,
+        }
+    }
+}
+
+/// Errors of the contact element.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ContactError {
+    /// A parameter is out of its admissible range.
+    #[error("contact parameter {field} = {value} is invalid: {reason}")]
+    InvalidParameter {
+        /// Field name.
+        field: &'static str,
+        /// Offending value.
+        value: f64,
+        /// Why it is rejected.
+        reason: &'static str,
+    },
+    /// The two wire tangents are (nearly) parallel: the normal t₁ × t₂ is undefined.
+    #[error("wire tangents are nearly parallel (sin of crossing angle {sin_angle:.3e}); the node-to-node normal t1 x t2 is undefined")]
+    ParallelTangents {
+        /// |t₁ × t₂|.
+        sin_angle: f64,
+    },
+    /// The nodes lie in the plane of the tangents: the normal cannot be oriented from wire 1
+    /// to wire 2.
+    #[error("nodes are not separated along the normal ((x2 - x1)·n = {separation_m:.3e} m); cannot orient the contact normal")]
+    UnorientedNormal {
+        /// (x₂ − x₁)·(t₁ × t₂)/|t₁ × t₂|.
+        separation_m: f64,
+    },
+}
+
+impl ContactParameters {
+    /// Checks every field; the error names the field.
+    pub fn validate(&self) -> Result<(), ContactError> {
+        let bad = |field, value, reason| {
+            Err(ContactError::InvalidParameter {
+                field,
+                value,
+                reason,
+            })
+        };
+        if !(self.friction_coefficient >= 0.0 && self.friction_coefficient.is_finite()) {
+            return bad(
+                "friction_coefficient",
+                self.friction_coefficient,
+                "must be finite and >= 0",
+            );
+        }
+        if !(self.young_modulus_pa > 0.0 && self.young_modulus_pa.is_finite()) {
+            return bad(
+                "young_modulus_pa",
+                self.young_modulus_pa,
+                "must be finite and > 0",
+            );
+        }
+        if !(self.poisson_ratio > -1.0 && self.poisson_ratio < 0.5) {
+            return bad("poisson_ratio", self.poisson_ratio, "must lie in (-1, 0.5)");
+        }
+        if let NormalLaw::Penalty { stiffness_n_per_m } = self.normal {
+            if !(stiffness_n_per_m > 0.0 && stiffness_n_per_m.is_finite()) {
+                return bad(
+                    "normal.stiffness_n_per_m",
+                    stiffness_n_per_m,
+                    "must be finite and > 0",
+                );
+            }
+        }
+        if let TangentialLaw::ElasticSlip { elastic_slip_m } = self.tangential {
+            if !(elastic_slip_m > 0.0 && elastic_slip_m.is_finite()) {
+                return bad(
+                    "tangential.elastic_slip_m",
+                    elastic_slip_m,
+                    "must be finite and > 0",
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Normal law resolved for one contact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ResolvedNormal {
+    /// f_N = k p.
+    Penalty(f64),
+    /// f_N = K_H p^{3/2}.
+    Hertz(f64),
+}
+
+/// Tangential law resolved for one contact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ResolvedTangential {
+    /// k_T = μ f_N / γ_e; holds γ_e.
+    ElasticSlip(f64),
+    /// k_T = `coefficient` · f_N^{1/3} (= 8 G* c).
+    Mindlin(f64),
+}
+
+/// The laws of one contact with every geometry-dependent constant computed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ResolvedLaws {
+    /// Normal law.
+    pub normal: ResolvedNormal,
+    /// Tangential law.
+    pub tangential: ResolvedTangential,
+    /// Friction coefficient μ.
+    pub friction_coefficient: f64,
+}
+
+impl ResolvedLaws {
+    /// Resolves `params` for wires of radii `r1`, `r2` (m) crossing at `angle_rad`.
+    pub fn new(
+        params: &ContactParameters,
+        r1: f64,
+        r2: f64,
+        angle_rad: f64,
+    ) -> Result<Self, ContactError> {
+        params.validate()?;
+        let (e, nu) = (params.young_modulus_pa, params.poisson_ratio);
+        let hertz = || {
+            CrossedCylinders::new(r1, r2, angle_rad, contact_modulus(e, nu, e, nu)).ok_or(
+                ContactError::ParallelTangents {
+                    sin_angle: angle_rad.sin().abs(),
+                },
+            )
+        };
+        let normal = match params.normal {
+            NormalLaw::Penalty { stiffness_n_per_m } => ResolvedNormal::Penalty(stiffness_n_per_m),
+            NormalLaw::Hertz => ResolvedNormal::Hertz(hertz()?.force_coefficient),
+        };
+        let tangential = match params.tangential {
+            TangentialLaw::ElasticSlip { elastic_slip_m } => {
+                ResolvedTangential::ElasticSlip(elastic_slip_m)
+            }
+            TangentialLaw::Mindlin => ResolvedTangential::Mindlin(
+                8.0 * tangential_modulus(e, nu, e, nu) * hertz()?.radius_coefficient,
+            ),
+        };
+        Ok(Self {
+            normal,
+            tangential,
+            friction_coefficient: params.friction_coefficient,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn negative_penalty_is_rejected_naming_the_field() {
+        let p = ContactParameters {
+            normal: NormalLaw::Penalty {
+                stiffness_n_per_m: -1.0,
+            },
+            ..Default::default()
+        };
+        match p.validate() {
+            Err(ContactError::InvalidParameter { field, value, .. }) => {
+                assert_eq!(field, "normal.stiffness_n_per_m");
+                assert_eq!(value, -1.0);
+            }
+            other => panic!("unexpected {other:?}"),
+        }
+    }
+
+    #[test]
+    fn parameters_round_trip_through_json() {
+        let p = ContactParameters {
+            normal: NormalLaw::Hertz,
+            tangential: TangentialLaw::Mindlin,
+            ..Default::default()
+        };
+        let s = serde_json::to_string(&p).unwrap();
+        let q: ContactParameters = serde_json::from_str(&s).unwrap();
+        assert_eq!(p, q);
+        let txt = r#"{"normal":{"law":"penalty","stiffness_n_per_m":2e6},"tangential":{"law":"elastic_slip","elastic_slip_m":1e-5},"friction_coefficient":0.5,"young_modulus_pa":210e9,"poisson_ratio":0.3}"#;
+        let r: ContactParameters = serde_json::from_str(txt).unwrap();
+        assert_eq!(
+            r.normal,
+            NormalLaw::Penalty {
+                stiffness_n_per_m: 2e6
+            }
+        );
+    }
+}
