@@ -22,7 +22,7 @@ use nalgebra::{Matrix3, Vector3};
 
 use super::assembly::{assemble, free_residual_max, update_water, StateView};
 use super::error::LineError;
-use super::line::{LineModel, NodeId};
+use super::line::LineModel;
 use super::loads::Coefficients;
 use super::statics::StaticSolution;
 use super::trajectory::FairleadMotion;
@@ -346,6 +346,9 @@ impl<'m> LineIntegrator<'m> {
         let gamma_p = gamma / (beta * h);
         let coef = Coefficients { beta_p, gamma_p };
         let mut iterations = 0;
+        let mut previous_norm = f64::INFINITY;
+        let mut step_fraction = 1.0;
+        let mut backtracks = 0;
         loop {
             let view = StateView {
                 q: &trial.q,
@@ -372,6 +375,22 @@ impl<'m> LineIntegrator<'m> {
                     dof,
                 });
             }
+            // Contact touch-down/lift-off and slack chain make the residual piecewise smooth;
+            // when a correction increases ‖R‖₂ after the first iterations, take half of it back.
+            let norm = free_norm(model, &self.ws.residual);
+            if iterations >= 2 && norm > previous_norm && backtracks < MAX_BACKTRACKS {
+                backtracks += 1;
+                step_fraction *= 0.5;
+                for (i, dq) in self.ws.rhs.iter().enumerate() {
+                    let back = -step_fraction * dq;
+                    trial.q[i] += back;
+                    trial.v[i] += gamma_p * back;
+                    trial.acc[i] += beta_p * back;
+                }
+                continue;
+            }
+            previous_norm = norm;
+            step_fraction = 1.0;
             iterations += 1;
             self.stats.iterations += 1;
             if self
@@ -402,7 +421,14 @@ impl<'m> LineIntegrator<'m> {
     }
 }
 
-/// Node of a DOF, for messages.
-pub fn node_of(model: &LineModel, dof: usize) -> NodeId {
-    model.node_of_dof(dof)
+/// Backtracking halvings allowed per step.
+const MAX_BACKTRACKS: usize = 6;
+
+fn free_norm(model: &LineModel, r: &[f64]) -> f64 {
+    r.iter()
+        .enumerate()
+        .filter(|(i, _)| !model.is_constrained(*i))
+        .map(|(_, x)| x * x)
+        .sum::<f64>()
+        .sqrt()
 }

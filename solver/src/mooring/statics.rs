@@ -4,14 +4,17 @@
 //! Newton's method globalised by pseudo-transient continuation (Kelley & Keyes 1998): the step
 //! solves (K + σ M) Δq = −R, with M the line's mass matrix (added mass included), so a large
 //! shift σ (1/s²) moves the line like an overdamped dynamic step and a small one is Newton.
-//! σ shrinks after full steps that reduce ‖R‖₂ and grows after failed ones; steps are
-//! backtracked on ‖R‖₂. This copes with slack chain (zero stiffness in compression) and with
-//! crude starting shapes, and ends with quadratic convergence once σ reaches zero.
+//! σ shrinks after full steps and grows when the step is not a descent direction or fails the
+//! line search. Without friction or current the static problem is conservative, R = ∇Π, so
+//! steps are backtracked on the potential energy Π (Armijo), or accepted when they reduce ‖R‖₂
+//! (near the solution, where energy differences drown in round-off). This copes with slack chain
+//! (zero stiffness in compression) and with crude starting shapes, and ends with quadratic
+//! convergence once σ reaches zero.
 //! Converged when the largest free residual component is below the force tolerance.
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::assembly::{assemble, free_residual_max, StateView};
+use super::assembly::{assemble, free_residual_max, potential_energy, StateView};
 use super::error::LineError;
 use super::line::LineModel;
 use super::loads::Coefficients;
@@ -163,9 +166,26 @@ pub fn solve_statics(
             continue;
         }
         ws.solve_correction();
+        // Directional derivative of the potential energy along the step (R = ∇Π).
+        let slope: f64 = ws.rhs.iter().zip(&ws.residual).map(|(d, r)| d * r).sum();
+        if !(slope < 0.0) {
+            sigma = (sigma * 4.0).max(1e-3);
+            assemble(
+                model,
+                view(&q, &zeros),
+                &ws_water,
+                still,
+                false,
+                &mut ws.residual,
+                None,
+            );
+            stats.residual_evaluations += 1;
+            continue;
+        }
+        let energy = potential_energy(model, &q);
         let mut alpha = 1.0;
         let mut accepted = false;
-        for _ in 0..4 {
+        for _ in 0..8 {
             for (t, (qi, dq)) in ws.trial_q.iter_mut().zip(q.iter().zip(&ws.rhs)) {
                 *t = qi + alpha * dq;
             }
@@ -180,7 +200,11 @@ pub fn solve_statics(
             );
             stats.residual_evaluations += 1;
             let trial = residual_2norm(model, &ws.residual);
-            if trial.is_finite() && trial < norm {
+            let trial_energy = potential_energy(model, &ws.trial_q);
+            // Armijo decrease of the potential energy, or (near the solution, where energy
+            // differences drown in round-off) a decrease of the residual.
+            if trial.is_finite() && (trial_energy <= energy + 1e-4 * alpha * slope || trial < norm)
+            {
                 norm = trial;
                 accepted = true;
                 break;
