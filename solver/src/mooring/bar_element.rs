@@ -1,0 +1,219 @@
+//! Chain element: a two-node tension-only bar (no bending, 3 DOF per node).
+//!
+//! With d = rⱼ − rᵢ, ℓ = |d|, e = d/ℓ and the engineering strain ε = ℓ/L − 1, the axial force
+//! is N = EA max(ε, 0) (a slack chain carries no compression). Internal forces −N e at node i
+//! and +N e at node j; tangent K = (EA/L) e eᵀ [ε > 0] + (N/ℓ)(I − e eᵀ) in the pattern
+//! [K −K; −K K]. Mass, weight, Morison loads and seabed contact use nodal (trapezoidal)
+//! quadrature, i.e. the lumped-mass discretisation usual for chain, with the bar direction as
+//! the tangent.
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::cable_element::{ElementContext, ElementValues};
+use super::hydro::morison;
+use super::loads::{LocalSystem, PointKinematics, PointLoad};
+use super::seabed::{seabed_energy, seabed_load};
+use crate::waves::FluidKinematics;
+
+/// Number of quadrature points (the nodes) of a bar.
+pub const BAR_POINTS: usize = 2;
+
+/// Residual M q̈ + f_int − f_ext and iteration matrix of a bar.
+pub fn bar_system(
+    ctx: &ElementContext<'_>,
+    x: &ElementValues<2>,
+    water: &[FluidKinematics],
+) -> LocalSystem<2> {
+    let sec = ctx.sec;
+    let l = ctx.length_m;
+    let mut out = LocalSystem::<2>::zero();
+    let d = x.q[1] - x.q[0];
+    let len = d.norm();
+    if len > 0.0 {
+        let e = d / len;
+        let strain = len / l - 1.0;
+        let force = sec.ea_n * strain.max(0.0);
+        let eet = e * e.transpose();
+        let mut kb = (Matrix3::identity() - eet) * (force / len);
+        if strain > 0.0 {
+            kb += eet * (sec.ea_n / l);
+        }
+        out.r[0] -= e * force;
+        out.r[1] += e * force;
+        out.k[0][0] += kb;
+        out.k[1][1] += kb;
+        out.k[0][1] -= kb;
+        out.k[1][0] -= kb;
+    }
+    let w = 0.5 * l;
+    let dn = [-1.0 / l, 1.0 / l];
+    for node in 0..2 {
+        let n = if node == 0 { [1.0, 0.0] } else { [0.0, 1.0] };
+        if ctx.dynamic {
+            out.r[node] += x.a[node] * (w * sec.mass_kg_per_m);
+            let m = w * sec.mass_kg_per_m * ctx.coef.beta_p;
+            for i in 0..3 {
+                out.k[node][node][(i, i)] += m;
+            }
+        }
+        let k = PointKinematics {
+            r: x.q[node],
+            r_x: d / l,
+            v: x.v[node],
+            a: x.a[node],
+        };
+        let mut load = PointLoad::zero();
+        load.f.z = -sec.weight_n_per_m;
+        load.add(&seabed_load(sec, ctx.bed, ctx.depth_m, &k.r, &k.v));
+        if ctx.dynamic {
+            load.add(&morison(sec, &k, &water[node]));
+        }
+        out.add_point_load(&n, &dn, w, &load, &ctx.coef);
+    }
+    out
+}
+
+/// Axial force of a bar (N).
+pub fn bar_tension(ctx_ea_n: f64, l: f64, q: &[Vector3<f64>; 2]) -> f64 {
+    ctx_ea_n * ((q[1] - q[0]).norm() / l - 1.0).max(0.0)
+}
+
+/// Strain energy plus the potential of weight and seabed spring (J).
+pub fn bar_potential(ctx: &ElementContext<'_>, q: &[Vector3<f64>; 2]) -> f64 {
+    let sec = ctx.sec;
+    let l = ctx.length_m;
+    let strain = ((q[1] - q[0]).norm() / l - 1.0).max(0.0);
+    let mut e = 0.5 * sec.ea_n * l * strain * strain;
+    for r in q {
+        e += 0.5 * l * (sec.weight_n_per_m * r.z + seabed_energy(sec, ctx.depth_m, r));
+    }
+    e
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mooring::loads::Coefficients;
+    use crate::mooring::section::Section;
+    use crate::mooring::spec::{Environment, LineTypeSpec, SeabedSpec, SegmentSpec};
+
+    fn chain() -> Section {
+        let lt = LineTypeSpec {
+            mass_kg_per_m: 114.9,
+            submerged_weight_n_per_m: 980.4,
+            axial_stiffness_n: 4.93e8,
+            bending_stiffness_nm2: 0.0,
+            bending_stiffness_min_nm2: None,
+            torsional_stiffness_nm2: None,
+            hydrodynamic_diameter_m: 0.1368,
+            drag_normal: 2.4,
+            drag_tangential: 1.15,
+            added_mass_normal: 1.0,
+            added_mass_tangential: 0.5,
+            minimum_breaking_load_n: None,
+        };
+        let seg = SegmentSpec {
+            name: "c".into(),
+            line_type: "c".into(),
+            length_m: 5.0,
+            elements: 1,
+            extra_mass_kg: None,
+        };
+        let env = Environment {
+            water_depth_m: 30.0,
+            water_density_kg_m3: 1025.0,
+            gravity_m_s2: 9.81,
+            seabed: SeabedSpec::default(),
+        };
+        Section::new(&lt, &seg, &env)
+    }
+
+    #[test]
+    fn bar_iteration_matrix_matches_central_differences_of_the_residual() {
+        let sec = chain();
+        let bed = SeabedSpec {
+            friction_coefficient: 0.5,
+            ..Default::default()
+        };
+        let coef = Coefficients {
+            beta_p: 900.0,
+            gamma_p: 30.0,
+        };
+        let ctx = ElementContext {
+            sec: &sec,
+            length_m: 5.0,
+            bed: &bed,
+            depth_m: 30.0,
+            coef,
+            dynamic: true,
+        };
+        let water = [FluidKinematics {
+            velocity: Vector3::new(0.5, -0.2, 0.1),
+            acceleration: Vector3::new(0.2, 0.1, -0.3),
+            dynamic_pressure_pa: 0.0,
+        }; 2];
+        let x0 = ElementValues {
+            q: [
+                Vector3::new(0.0, 0.0, -29.0),
+                Vector3::new(4.0, 1.0, -30.001 - 3.0 * 0.0),
+            ],
+            v: [
+                Vector3::new(0.1, 0.2, -0.1),
+                Vector3::new(0.02, -0.05, 0.03),
+            ],
+            a: [Vector3::new(0.3, 0.0, 0.1), Vector3::new(-0.2, 0.1, 0.0)],
+        };
+        // Stretch it: put node 1 at 5.01 m from node 0.
+        let mut x0 = x0;
+        let d = (x0.q[1] - x0.q[0]).normalize() * 5.01;
+        x0.q[1] = x0.q[0] + d;
+        let sys = bar_system(&ctx, &x0, &water);
+        let h = 1e-7;
+        let mut worst: f64 = 0.0;
+        for b in 0..2 {
+            for j in 0..3 {
+                let mut xp = x0;
+                let mut xm = x0;
+                xp.q[b][j] += h;
+                xm.q[b][j] -= h;
+                xp.v[b][j] += coef.gamma_p * h;
+                xm.v[b][j] -= coef.gamma_p * h;
+                xp.a[b][j] += coef.beta_p * h;
+                xm.a[b][j] -= coef.beta_p * h;
+                let rp = bar_system(&ctx, &xp, &water);
+                let rm = bar_system(&ctx, &xm, &water);
+                for a in 0..2 {
+                    let col = (rp.r[a] - rm.r[a]) / (2.0 * h);
+                    worst = worst.max((col - sys.k[a][b].column(j)).norm());
+                }
+            }
+        }
+        let scale = sec.ea_n / 5.0;
+        assert!(worst < 1e-7 * scale, "worst column error {worst:e}");
+    }
+
+    #[test]
+    fn compressed_bar_carries_no_force() {
+        let sec = chain();
+        let bed = SeabedSpec::default();
+        let ctx = ElementContext {
+            sec: &sec,
+            length_m: 5.0,
+            bed: &bed,
+            depth_m: 30.0,
+            coef: Coefficients::default(),
+            dynamic: false,
+        };
+        let q = [Vector3::new(0.0, 0.0, -10.0), Vector3::new(4.0, 0.0, -10.0)];
+        assert_eq!(bar_tension(sec.ea_n, 5.0, &q), 0.0);
+        let x = ElementValues {
+            q,
+            v: [Vector3::zeros(); 2],
+            a: [Vector3::zeros(); 2],
+        };
+        let sys = bar_system(&ctx, &x, &[FluidKinematics::default(); 2]);
+        // Only the lumped weight remains: each node carries half of w L.
+        assert!((sys.r[0].z - 0.5 * 5.0 * sec.weight_n_per_m).abs() < 1e-9);
+        assert!(sys.r[0].x.abs() < 1e-12);
+    }
+}

@@ -1,0 +1,434 @@
+//! Implicit time integration of a line by the generalised-α method (Chung & Hulbert 1993) in
+//! the form of Arnold & Brüls (2007), which enforces equilibrium at t_{n+1}:
+//!
+//! R(q_{n+1}, q̇_{n+1}, q̈_{n+1}, t_{n+1}) = 0,
+//! (1 − α_m) a_{n+1} + α_m a_n = (1 − α_f) q̈_{n+1} + α_f q̈_n,
+//! q_{n+1} = q_n + h q̇_n + h² (½ − β) a_n + h² β a_{n+1},
+//! q̇_{n+1} = q̇_n + h (1 − γ) a_n + h γ a_{n+1},
+//!
+//! with α_m = (2ρ∞ − 1)/(ρ∞ + 1), α_f = ρ∞/(ρ∞ + 1), γ = ½ − α_m + α_f, β = ¼ (1 − α_m + α_f)²
+//! (second order, unconditionally stable, high-frequency dissipation set by ρ∞; ρ∞ = 1 gives
+//! the trapezoidal rule). Newton iterations on q_{n+1} use the iteration matrix
+//! S = K + γ' C + β' M with β' = (1 − α_m)/((1 − α_f) β h²) and γ' = γ/(β h), on the banded
+//! system of the line with the fairlead and anchor positions prescribed. A step that does not
+//! converge is retried as 2, 4, … sub-steps; after the allowed halvings the error names the
+//! time, the node with the largest residual and the residual norm.
+//!
+//! After each step the integrator exposes the force of the line on the floater at the fairlead
+//! and the condensed fairlead stiffness of S (what a monolithic floater–line integration with
+//! the same h and ρ∞ needs); the force on the floater changes by −K_c dx.
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::assembly::{assemble, free_residual_max, update_water, StateView};
+use super::error::LineError;
+use super::line::LineModel;
+use super::loads::Coefficients;
+use super::statics::StaticSolution;
+use super::trajectory::FairleadMotion;
+use super::workspace::LineWorkspace;
+use crate::waves::SeaKinematics;
+
+/// Settings of the time integration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DynamicParams {
+    /// Spectral radius at infinite frequency ρ∞ ∈ [0, 1].
+    pub spectral_radius: f64,
+    /// Largest free residual component accepted (N, or N·m for gradients).
+    pub force_tolerance_n: f64,
+    /// Newton iterations per step before the step is cut.
+    pub max_iterations: usize,
+    /// Number of step halvings tried before giving up.
+    pub max_halvings: usize,
+    /// Whether to compute the condensed fairlead stiffness after each step.
+    pub condense_fairlead: bool,
+    /// Relative pivot threshold of the banded factorisation.
+    pub tiny_pivot: f64,
+}
+
+impl Default for DynamicParams {
+    fn default() -> Self {
+        DynamicParams {
+            spectral_radius: 0.85,
+            force_tolerance_n: 1.0,
+            max_iterations: 10,
+            max_halvings: 4,
+            condense_fairlead: true,
+            tiny_pivot: 1e-13,
+        }
+    }
+}
+
+impl DynamicParams {
+    /// Checks the settings; the error names the offending field.
+    pub fn validate(&self) -> Result<(), LineError> {
+        if !(0.0..=1.0).contains(&self.spectral_radius) {
+            return Err(LineError::invalid(
+                "spectral_radius",
+                self.spectral_radius,
+                "must be in [0, 1]",
+            ));
+        }
+        if !(self.force_tolerance_n > 0.0) {
+            return Err(LineError::invalid(
+                "force_tolerance_n",
+                self.force_tolerance_n,
+                "must be > 0",
+            ));
+        }
+        if self.max_iterations == 0 {
+            return Err(LineError::invalid("max_iterations", 0, "must be >= 1"));
+        }
+        Ok(())
+    }
+}
+
+/// Generalised-α constants.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Alpha {
+    am: f64,
+    af: f64,
+    beta: f64,
+    gamma: f64,
+}
+
+impl Alpha {
+    fn new(rho: f64) -> Alpha {
+        let am = (2.0 * rho - 1.0) / (rho + 1.0);
+        let af = rho / (rho + 1.0);
+        let gamma = 0.5 - am + af;
+        let beta = 0.25 * (1.0 - am + af).powi(2);
+        Alpha {
+            am,
+            af,
+            beta,
+            gamma,
+        }
+    }
+}
+
+/// What evolves: positions/gradients, their rates, accelerations and the algorithmic
+/// acceleration of the generalised-α method.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LineState {
+    /// Time (s).
+    pub time_s: f64,
+    /// Positions and gradients.
+    pub q: Vec<f64>,
+    /// Rates.
+    pub v: Vec<f64>,
+    /// Accelerations.
+    pub acc: Vec<f64>,
+    /// Algorithmic accelerations a.
+    pub alg_acc: Vec<f64>,
+}
+
+impl LineState {
+    /// At rest in a static equilibrium at time `time_s`.
+    pub fn at_rest(solution: &StaticSolution, time_s: f64) -> LineState {
+        let n = solution.q.len();
+        LineState {
+            time_s,
+            q: solution.q.clone(),
+            v: vec![0.0; n],
+            acc: vec![0.0; n],
+            alg_acc: vec![0.0; n],
+        }
+    }
+
+    fn copy_from(&mut self, o: &LineState) {
+        self.time_s = o.time_s;
+        self.q.copy_from_slice(&o.q);
+        self.v.copy_from_slice(&o.v);
+        self.acc.copy_from_slice(&o.acc);
+        self.alg_acc.copy_from_slice(&o.alg_acc);
+    }
+}
+
+/// Result of one step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepReport {
+    /// Force of the line on the floater at the fairlead (N).
+    pub fairlead_force_n: Vector3<f64>,
+    /// Condensed fairlead stiffness of the iteration matrix (N/m), if requested.
+    pub fairlead_stiffness_n_per_m: Option<Matrix3<f64>>,
+    /// Newton iterations over all sub-steps.
+    pub iterations: usize,
+    /// Sub-steps used (1 when the step was not cut).
+    pub substeps: usize,
+}
+
+/// Counters over a run.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct DynamicStats {
+    /// Steps taken.
+    pub steps: usize,
+    /// Newton iterations (one factorisation each).
+    pub iterations: usize,
+    /// Residual assemblies.
+    pub assemblies: usize,
+    /// Steps that had to be cut.
+    pub cut_steps: usize,
+}
+
+/// The generalised-α integrator of one line: model, settings, workspace and counters.
+#[derive(Debug)]
+pub struct LineIntegrator<'m> {
+    model: &'m LineModel,
+    params: DynamicParams,
+    alpha: Alpha,
+    ws: LineWorkspace,
+    start: LineState,
+    trial: LineState,
+    stats: DynamicStats,
+}
+
+struct SubstepFailure {
+    residual: f64,
+    dof: usize,
+}
+
+impl<'m> LineIntegrator<'m> {
+    /// Integrator for `model`.
+    pub fn new(model: &'m LineModel, params: DynamicParams) -> Result<Self, LineError> {
+        params.validate()?;
+        let n = model.dof_count();
+        let empty = LineState {
+            time_s: 0.0,
+            q: vec![0.0; n],
+            v: vec![0.0; n],
+            acc: vec![0.0; n],
+            alg_acc: vec![0.0; n],
+        };
+        Ok(LineIntegrator {
+            model,
+            params,
+            alpha: Alpha::new(params.spectral_radius),
+            ws: LineWorkspace::new(model),
+            start: empty.clone(),
+            trial: empty,
+            stats: DynamicStats::default(),
+        })
+    }
+
+    /// Counters so far.
+    pub fn stats(&self) -> DynamicStats {
+        self.stats
+    }
+
+    /// The model.
+    pub fn model(&self) -> &LineModel {
+        self.model
+    }
+
+    /// Advances `state` by `dt_s`, cutting the step when Newton fails.
+    pub fn step(
+        &mut self,
+        state: &mut LineState,
+        dt_s: f64,
+        motion: &dyn FairleadMotion,
+        sea: &dyn SeaKinematics,
+    ) -> Result<StepReport, LineError> {
+        if !(dt_s > 0.0) || state.q.len() != self.model.dof_count() {
+            return Err(LineError::invalid(
+                "dt_s",
+                dt_s,
+                "must be > 0 with a state of this line",
+            ));
+        }
+        self.start.copy_from(state);
+        let t_end = state.time_s + dt_s;
+        let mut last_failure = SubstepFailure {
+            residual: f64::INFINITY,
+            dof: 0,
+        };
+        for halving in 0..=self.params.max_halvings {
+            let substeps = 1usize << halving;
+            let h = dt_s / substeps as f64;
+            state.copy_from(&self.start);
+            let mut iterations = 0;
+            let mut ok = true;
+            for k in 0..substeps {
+                let t1 = if k + 1 == substeps {
+                    t_end
+                } else {
+                    self.start.time_s + h * (k + 1) as f64
+                };
+                match self.substep(state, t1 - state.time_s, motion, sea) {
+                    Ok(it) => iterations += it,
+                    Err(f) => {
+                        last_failure = f;
+                        ok = false;
+                        break;
+                    }
+                }
+            }
+            if ok {
+                self.stats.steps += 1;
+                if halving > 0 {
+                    self.stats.cut_steps += 1;
+                    tracing::debug!(
+                        line = self.model.name(),
+                        t = t_end,
+                        substeps,
+                        "time step cut"
+                    );
+                }
+                let r = &self.ws.residual;
+                let force = -Vector3::new(r[0], r[1], r[2]);
+                let stiffness = if self.params.condense_fairlead {
+                    self.ws
+                        .prepare_and_factorize(self.model, self.params.tiny_pivot)?;
+                    Some(self.ws.condense_fairlead(self.model))
+                } else {
+                    None
+                };
+                return Ok(StepReport {
+                    fairlead_force_n: force,
+                    fairlead_stiffness_n_per_m: stiffness,
+                    iterations,
+                    substeps,
+                });
+            }
+        }
+        state.copy_from(&self.start);
+        Err(LineError::StepDiverged {
+            line: self.model.name().to_string(),
+            time_s: t_end,
+            halvings: self.params.max_halvings,
+            residual_norm: last_failure.residual,
+            node: self.model.node_of_dof(last_failure.dof),
+        })
+    }
+
+    /// One generalised-α step of size h from `state` (modified in place). On success the
+    /// workspace holds the residual and iteration matrix of the converged state.
+    fn substep(
+        &mut self,
+        state: &mut LineState,
+        h: f64,
+        motion: &dyn FairleadMotion,
+        sea: &dyn SeaKinematics,
+    ) -> Result<usize, SubstepFailure> {
+        let Alpha {
+            am,
+            af,
+            beta,
+            gamma,
+        } = self.alpha;
+        let model = self.model;
+        let t1 = state.time_s + h;
+        let trial = &mut self.trial;
+        // Predictor with q̈_{n+1} = q̈_n.
+        for i in 0..state.q.len() {
+            let acc1 = state.acc[i];
+            let a1 = (af * state.acc[i] - am * state.alg_acc[i] + (1.0 - af) * acc1) / (1.0 - am);
+            trial.q[i] =
+                state.q[i] + h * state.v[i] + h * h * ((0.5 - beta) * state.alg_acc[i] + beta * a1);
+            trial.v[i] = state.v[i] + h * ((1.0 - gamma) * state.alg_acc[i] + gamma * a1);
+            trial.acc[i] = acc1;
+        }
+        let m = motion.at(t1);
+        for j in 0..3 {
+            trial.q[j] = m.position_m[j];
+            trial.v[j] = m.velocity_m_s[j];
+            trial.acc[j] = m.acceleration_m_s2[j];
+        }
+        let anchor = model.anchor_dofs();
+        for (j, d) in anchor.enumerate() {
+            trial.q[d] = model.ends().anchor_m[j];
+            trial.v[d] = 0.0;
+            trial.acc[d] = 0.0;
+        }
+        update_water(model, &trial.q, t1, sea, &mut self.ws.water);
+
+        let beta_p = (1.0 - am) / ((1.0 - af) * beta * h * h);
+        let gamma_p = gamma / (beta * h);
+        let coef = Coefficients { beta_p, gamma_p };
+        let mut iterations = 0;
+        let mut previous_norm = f64::INFINITY;
+        let mut step_fraction = 1.0;
+        let mut backtracks = 0;
+        loop {
+            let view = StateView {
+                q: &trial.q,
+                v: &trial.v,
+                a: &trial.acc,
+            };
+            assemble(
+                model,
+                view,
+                &self.ws.water,
+                coef,
+                true,
+                &mut self.ws.residual,
+                Some(&mut self.ws.matrix),
+            );
+            self.stats.assemblies += 1;
+            let (dof, rmax) = free_residual_max(model, &self.ws.residual);
+            if rmax < self.params.force_tolerance_n {
+                break;
+            }
+            if !rmax.is_finite() || iterations >= self.params.max_iterations {
+                return Err(SubstepFailure {
+                    residual: rmax,
+                    dof,
+                });
+            }
+            // Contact touch-down/lift-off and slack chain make the residual piecewise smooth;
+            // when a correction increases ‖R‖₂ after the first iterations, take half of it back.
+            let norm = free_norm(model, &self.ws.residual);
+            if iterations >= 2 && norm > previous_norm && backtracks < MAX_BACKTRACKS {
+                backtracks += 1;
+                step_fraction *= 0.5;
+                for (i, dq) in self.ws.rhs.iter().enumerate() {
+                    let back = -step_fraction * dq;
+                    trial.q[i] += back;
+                    trial.v[i] += gamma_p * back;
+                    trial.acc[i] += beta_p * back;
+                }
+                continue;
+            }
+            previous_norm = norm;
+            step_fraction = 1.0;
+            iterations += 1;
+            self.stats.iterations += 1;
+            if self
+                .ws
+                .prepare_and_factorize(model, self.params.tiny_pivot)
+                .is_err()
+            {
+                return Err(SubstepFailure {
+                    residual: rmax,
+                    dof,
+                });
+            }
+            self.ws.solve_correction();
+            for (i, dq) in self.ws.rhs.iter().enumerate() {
+                trial.q[i] += dq;
+                trial.v[i] += gamma_p * dq;
+                trial.acc[i] += beta_p * dq;
+            }
+        }
+        for i in 0..state.q.len() {
+            trial.alg_acc[i] = (af * state.acc[i] - am * state.alg_acc[i]
+                + (1.0 - af) * trial.acc[i])
+                / (1.0 - am);
+        }
+        trial.time_s = t1;
+        state.copy_from(trial);
+        Ok(iterations)
+    }
+}
+
+/// Backtracking halvings allowed per step.
+const MAX_BACKTRACKS: usize = 6;
+
+fn free_norm(model: &LineModel, r: &[f64]) -> f64 {
+    r.iter()
+        .enumerate()
+        .filter(|(i, _)| !model.is_constrained(*i))
+        .map(|(_, x)| x * x)
+        .sum::<f64>()
+        .sqrt()
+}

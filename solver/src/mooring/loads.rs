@@ -1,0 +1,154 @@
+//! Distributed loads at one quadrature point and their consistent linearisation.
+//!
+//! A load per unit unstretched length f(r, v, a, r') acting at a point interpolated as
+//! r = Σ Nₐ qₐ contributes −∫ Nₐ f dx to the residual R = M q̈ + f_int − f_ext of coefficient a,
+//! and −∫ Nₐ (N_b J + N_b' J_{r'}) dx to the iteration matrix block (a, b), where
+//! J = ∂f/∂r + γ' ∂f/∂v + β' ∂f/∂a is the combination the time integrator asks for
+//! (γ' = ∂v/∂q, β' = ∂q̈/∂q; both zero in statics) and J_{r'} = ∂f/∂r' accounts for
+//! loads that depend on the line direction (drag and added mass split normal / tangential).
+
+use nalgebra::{Matrix3, Vector3};
+
+/// A force per unit length at a point and its partial derivatives.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointLoad {
+    /// Force per unit unstretched length (N/m).
+    pub f: Vector3<f64>,
+    /// ∂f/∂r (N/m²).
+    pub d_r: Matrix3<f64>,
+    /// ∂f/∂v, v the structural velocity (N s/m²).
+    pub d_v: Matrix3<f64>,
+    /// ∂f/∂a, a the structural acceleration (kg/m).
+    pub d_a: Matrix3<f64>,
+    /// ∂f/∂r', r' the gradient of the position along the line (N/m).
+    pub d_rx: Matrix3<f64>,
+}
+
+impl PointLoad {
+    /// No load.
+    pub fn zero() -> PointLoad {
+        PointLoad {
+            f: Vector3::zeros(),
+            d_r: Matrix3::zeros(),
+            d_v: Matrix3::zeros(),
+            d_a: Matrix3::zeros(),
+            d_rx: Matrix3::zeros(),
+        }
+    }
+
+    /// Adds another load at the same point.
+    pub fn add(&mut self, o: &PointLoad) {
+        self.f += o.f;
+        self.d_r += o.d_r;
+        self.d_v += o.d_v;
+        self.d_a += o.d_a;
+        self.d_rx += o.d_rx;
+    }
+}
+
+/// Derivatives of the current state with respect to the positions, set by the integrator.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Coefficients {
+    /// ∂q̈/∂q (1/s²); zero in statics.
+    pub beta_p: f64,
+    /// ∂q̇/∂q (1/s); zero in statics.
+    pub gamma_p: f64,
+}
+
+/// Element-local residual and iteration matrix over `NC` vector coefficients of 3 components.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalSystem<const NC: usize> {
+    /// Residual per coefficient.
+    pub r: [Vector3<f64>; NC],
+    /// Iteration matrix blocks.
+    pub k: [[Matrix3<f64>; NC]; NC],
+}
+
+impl<const NC: usize> LocalSystem<NC> {
+    /// All zero.
+    pub fn zero() -> Self {
+        LocalSystem {
+            r: [Vector3::zeros(); NC],
+            k: [[Matrix3::zeros(); NC]; NC],
+        }
+    }
+
+    /// Adds the contribution of `load` at a point with shape values `n`, derivatives `dn`
+    /// (per metre) and quadrature weight `w` (m).
+    pub fn add_point_load(
+        &mut self,
+        n: &[f64; NC],
+        dn: &[f64; NC],
+        w: f64,
+        load: &PointLoad,
+        c: &Coefficients,
+    ) {
+        let j = (load.d_r + load.d_v * c.gamma_p + load.d_a * c.beta_p) * w;
+        let jt = load.d_rx * w;
+        for a in 0..NC {
+            self.r[a] -= load.f * (w * n[a]);
+            for b in 0..NC {
+                self.k[a][b] -= j * (n[a] * n[b]) + jt * (n[a] * dn[b]);
+            }
+        }
+    }
+
+    /// Adds a constant matrix of the form C ⊗ I₃ (scaled by `s`) acting on `x`: residual
+    /// += s C x, matrix += `k_scale` · s C ⊗ I₃.
+    pub fn add_scalar_matrix(
+        &mut self,
+        c: &[[f64; NC]; NC],
+        s: f64,
+        x: &[Vector3<f64>; NC],
+        k_scale: f64,
+    ) {
+        for a in 0..NC {
+            for b in 0..NC {
+                let v = s * c[a][b];
+                self.r[a] += x[b] * v;
+                let kd = v * k_scale;
+                self.k[a][b][(0, 0)] += kd;
+                self.k[a][b][(1, 1)] += kd;
+                self.k[a][b][(2, 2)] += kd;
+            }
+        }
+    }
+}
+
+/// Interpolated kinematics at a quadrature point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointKinematics {
+    /// Position (m).
+    pub r: Vector3<f64>,
+    /// Gradient ∂r/∂s (stretch × unit tangent).
+    pub r_x: Vector3<f64>,
+    /// Velocity (m/s).
+    pub v: Vector3<f64>,
+    /// Acceleration (m/s²).
+    pub a: Vector3<f64>,
+}
+
+impl PointKinematics {
+    /// Interpolates coefficient values `q`, `v`, `a` with shape values `n` and derivatives `dn`.
+    pub fn interpolate<const NC: usize>(
+        n: &[f64; NC],
+        dn: &[f64; NC],
+        q: &[Vector3<f64>; NC],
+        v: &[Vector3<f64>; NC],
+        a: &[Vector3<f64>; NC],
+    ) -> Self {
+        let mut k = PointKinematics {
+            r: Vector3::zeros(),
+            r_x: Vector3::zeros(),
+            v: Vector3::zeros(),
+            a: Vector3::zeros(),
+        };
+        for i in 0..NC {
+            k.r += q[i] * n[i];
+            k.r_x += q[i] * dn[i];
+            k.v += v[i] * n[i];
+            k.a += a[i] * n[i];
+        }
+        k
+    }
+}

@@ -1,0 +1,112 @@
+//! Scratch memory of the line solvers (allocated once per line, reused every iteration) and the
+//! linear-algebra steps they share: applying the prescribed unknowns, factorising the banded
+//! iteration matrix, solving for the Newton correction and condensing the line onto its
+//! fairlead.
+//!
+//! Condensation: with p the three fairlead position DOFs and i the free DOFs, the change of the
+//! fairlead reaction for a fairlead displacement, the free DOFs re-equilibrated, is the Schur
+//! complement K_c = S_pp − S_pi S_ii⁻¹ S_ip of the iteration matrix S. The force on the floater
+//! is −R_p, so it changes by −K_c dx.
+
+use nalgebra::Matrix3;
+
+use super::assembly::WaterCache;
+use super::banded::BandMatrix;
+use super::error::LineError;
+use super::line::LineModel;
+
+/// Scratch space of one line.
+#[derive(Debug, Clone)]
+pub struct LineWorkspace {
+    pub(crate) residual: Vec<f64>,
+    pub(crate) rhs: Vec<f64>,
+    pub(crate) matrix: BandMatrix,
+    pub(crate) water: WaterCache,
+    pub(crate) trial_q: Vec<f64>,
+    /// Columns S_{·p} of the fairlead DOFs, saved before the constraints are applied.
+    fairlead_columns: [Vec<f64>; 3],
+    /// Rows S_{p·} of the fairlead DOFs.
+    fairlead_rows: [Vec<f64>; 3],
+}
+
+impl LineWorkspace {
+    /// Workspace sized for `model`.
+    pub fn new(model: &LineModel) -> LineWorkspace {
+        let n = model.dof_count();
+        LineWorkspace {
+            residual: vec![0.0; n],
+            rhs: vec![0.0; n],
+            matrix: BandMatrix::new(n, model.half_bandwidth()),
+            water: Vec::new(),
+            trial_q: vec![0.0; n],
+            fairlead_columns: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            fairlead_rows: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+        }
+    }
+
+    /// Saves the fairlead rows and columns, replaces the prescribed rows and columns by the
+    /// identity and factorises. The right-hand side `rhs` is set to −R with zeros at the
+    /// prescribed DOFs.
+    pub(crate) fn prepare_and_factorize(
+        &mut self,
+        model: &LineModel,
+        tiny_pivot: f64,
+    ) -> Result<(), LineError> {
+        let n = model.dof_count();
+        let b = model.half_bandwidth();
+        for p in 0..3 {
+            let col = &mut self.fairlead_columns[p];
+            let row = &mut self.fairlead_rows[p];
+            col.fill(0.0);
+            row.fill(0.0);
+            for i in 0..(p + b + 1).min(n) {
+                col[i] = self.matrix.get(i, p);
+                row[i] = self.matrix.get(p, i);
+            }
+        }
+        for dof in model.fairlead_dofs().chain(model.anchor_dofs()) {
+            self.matrix.set_identity_row_col(dof);
+        }
+        for (i, (r, x)) in self.rhs.iter_mut().zip(&self.residual).enumerate() {
+            *r = if model.is_constrained(i) { 0.0 } else { -x };
+        }
+        self.matrix
+            .factorize(tiny_pivot)
+            .map_err(|(dof, pivot)| LineError::SingularMatrix {
+                line: model.name().to_string(),
+                dof,
+                pivot,
+            })
+    }
+
+    /// Newton correction into `rhs`, after [`LineWorkspace::prepare_and_factorize`].
+    pub(crate) fn solve_correction(&mut self) {
+        self.matrix.solve_in_place(&mut self.rhs);
+    }
+
+    /// Schur complement of the factorised matrix onto the fairlead DOFs (N/m).
+    pub(crate) fn condense_fairlead(&mut self, model: &LineModel) -> Matrix3<f64> {
+        let mut k = Matrix3::zeros();
+        for j in 0..3 {
+            let x = &mut self.rhs;
+            for (i, xi) in x.iter_mut().enumerate() {
+                *xi = if model.is_constrained(i) {
+                    0.0
+                } else {
+                    self.fairlead_columns[j][i]
+                };
+            }
+            self.matrix.solve_in_place(x);
+            for p in 0..3 {
+                let mut s = self.fairlead_rows[p][j];
+                for (i, xi) in x.iter().enumerate() {
+                    if !model.is_constrained(i) {
+                        s -= self.fairlead_rows[p][i] * xi;
+                    }
+                }
+                k[(p, j)] = s;
+            }
+        }
+        k
+    }
+}
