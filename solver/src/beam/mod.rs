@@ -1,3 +1,6 @@
-//! Geometrically exact wire beams: finite rotations and the two-node corotational element.
+//! Geometrically exact wire beams: finite rotations, sections and the two-node corotational
+//! element.
 
+pub mod corotational;
 pub mod rotation;
+pub mod section;

@@ -6,7 +6,7 @@
 //! the left, Λ ← exp(θ̂) Λ. The variation of a rotation-dependent vector a = Λ A is therefore
 //! δa = δθ × a.
 
-use nalgebra::{Matrix3, Rotation3, Vector3};
+use nalgebra::{Matrix3, Vector3};
 
 /// Below this angle (rad) series expansions replace the closed forms, which lose digits.
 const SMALL_ANGLE: f64 = 1e-4;
@@ -18,7 +18,11 @@ pub fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
 
 /// Axial vector of the skew-symmetric part of `m` (inverse of [`skew`] on skew matrices).
 pub fn axial(m: &Matrix3<f64>) -> Vector3<f64> {
-    0.5 * Vector3::new(m[(2, 1)] - m[(1, 2)], m[(0, 2)] - m[(2, 0)], m[(1, 0)] - m[(0, 1)])
+    0.5 * Vector3::new(
+        m[(2, 1)] - m[(1, 2)],
+        m[(0, 2)] - m[(2, 0)],
+        m[(1, 0)] - m[(0, 1)],
+    )
 }
 
 /// Rodrigues' formula: exp(θ̂) as a rotation matrix, exact to round-off for any angle.
@@ -26,7 +30,10 @@ pub fn exp_so3(theta: &Vector3<f64>) -> Matrix3<f64> {
     let a = theta.norm();
     let (c1, c2) = if a < SMALL_ANGLE {
         let a2 = a * a;
-        (1.0 - a2 / 6.0 + a2 * a2 / 120.0, 0.5 - a2 / 24.0 + a2 * a2 / 720.0)
+        (
+            1.0 - a2 / 6.0 + a2 * a2 / 120.0,
+            0.5 - a2 / 24.0 + a2 * a2 / 720.0,
+        )
     } else {
         (a.sin() / a, (1.0 - a.cos()) / (a * a))
     };
@@ -35,9 +42,49 @@ pub fn exp_so3(theta: &Vector3<f64>) -> Matrix3<f64> {
 }
 
 /// Rotation vector θ with exp(θ̂) = r and |θ| ≤ π.
+///
+/// Goes through the unit quaternion (Shepperd's branch choice on the largest of w², x², y², z²)
+/// and θ = 2 atan2(|v|, w) v/|v|, which keeps full relative precision for small angles, where
+/// the arccos of the trace loses half the digits.
 pub fn log_so3(r: &Matrix3<f64>) -> Vector3<f64> {
-    // nalgebra's scaled_axis is robust near 0 and π (it goes through the quaternion).
-    Rotation3::from_matrix_unchecked(*r).scaled_axis()
+    let t = r.trace();
+    let (w, v) = if t >= r[(0, 0)] && t >= r[(1, 1)] && t >= r[(2, 2)] {
+        let w = 0.5 * (1.0 + t).max(0.0).sqrt();
+        let f = 0.25 / w;
+        (
+            w,
+            Vector3::new(
+                (r[(2, 1)] - r[(1, 2)]) * f,
+                (r[(0, 2)] - r[(2, 0)]) * f,
+                (r[(1, 0)] - r[(0, 1)]) * f,
+            ),
+        )
+    } else {
+        // the largest diagonal entry picks the best-conditioned component
+        let i = if r[(0, 0)] >= r[(1, 1)] && r[(0, 0)] >= r[(2, 2)] {
+            0
+        } else if r[(1, 1)] >= r[(2, 2)] {
+            1
+        } else {
+            2
+        };
+        let j = (i + 1) % 3;
+        let k = (i + 2) % 3;
+        let vi = 0.5 * (1.0 + r[(i, i)] - r[(j, j)] - r[(k, k)]).max(0.0).sqrt();
+        let f = 0.25 / vi;
+        let mut v = Vector3::zeros();
+        v[i] = vi;
+        v[j] = (r[(j, i)] + r[(i, j)]) * f;
+        v[k] = (r[(k, i)] + r[(i, k)]) * f;
+        let w = (r[(k, j)] - r[(j, k)]) * f;
+        (w, v)
+    };
+    let (w, v) = if w < 0.0 { (-w, -v) } else { (w, v) };
+    let s = v.norm();
+    if s == 0.0 {
+        return Vector3::zeros();
+    }
+    v * (2.0 * s.atan2(w) / s)
 }
 
 /// Tangent operator T(θ) of the exponential map in the spatial convention:
@@ -80,6 +127,9 @@ mod tests {
             Vector3::new(0.3, -0.2, 0.5),
             Vector3::new(1.0, 2.0, -0.5),
             Vector3::new(0.0, 3.0, 0.0),
+            Vector3::new(1e-9, 0.0, -2e-9),
+            Vector3::new(-1.2, 2.0, 1.0),
+            Vector3::new(0.0, 0.0, std::f64::consts::PI - 1e-7),
         ]
     }
 
@@ -112,5 +162,14 @@ mod tests {
             }
             assert!((tangent_operator_inverse(&th) * t - Matrix3::identity()).norm() < 1e-10);
         }
+    }
+
+    #[test]
+    fn log_of_a_half_turn_recovers_the_axis() {
+        let axis = Vector3::new(1.0, -2.0, 2.0).normalize();
+        let r = exp_so3(&(axis * std::f64::consts::PI));
+        let th = log_so3(&r);
+        assert!((th.norm() - std::f64::consts::PI).abs() < 1e-12);
+        assert!((exp_so3(&th) - r).norm() < 1e-12);
     }
 }
