@@ -4,3 +4,4 @@
 //! the local worker pool, aggregation, queries, reports, and the `moorfret` command line.
 
 pub mod cli;
+pub mod store;

@@ -1,0 +1,337 @@
+//! [`Store`]: the campaign store and job queue, over SQLite or PostgreSQL.
+//!
+//! The backend is chosen by the location: `postgres://…` / `postgresql://…` selects PostgreSQL,
+//! anything else (`sqlite://path`, `sqlite:path` or a plain path) an SQLite file, created with
+//! its parent directories if missing. Opening checks the schema version first: a database
+//! written by a newer moorfret is refused untouched; an older one is migrated.
+//!
+//! Job protocol (DESIGN §3.2): [`Store::claim`] leases the highest-priority ready job in one
+//! atomic statement; the worker renews the lease with [`Store::heartbeat`] and ends it with
+//! [`Store::complete`], [`Store::complete_from_cache`] or [`Store::fail`], each guarded by the
+//! lease token (a stale token gets [`StoreError::LeaseLost`] and changes nothing).
+//! [`Store::sweep_expired`] returns jobs whose lease ran out to the queue.
+
+use std::path::PathBuf;
+
+use super::clock::Clock;
+use super::error::StoreError;
+use super::model::{
+    AttemptRecord, CampaignProgress, CancelReport, ClaimFilter, FailureDisposition, JobFailure,
+    JobRecord, JobResults, Lease, LifetimeDamage, NewCampaign, NewSeaState, PlannedJob,
+    SweepReport, WorkerInfo,
+};
+use super::policy::QueuePolicy;
+use super::types::{CampaignId, JobId, SeaStateId, WorkerId};
+use super::{postgres, sqlite};
+
+/// How to open a store.
+#[derive(Debug, Clone)]
+pub struct StoreOptions {
+    /// Where "now" comes from.
+    pub clock: Clock,
+    /// Lease, lost-job and backoff settings.
+    pub policy: QueuePolicy,
+    /// Connections in this process's pool.
+    pub max_connections: u32,
+    /// PostgreSQL schema holding the store (created if missing); ignored for SQLite.
+    pub postgres_schema: Option<String>,
+}
+
+impl Default for StoreOptions {
+    fn default() -> Self {
+        Self {
+            clock: Clock::System,
+            policy: QueuePolicy::default(),
+            max_connections: 4,
+            postgres_schema: None,
+        }
+    }
+}
+
+/// Which database a store uses.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum StoreLocation {
+    /// An SQLite file.
+    Sqlite(PathBuf),
+    /// A PostgreSQL URL.
+    Postgres(String),
+}
+
+impl StoreLocation {
+    /// Reads a location: `postgres://…`, `postgresql://…`, `sqlite://path`, `sqlite:path` or a
+    /// plain path.
+    pub fn parse(location: &str) -> Result<Self, StoreError> {
+        if location.starts_with("postgres://") || location.starts_with("postgresql://") {
+            return Ok(StoreLocation::Postgres(location.to_owned()));
+        }
+        let path = location
+            .strip_prefix("sqlite://")
+            .or_else(|| location.strip_prefix("sqlite:"))
+            .unwrap_or(location);
+        let path = path.split('?').next().unwrap_or(path);
+        if path.is_empty() || path == ":memory:" {
+            return Err(StoreError::InvalidLocation {
+                location: location.to_owned(),
+                reason: "a store needs a file path (workers share it)".into(),
+            });
+        }
+        Ok(StoreLocation::Sqlite(PathBuf::from(path)))
+    }
+}
+
+#[derive(Debug, Clone)]
+enum Backend {
+    Sqlite(sqlite::Queue),
+    Postgres(postgres::Queue, Option<String>),
+}
+
+/// Handle to a campaign store; cheap to clone (clones share the pool).
+#[derive(Debug, Clone)]
+pub struct Store {
+    backend: Backend,
+    location: StoreLocation,
+}
+
+macro_rules! dispatch {
+    ($self:ident, $queue:ident => $call:expr) => {
+        match &$self.backend {
+            Backend::Sqlite($queue) => $call,
+            Backend::Postgres($queue, _) => $call,
+        }
+    };
+}
+
+impl Store {
+    /// Opens the store at `location`, creating and migrating it as needed.
+    pub async fn open(location: &str, options: StoreOptions) -> Result<Store, StoreError> {
+        let policy = options.policy.validated()?;
+        if options.max_connections == 0 {
+            return Err(StoreError::InvalidParameter {
+                field: "max_connections",
+                value: "0".into(),
+                reason: "must be >= 1",
+            });
+        }
+        let location = StoreLocation::parse(location)?;
+        let backend = match &location {
+            StoreLocation::Sqlite(path) => {
+                let pool = sqlite::connect(path, options.max_connections).await?;
+                if let Err(err) = sqlite::prepare_schema(&pool).await {
+                    pool.close().await;
+                    return Err(err);
+                }
+                Backend::Sqlite(sqlite::Queue::new(pool, options.clock, policy))
+            }
+            StoreLocation::Postgres(url) => {
+                let schema = options.postgres_schema.as_deref();
+                let pool = postgres::connect(url, schema, options.max_connections).await?;
+                if let Err(err) = postgres::prepare_schema(&pool).await {
+                    pool.close().await;
+                    return Err(err);
+                }
+                Backend::Postgres(
+                    postgres::Queue::new(pool, options.clock, policy),
+                    options.postgres_schema.clone(),
+                )
+            }
+        };
+        Ok(Store { backend, location })
+    }
+
+    /// Where this store lives.
+    pub fn location(&self) -> &StoreLocation {
+        &self.location
+    }
+
+    /// The queue policy in force.
+    pub fn policy(&self) -> &QueuePolicy {
+        dispatch!(self, q => q.policy())
+    }
+
+    /// Newest schema version this binary knows.
+    pub fn supported_schema_version(&self) -> i64 {
+        match &self.backend {
+            Backend::Sqlite(_) => sqlite::supported_version(),
+            Backend::Postgres(..) => postgres::supported_version(),
+        }
+    }
+
+    /// Schema version recorded in the database.
+    pub async fn schema_version(&self) -> Result<i64, StoreError> {
+        match &self.backend {
+            Backend::Sqlite(q) => sqlite::found_version(q.pool()).await,
+            Backend::Postgres(q, _) => postgres::found_version(q.pool()).await,
+        }
+    }
+
+    /// Closes every connection of this handle's pool.
+    pub async fn close(&self) {
+        dispatch!(self, q => q.close().await)
+    }
+
+    /// Drops the PostgreSQL schema this store lives in, then closes the pool (for throw-away
+    /// test stores). Does nothing but close for SQLite or the default schema.
+    pub async fn drop_postgres_schema(self) -> Result<(), StoreError> {
+        if let Backend::Postgres(q, Some(schema)) = &self.backend {
+            postgres::drop_schema(q.pool(), schema).await?;
+        }
+        self.close().await;
+        Ok(())
+    }
+
+    /// Creates a campaign; its name must be new.
+    pub async fn create_campaign(&self, campaign: &NewCampaign) -> Result<CampaignId, StoreError> {
+        dispatch!(self, q => q.create_campaign(campaign).await)
+    }
+
+    /// Finds a campaign by name.
+    pub async fn campaign_by_name(&self, name: &str) -> Result<Option<CampaignId>, StoreError> {
+        dispatch!(self, q => q.campaign_by_name(name).await)
+    }
+
+    /// Adds the planned sea states of a campaign, in one transaction.
+    pub async fn insert_sea_states(
+        &self,
+        campaign: CampaignId,
+        sea_states: &[NewSeaState],
+    ) -> Result<Vec<SeaStateId>, StoreError> {
+        dispatch!(self, q => q.insert_sea_states(campaign, sea_states).await)
+    }
+
+    /// Adds a plan of jobs in one transaction; jobs without dependencies start ready, the
+    /// others blocked. Returns the ids in plan order.
+    pub async fn insert_plan(
+        &self,
+        campaign: CampaignId,
+        jobs: &[PlannedJob],
+    ) -> Result<Vec<JobId>, StoreError> {
+        dispatch!(self, q => q.insert_plan(campaign, jobs).await)
+    }
+
+    /// Registers a worker process; its id goes with every claim.
+    pub async fn register_worker(&self, info: &WorkerInfo) -> Result<WorkerId, StoreError> {
+        dispatch!(self, q => q.register_worker(info).await)
+    }
+
+    /// Leases the ready job of highest priority (then lowest id) whose backoff has passed and
+    /// that passes `filter`, or returns `None` when there is none.
+    pub async fn claim(
+        &self,
+        worker: &WorkerId,
+        filter: &ClaimFilter,
+    ) -> Result<Option<Lease>, StoreError> {
+        dispatch!(self, q => q.claim(worker, filter).await)
+    }
+
+    /// Renews the lease; returns its new end (ms since the epoch) or
+    /// [`StoreError::LeaseLost`].
+    pub async fn heartbeat(&self, lease: &Lease) -> Result<i64, StoreError> {
+        dispatch!(self, q => q.heartbeat(lease).await)
+    }
+
+    /// Stores the results and marks the job done, unblocking dependents whose dependencies are
+    /// all done, in one transaction guarded by the lease token.
+    pub async fn complete(&self, lease: &Lease, results: &JobResults) -> Result<(), StoreError> {
+        dispatch!(self, q => q.complete(lease, results).await)
+    }
+
+    /// A done job (of any campaign) with this cache key, whose results may be reused.
+    pub async fn lookup_cache(&self, cache_key: &str) -> Result<Option<JobId>, StoreError> {
+        dispatch!(self, q => q.lookup_cache(cache_key).await)
+    }
+
+    /// Completes the leased job with copies of the results of `source`, which must be done and
+    /// carry the same cache key.
+    pub async fn complete_from_cache(
+        &self,
+        lease: &Lease,
+        source: JobId,
+    ) -> Result<(), StoreError> {
+        dispatch!(self, q => q.complete_from_cache(lease, source).await)
+    }
+
+    /// Reports a failure: transient ones are retried after backoff while attempts remain,
+    /// the others fail the job (and every blocked job downstream of it).
+    pub async fn fail(
+        &self,
+        lease: &Lease,
+        failure: &JobFailure,
+    ) -> Result<FailureDisposition, StoreError> {
+        dispatch!(self, q => q.fail(lease, failure).await)
+    }
+
+    /// Returns running jobs whose lease expired to ready (counting them lost, not failed);
+    /// a job lost `policy.max_lost` times is failed with a diagnostic.
+    pub async fn sweep_expired(&self) -> Result<SweepReport, StoreError> {
+        dispatch!(self, q => q.sweep_expired().await)
+    }
+
+    /// Cancels a campaign and every unfinished job of it; running jobs lose their leases.
+    pub async fn cancel_campaign(&self, campaign: CampaignId) -> Result<CancelReport, StoreError> {
+        dispatch!(self, q => q.cancel_campaign(campaign).await)
+    }
+
+    /// One job row.
+    pub async fn job(&self, job: JobId) -> Result<JobRecord, StoreError> {
+        dispatch!(self, q => q.job(job).await)
+    }
+
+    /// Every job of a campaign, by id.
+    pub async fn jobs_of_campaign(
+        &self,
+        campaign: CampaignId,
+    ) -> Result<Vec<JobRecord>, StoreError> {
+        dispatch!(self, q => q.jobs_of_campaign(campaign).await)
+    }
+
+    /// Every attempt on a campaign's jobs, in order.
+    pub async fn attempts_of_campaign(
+        &self,
+        campaign: CampaignId,
+    ) -> Result<Vec<AttemptRecord>, StoreError> {
+        dispatch!(self, q => q.attempts_of_campaign(campaign).await)
+    }
+
+    /// The results stored for a job (empty lists before it is done).
+    pub async fn results_of(&self, job: JobId) -> Result<JobResults, StoreError> {
+        dispatch!(self, q => q.results_of(job).await)
+    }
+
+    /// Jobs by state and occurrence covered.
+    pub async fn progress(&self, campaign: CampaignId) -> Result<CampaignProgress, StoreError> {
+        dispatch!(self, q => q.progress(campaign).await)
+    }
+
+    /// Annual damage per hot spot and measure from the stored damage inputs.
+    pub async fn lifetime_damage(
+        &self,
+        campaign: CampaignId,
+    ) -> Result<Vec<LifetimeDamage>, StoreError> {
+        dispatch!(self, q => q.lifetime_damage(campaign).await)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn locations_select_the_backend_by_scheme() {
+        assert_eq!(
+            StoreLocation::parse("postgres://u@h/db").unwrap(),
+            StoreLocation::Postgres("postgres://u@h/db".into())
+        );
+        assert_eq!(
+            StoreLocation::parse("sqlite://runs/a.sqlite?mode=rwc").unwrap(),
+            StoreLocation::Sqlite("runs/a.sqlite".into())
+        );
+        assert_eq!(
+            StoreLocation::parse("b.sqlite").unwrap(),
+            StoreLocation::Sqlite("b.sqlite".into())
+        );
+        assert!(matches!(
+            StoreLocation::parse("sqlite::memory:"),
+            Err(StoreError::InvalidLocation { .. })
+        ));
+    }
+}

@@ -1,0 +1,35 @@
+//! The few SQL differences between the SQLite and PostgreSQL backends.
+//!
+//! Everything else (placeholders `$n`, `RETURNING`, recursive CTEs, partial indexes) is shared
+//! text in `queue_impl.rs`.
+
+/// SQL fragments that differ per backend.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Dialect {
+    /// Statement opening a write transaction. SQLite takes the write lock at once
+    /// (`BEGIN IMMEDIATE`), so a transaction never fails halfway to upgrade a read lock.
+    pub(crate) begin_write: &'static str,
+    /// Appended to the claim's inner `SELECT`: PostgreSQL skips rows other claimers hold.
+    pub(crate) claim_lock_suffix: &'static str,
+    /// Query returning the server clock in ms since the epoch.
+    pub(crate) now_ms_sql: &'static str,
+    /// Query counting tables named `$1` in the current schema.
+    pub(crate) table_exists_sql: &'static str,
+}
+
+/// SQLite.
+pub(crate) const SQLITE: Dialect = Dialect {
+    begin_write: "BEGIN IMMEDIATE",
+    claim_lock_suffix: "",
+    now_ms_sql: "SELECT CAST(unixepoch('subsec') * 1000 AS INTEGER)",
+    table_exists_sql: "SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' AND name = $1",
+};
+
+/// PostgreSQL.
+pub(crate) const POSTGRES: Dialect = Dialect {
+    begin_write: "BEGIN",
+    claim_lock_suffix: " FOR UPDATE SKIP LOCKED",
+    now_ms_sql: "SELECT moorfret_now_ms()",
+    table_exists_sql: "SELECT COUNT(*) FROM information_schema.tables \
+                       WHERE table_schema = current_schema() AND table_name = $1",
+};

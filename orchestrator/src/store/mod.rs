@@ -1,0 +1,34 @@
+//! Campaign store and job queue (DESIGN §3.2-3.3).
+//!
+//! - [`Store`] ([`campaign_store`]): campaigns, sea states, jobs and their dependencies,
+//!   attempts, workers, results; claim / heartbeat / complete / fail / sweep / cancel; cache
+//!   reuse; progress and lifetime views. SQLite (default, one WAL file) or PostgreSQL, chosen
+//!   by the location; the same behaviour on both.
+//! - [`ArtifactStore`] ([`artifacts`]): content-addressed files for large series and
+//!   checkpoints.
+//! - [`Clock`], [`QueuePolicy`]: time source and queue settings.
+//! - [`TestPayload`] ([`test_kind`]): payload of the test-only job kind.
+//!
+//! The schema lives in `migrations/sqlite` and `migrations/postgres`, embedded in the binary.
+//! Times are integer ms since the Unix epoch; JSON columns hold text.
+
+pub mod artifacts;
+pub mod campaign_store;
+pub mod clock;
+mod dialect;
+pub mod error;
+pub mod model;
+pub mod policy;
+mod postgres;
+mod sqlite;
+pub mod test_kind;
+pub mod types;
+
+pub use artifacts::ArtifactStore;
+pub use campaign_store::{Store, StoreLocation, StoreOptions};
+pub use clock::{Clock, ManualClock};
+pub use error::StoreError;
+pub use model::*;
+pub use policy::QueuePolicy;
+pub use test_kind::TestPayload;
+pub use types::*;

@@ -1,0 +1,71 @@
+//! PostgreSQL backend for clusters: the same schema and behaviour as SQLite.
+//!
+//! Claims lock the chosen row with `FOR UPDATE SKIP LOCKED`, so concurrent claimers pass over
+//! each other's rows instead of queueing on them. With [`super::Clock::Database`] lease times
+//! come from the server clock (`moorfret_now_ms()`), so hosts with skewed clocks agree on
+//! expiry. A store may live in its own schema (`search_path`), which is created if missing.
+
+use sqlx::migrate::Migrator;
+use sqlx::postgres::{PgConnectOptions, PgPoolOptions};
+use sqlx::{ConnectOptions, Connection, Postgres as Db};
+
+use super::dialect::{Dialect, POSTGRES};
+
+const DIALECT: Dialect = POSTGRES;
+
+/// Migrations of the PostgreSQL schema, embedded at compile time.
+pub(crate) static MIGRATOR: Migrator = sqlx::migrate!("../migrations/postgres");
+
+include!("queue_impl.rs");
+include!("schema_impl.rs");
+
+/// Connects a pool of `max_connections` to `url`, in `schema` if given (created if missing).
+pub(crate) async fn connect(
+    url: &str,
+    schema: Option<&str>,
+    max_connections: u32,
+) -> Result<Pool<Db>> {
+    let invalid = |reason: String| StoreError::InvalidLocation {
+        location: url.to_owned(),
+        reason,
+    };
+    let mut options: PgConnectOptions = url.parse().map_err(|e| invalid(format!("{e}")))?;
+    if let Some(schema) = schema {
+        let valid = !schema.is_empty()
+            && schema
+                .chars()
+                .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
+            && !schema.starts_with(|c: char| c.is_ascii_digit());
+        if !valid {
+            return Err(StoreError::InvalidParameter {
+                field: "postgres_schema",
+                value: schema.to_owned(),
+                reason: "must be a lower-case identifier ([a-z_][a-z0-9_]*)",
+            });
+        }
+        let mut conn = options
+            .connect()
+            .await
+            .map_err(StoreError::db("open store"))?;
+        sqlx::query(&format!("CREATE SCHEMA IF NOT EXISTS {schema}"))
+            .execute(&mut conn)
+            .await
+            .map_err(StoreError::db("create schema"))?;
+        conn.close().await.map_err(StoreError::db("open store"))?;
+        options = options.options([("search_path", schema)]);
+    }
+    PgPoolOptions::new()
+        .max_connections(max_connections)
+        .connect_with(options)
+        .await
+        .map_err(StoreError::db("open store"))
+}
+
+/// Drops a schema and everything in it (test clean-up).
+pub(crate) async fn drop_schema(pool: &Pool<Db>, schema: &str) -> Result<()> {
+    sqlx::query(&format!("DROP SCHEMA IF EXISTS {schema} CASCADE"))
+        .execute(pool)
+        .await
+        .map_err(StoreError::db("drop schema"))?;
+    Ok(())
+}

@@ -1,0 +1,207 @@
+//! Typed identifiers and the closed sets stored as text: job state, job kind, attempt outcome.
+//!
+//! Ids are the database's integer keys wrapped so that a job id cannot be passed where a
+//! campaign id is expected. States and kinds are enums with `Display`/`FromStr` giving the exact
+//! text stored in the `jobs.state` and `jobs.kind` columns.
+
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::str::FromStr;
+
+use super::error::StoreError;
+
+macro_rules! integer_id {
+    ($(#[$doc:meta])* $name:ident) => {
+        $(#[$doc])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+        pub struct $name(pub i64);
+
+        impl fmt::Display for $name {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                write!(f, "{}", self.0)
+            }
+        }
+    };
+}
+
+integer_id!(
+    /// Key of a row of `campaigns`.
+    CampaignId
+);
+integer_id!(
+    /// Key of a row of `sea_states`.
+    SeaStateId
+);
+integer_id!(
+    /// Key of a row of `jobs`.
+    JobId
+);
+integer_id!(
+    /// Key of a row of `attempts`.
+    AttemptId
+);
+
+/// Identity of a worker process (a UUID, stored as text in `workers.id`).
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct WorkerId(pub String);
+
+impl fmt::Display for WorkerId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+/// Secret of one claim: completion, failure and heartbeat succeed only while the job row still
+/// holds this token (a UUID, stored as text in `jobs.lease_token`).
+#[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct LeaseToken(pub String);
+
+impl fmt::Display for LeaseToken {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+/// Defines a text-backed enum with its `Display`, `FromStr` and list of all values.
+macro_rules! text_enum {
+    ($(#[$doc:meta])* $name:ident, $field:literal { $($(#[$vdoc:meta])* $variant:ident => $text:literal),+ $(,)? }) => {
+        $(#[$doc])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+        #[serde(rename_all = "snake_case")]
+        pub enum $name {
+            $($(#[$vdoc])* $variant),+
+        }
+
+        impl $name {
+            /// Every value, in declaration order.
+            pub const ALL: &'static [$name] = &[$($name::$variant),+];
+
+            /// The text stored in the database.
+            pub fn as_str(self) -> &'static str {
+                match self {
+                    $($name::$variant => $text),+
+                }
+            }
+        }
+
+        impl fmt::Display for $name {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(self.as_str())
+            }
+        }
+
+        impl FromStr for $name {
+            type Err = StoreError;
+
+            fn from_str(text: &str) -> Result<Self, Self::Err> {
+                match text {
+                    $($text => Ok($name::$variant),)+
+                    other => Err(StoreError::UnknownValue {
+                        field: $field,
+                        value: other.to_owned(),
+                    }),
+                }
+            }
+        }
+    };
+}
+
+text_enum!(
+    /// Life cycle of a job: `blocked → ready → running → done`, plus `failed` and `cancelled`.
+    JobState, "jobs.state" {
+        /// Waits for at least one dependency that is not done.
+        Blocked => "blocked",
+        /// May be claimed (once `not_before` has passed).
+        Ready => "ready",
+        /// Leased by a worker.
+        Running => "running",
+        /// Finished; its results are stored.
+        Done => "done",
+        /// Deterministic error, attempts exhausted, lost too often, or an upstream job failed.
+        Failed => "failed",
+        /// Its campaign was cancelled.
+        Cancelled => "cancelled",
+    }
+);
+
+impl JobState {
+    /// Whether the job will never change state again.
+    pub fn is_terminal(self) -> bool {
+        matches!(
+            self,
+            JobState::Done | JobState::Failed | JobState::Cancelled
+        )
+    }
+}
+
+text_enum!(
+    /// What a job computes.
+    JobKind, "jobs.kind" {
+        /// Floater and mooring lines for one (sea state, seed): T(t), κ(t) at the hot spots.
+        Global => "global",
+        /// Detailed strand model for one (sea state, seed, hot spot) on its global load history.
+        Strand => "strand",
+        /// Queue exercise only (sleep, succeed, fail); never reaches users' results.
+        Test => "test",
+    }
+);
+
+text_enum!(
+    /// How one claim of a job ended (`attempts.outcome`).
+    AttemptOutcome, "attempts.outcome" {
+        /// Completed with fresh results.
+        Done => "done",
+        /// Completed by reusing the results of a done job with the same cache key.
+        Cached => "cached",
+        /// Failed with an error worth retrying.
+        TransientFailure => "transient_failure",
+        /// Failed deterministically.
+        PermanentFailure => "permanent_failure",
+        /// The lease expired without completion (worker crashed, hung or was cut off).
+        Lost => "lost",
+        /// The campaign was cancelled while the job ran.
+        Cancelled => "cancelled",
+    }
+);
+
+text_enum!(
+    /// Whether a campaign still runs.
+    CampaignState, "campaigns.state" {
+        /// Jobs may be claimed.
+        Active => "active",
+        /// Every unfinished job was cancelled.
+        Cancelled => "cancelled",
+    }
+);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_state_and_kind_round_trips_through_its_text() {
+        for state in JobState::ALL {
+            assert_eq!(state.as_str().parse::<JobState>().unwrap(), *state);
+        }
+        for kind in JobKind::ALL {
+            assert_eq!(kind.to_string().parse::<JobKind>().unwrap(), *kind);
+        }
+        for outcome in AttemptOutcome::ALL {
+            assert_eq!(
+                outcome.as_str().parse::<AttemptOutcome>().unwrap(),
+                *outcome
+            );
+        }
+    }
+
+    #[test]
+    fn unknown_text_names_the_column_and_the_value() {
+        match "sleeping".parse::<JobState>() {
+            Err(StoreError::UnknownValue { field, value }) => {
+                assert_eq!(field, "jobs.state");
+                assert_eq!(value, "sleeping");
+            }
+            other => panic!("unexpected {other:?}"),
+        }
+    }
+}

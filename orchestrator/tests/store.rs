@@ -1,0 +1,1136 @@
+//! Campaign store and job queue, run against SQLite and (when a server is reachable)
+//! PostgreSQL with the same code.
+//!
+//! PostgreSQL tests use `MOORFRET_TEST_POSTGRES_URL` (default
+//! `postgres://postgres@127.0.0.1:5432/test`), each in a schema of its own that is dropped
+//! afterwards; without a server they print that they are skipped and pass.
+
+use std::collections::HashMap;
+use std::time::Duration;
+
+use moorfret_orchestrator::store::{
+    ArtifactStore, ClaimFilter, Clock, DamageInput, FailureDisposition, FailureKind,
+    HotSpotSummary, JobFailure, JobKind, JobResults, JobState, ManualClock, NewCampaign,
+    NewSeaState, PlannedJob, QueuePolicy, Store, StoreError, StoreOptions, TestPayload, WorkerInfo,
+};
+use moorfret_orchestrator::store::{AttemptOutcome, CampaignId, WorkerId};
+use serde_json::json;
+
+const T0_MS: i64 = 1_700_000_000_000;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Backend {
+    Sqlite,
+    Postgres,
+}
+
+/// A throw-away store with a hand-driven clock.
+struct TestStore {
+    store: Store,
+    clock: ManualClock,
+    location: String,
+    options: StoreOptions,
+    _dir: tempfile::TempDir,
+}
+
+impl TestStore {
+    /// Another handle with its own pool on the same database, as another process would have.
+    async fn another_handle(&self, max_connections: u32) -> Store {
+        let options = StoreOptions {
+            max_connections,
+            ..self.options.clone()
+        };
+        Store::open(&self.location, options).await.unwrap()
+    }
+
+    async fn finish(self) {
+        self.store.drop_postgres_schema().await.unwrap();
+    }
+}
+
+fn postgres_url() -> String {
+    std::env::var("MOORFRET_TEST_POSTGRES_URL")
+        .unwrap_or_else(|_| "postgres://postgres@127.0.0.1:5432/test".into())
+}
+
+async fn postgres_reachable(url: &str) -> bool {
+    use sqlx::Connection;
+    let attempt = tokio::time::timeout(Duration::from_secs(3), sqlx::PgConnection::connect(url));
+    match attempt.await {
+        Ok(Ok(conn)) => {
+            let _ = conn.close().await;
+            true
+        }
+        Ok(Err(err)) => {
+            eprintln!("SKIPPED (PostgreSQL): no server at {url}: {err}");
+            false
+        }
+        Err(_) => {
+            eprintln!("SKIPPED (PostgreSQL): connecting to {url} timed out");
+            false
+        }
+    }
+}
+
+async fn open_store(backend: Backend, policy: QueuePolicy) -> Option<TestStore> {
+    let dir = tempfile::tempdir().unwrap();
+    let clock = ManualClock::new(T0_MS);
+    let mut options = StoreOptions {
+        clock: Clock::Manual(clock.clone()),
+        policy,
+        max_connections: 4,
+        postgres_schema: None,
+    };
+    let location = match backend {
+        Backend::Sqlite => dir
+            .path()
+            .join("campaign.sqlite")
+            .to_string_lossy()
+            .into_owned(),
+        Backend::Postgres => {
+            let url = postgres_url();
+            if !postgres_reachable(&url).await {
+                return None;
+            }
+            options.postgres_schema = Some(format!("t_{}", uuid::Uuid::new_v4().simple()));
+            url
+        }
+    };
+    let store = Store::open(&location, options.clone()).await.unwrap();
+    Some(TestStore {
+        store,
+        clock,
+        location,
+        options,
+        _dir: dir,
+    })
+}
+
+fn worker_info(n: i64) -> WorkerInfo {
+    WorkerInfo {
+        host: format!("node{n}"),
+        pid: 1000 + n,
+        version: "test".into(),
+    }
+}
+
+async fn campaign(store: &Store, name: &str) -> CampaignId {
+    store
+        .create_campaign(&NewCampaign {
+            name: name.into(),
+            spec: json!({ "name": name }),
+            spec_sha256: "0".repeat(64),
+        })
+        .await
+        .unwrap()
+}
+
+fn test_job(payload: TestPayload) -> PlannedJob {
+    PlannedJob::new(JobKind::Test, serde_json::to_value(payload).unwrap())
+}
+
+fn damage(hot_spot_index: i64, seed_index: i64, damage: f64) -> DamageInput {
+    DamageInput {
+        hot_spot_index,
+        measure: "fretting_sn".into(),
+        seed_index,
+        effective_duration_s: 10_800.0,
+        damage,
+        details: json!({ "cycles": 12 }),
+    }
+}
+
+fn strand_results(value: f64) -> JobResults {
+    JobResults {
+        result: json!({ "max_slip_m": value }),
+        hot_spots: vec![HotSpotSummary {
+            hot_spot_index: 0,
+            summary: json!({ "t_max_n": 1.0e6 }),
+        }],
+        damage_inputs: vec![damage(0, 0, value)],
+        ..JobResults::default()
+    }
+}
+
+macro_rules! on_both_backends {
+    ($($name:ident),+ $(,)?) => {
+        mod sqlite {
+            $(
+                #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+                async fn $name() {
+                    super::$name(super::Backend::Sqlite).await;
+                }
+            )+
+        }
+        mod postgres {
+            $(
+                #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+                async fn $name() {
+                    super::$name(super::Backend::Postgres).await;
+                }
+            )+
+        }
+    };
+}
+
+on_both_backends!(
+    eight_workers_complete_a_thousand_jobs_exactly_once,
+    expired_lease_is_swept_back_to_ready_and_counted_lost,
+    job_lost_too_often_fails_with_a_diagnostic,
+    late_completion_with_a_stale_token_is_rejected_and_nothing_doubles,
+    transient_failure_retries_after_capped_exponential_backoff,
+    permanent_failure_fails_at_once_and_fails_everything_downstream,
+    dependents_become_ready_only_when_every_dependency_is_done,
+    cancelling_a_campaign_stops_its_jobs_and_revokes_running_leases,
+    cached_results_of_another_campaign_are_reused,
+    lifetime_view_reproduces_the_reference_annual_damage,
+    claim_filter_respects_kind_and_expected_cost,
+    newer_schema_is_refused_and_left_untouched,
+);
+
+async fn eight_workers_complete_a_thousand_jobs_exactly_once(backend: Backend) {
+    const JOBS: usize = 1_000;
+    const WORKERS: i64 = 8;
+    let Some(ts) = open_store(backend, QueuePolicy::default()).await else {
+        return;
+    };
+    let id = campaign(&ts.store, "many").await;
+    let plan: Vec<PlannedJob> = (0..JOBS).map(|_| test_job(TestPayload::Succeed)).collect();
+    ts.store.insert_plan(id, &plan).await.unwrap();
+
+    let mut handles = Vec::new();
+    for n in 0..WORKERS {
+        let store = ts.another_handle(2).await;
+        handles.push(tokio::spawn(async move {
+            let worker = store.register_worker(&worker_info(n)).await?;
+            let mut completed = 0_usize;
+            while let Some(lease) = store.claim(&worker, &ClaimFilter::default()).await? {
+                let results = JobResults {
+                    result: json!({ "by": n }),
+                    ..JobResults::default()
+                };
+                store.complete(&lease, &results).await?;
+                completed += 1;
+            }
+            store.close().await;
+            Ok::<usize, StoreError>(completed)
+        }));
+    }
+    let mut total = 0;
+    for handle in handles {
+        match handle.await.unwrap() {
+            Ok(completed) => total += completed,
+            Err(err) => panic!(
+                "worker failed (locked: {}): {err}",
+                err.is_database_locked()
+            ),
+        }
+    }
+    assert_eq!(total, JOBS);
+
+    let jobs = ts.store.jobs_of_campaign(id).await.unwrap();
+    assert_eq!(jobs.len(), JOBS);
+    assert!(jobs
+        .iter()
+        .all(|j| j.state == JobState::Done && j.attempt == 1));
+    let attempts = ts.store.attempts_of_campaign(id).await.unwrap();
+    assert_eq!(attempts.len(), JOBS, "one attempt per job");
+    let mut per_job: HashMap<i64, usize> = HashMap::new();
+    for attempt in &attempts {
+        assert_eq!(attempt.outcome, Some(AttemptOutcome::Done));
+        *per_job.entry(attempt.job.0).or_default() += 1;
+    }
+    assert_eq!(per_job.len(), JOBS);
+    assert!(per_job.values().all(|&n| n == 1));
+    let progress = ts.store.progress(id).await.unwrap();
+    assert_eq!(progress.jobs_by_state[3], (JobState::Done, JOBS as i64));
+    ts.finish().await;
+}
+
+async fn expired_lease_is_swept_back_to_ready_and_counted_lost(backend: Backend) {
+    let policy = QueuePolicy::default();
+    let Some(ts) = open_store(backend, policy.clone()).await else {
+        return;
+    };
+    let id = campaign(&ts.store, "sweep").await;
+    let job = ts
+        .store
+        .insert_plan(id, &[test_job(TestPayload::Succeed)])
+        .await
+        .unwrap()[0];
+    let worker = ts.store.register_worker(&worker_info(1)).await.unwrap();
+    let lease = ts
+        .store
+        .claim(&worker, &ClaimFilter::default())
+        .await
+        .unwrap()
+        .unwrap();
+    assert_eq!(lease.expires_at_ms, T0_MS + policy.lease_ms);
+
+    // A heartbeat just before expiry pushes it out; a sweep between the two ends does nothing.
+    ts.clock.advance_ms(policy.lease_ms - 1);
+    let renewed = ts.store.heartbeat(&lease).await.unwrap();
+    assert_eq!(renewed, T0_MS + 2 * policy.lease_ms - 1);
+    ts.clock.advance_ms(2);
+    assert_eq!(ts.store.sweep_expired().await.unwrap(), Default::default());
+
+    // No heartbeat for a whole lease: swept, counted lost, the attempt given back.
+    ts.clock.advance_ms(policy.lease_ms);
+    let report = ts.store.sweep_expired().await.unwrap();
+    assert_eq!(report.requeued, vec![job]);
+    assert!(report.failed.is_empty());
+    let record = ts.store.job(job).await.unwrap();
+    assert_eq!(record.state, JobState::Ready);
+    assert_eq!((record.lost_count, record.attempt), (1, 0));
+    assert_eq!(record.lease_token, None);
+    assert!(matches!(
+        ts.store.heartbeat(&lease).await,
+        Err(StoreError::LeaseLost { .. })
+    ));
+    let attempts = ts.store.attempts_of_campaign(id).await.unwrap();
+    assert_eq!(attempts.len(), 1);
+    assert_eq!(attempts[0].outcome, Some(AttemptOutcome::Lost));
+
+    // The next claim is counted as the first attempt, and is the second claim.
+    let again = ts
+        .store
+        .claim(&worker, &ClaimFilter::default())
+        .await
+        .unwrap()
+        .unwrap();
+    assert_eq!(again.attempt, 1);
+    assert_ne!(again.token, lease.token);
+    ts.store
+        .complete(&again, &JobResults::default())
+        .await
+        .unwrap();
+    let attempts = ts.store.attempts_of_campaign(id).await.unwrap();
+    assert_eq!(attempts[1].claim_number, 2);
+    assert_eq!(attempts[1].outcome, Some(AttemptOutcome::Done));
+    ts.finish().await;
+}
+
+async fn job_lost_too_often_fails_with_a_diagnostic(backend: Backend) {
+    let policy = QueuePolicy {
+        max_lost: 3,
+        ..QueuePolicy::default()
+    };
+    let Some(ts) = open_store(backend, policy.clone()).await else {
+        return;
+    };
+    let id = campaign(&ts.store, "lost").await;
+    let plan = vec![test_job(TestPayload::Succeed), {
+        let mut downstream = test_job(TestPayload::Succeed);
+        downstream.depends_on = vec![0];
+        downstream
+    }];
+    let jobs = ts.store.insert_plan(id, &plan).await.unwrap();
+    let worker = ts.store.register_worker(&worker_info(1)).await.unwrap();
+    for round in 1..=3 {
+        let lease = ts
+            .store
+            .claim(&worker, &ClaimFilter::default())
+            .await
+            .unwrap()
+            .unwrap();
+        assert_eq!(lease.job, jobs[0]);
+        ts.clock.advance_ms(policy.lease_ms + 1);
+        let report = ts.store.sweep_expired().await.unwrap();
+        if round < 3 {
+            assert_eq!(report.requeued, vec![jobs[0]]);
+        } else {
+            assert_eq!(report.failed, vec![jobs[0]]);
+        }
+    }
+    let record = ts.store.job(jobs[0]).await.unwrap();
+    assert_eq!(record.state, JobState::Failed);
+    assert_eq!(record.lost_count, 3);
+    assert_eq!(record.error_class.as_deref(), Some("lost"));
+    let message = record.error_message.unwrap();
+    assert!(
+        message.contains("3 times") && message.contains(&worker.0),
+        "{message}"
+    );
+    let downstream = ts.store.job(jobs[1]).await.unwrap();
+    assert_eq!(downstream.state, JobState::Failed);
+    assert_eq!(downstream.error_class.as_deref(), Some("upstream_failed"));
+    assert!(ts
+        .store
+        .claim(&worker, &ClaimFilter::default())
+        .await
+        .unwrap()
+        .is_none());
+    ts.finish().await;
+}
+
+async fn late_completion_with_a_stale_token_is_rejected_and_nothing_doubles(backend: Backend) {
+    let policy = QueuePolicy::default();
+    let Some(ts) = open_store(backend, policy.clone()).await else {
+        return;
+    };
+    let id = campaign(&ts.store, "stale").await;
+    let plan = vec![PlannedJob::new(JobKind::Strand, json!({ "hot_spot": 0 }))];
+    let job = ts.store.insert_plan(id, &plan).await.unwrap()[0];
+    let slow = ts.store.register_worker(&worker_info(1)).await.unwrap();
+    let fast = ts.store.register_worker(&worker_info(2)).await.unwrap();
+
+    let stale = ts
+        .store
+        .claim(&slow, &ClaimFilter::default())
+        .await
+        .unwrap()
+        .unwrap();
+    ts.clock.advance_ms(policy.lease_ms + 1);
+    ts.store.sweep_expired().await.unwrap();
+    let current = ts
+        .store
+        .claim(&fast, &ClaimFilter::default())
+        .await
+        .unwrap()
+        .unwrap();
+
+    // The slow worker wakes up while the job is running elsewhere, and again once it is done.
+    let late = ts.store.complete(&stale, &strand_results(1.0)).await;
+    assert!(matches!(late, Err(StoreError::LeaseLost { job: j, .. }) if j == job));
+    let failure = JobFailure {
+        kind: FailureKind::Permanent,
+        error_class: "late".into(),
+        message: "late".into(),
+    };
+    assert!(matches!(
+        ts.store.fail(&stale, &failure).await,
+        Err(StoreError::LeaseLost { .. })
+    ));
+    ts.store
+        .complete(&current, &strand_results(2.0))
+        .await
+        .unwrap();
+    let after_done = ts.store.complete(&stale, &strand_results(1.0)).await;
+    assert!(matches!(after_done, Err(StoreError::LeaseLost { .. })));
+    assert!(matches!(
+        ts.store.complete(&current, &strand_results(2.0)).await,
+        Err(StoreError::LeaseLost { .. })
+    ));
+
+    let stored = ts.store.results_of(job).await.unwrap();
+    assert_eq!(stored, strand_results(2.0));
+    let record = ts.store.job(job).await.unwrap();
+    assert_eq!(
+        (record.state, record.worker),
+        (JobState::Done, Some(fast.clone()))
+    );
+    let outcomes: Vec<_> = ts
+        .store
+        .attempts_of_campaign(id)
+        .await
+        .unwrap()
+        .into_iter()
+        .map(|a| (a.worker, a.outcome))
+        .collect();
+    assert_eq!(
+        outcomes,
+        vec![
+            (slow, Some(AttemptOutcome::Lost)),
+            (fast, Some(AttemptOutcome::Done))
+        ]
+    );
+    ts.finish().await;
+}
+
+async fn transient_failure_retries_after_capped_exponential_backoff(backend: Backend) {
+    let policy = QueuePolicy {
+        backoff_base_ms: 1_000,
+        backoff_cap_ms: 1_500,
+        ..QueuePolicy::default()
+    };
+    let Some(ts) = open_store(backend, policy).await else {
+        return;
+    };
+    let id = campaign(&ts.store, "retry").await;
+    let payload = TestPayload::FailTransient {
+        failing_attempts: 10,
+    };
+    let mut planned = test_job(payload.clone());
+    planned.max_attempts = 3;
+    let job = ts.store.insert_plan(id, &[planned]).await.unwrap()[0];
+    let worker = ts.store.register_worker(&worker_info(1)).await.unwrap();
+    let any = ClaimFilter::default();
+
+    // Expected delays: 1000 ms, then min(2000, 1500) ms, then no attempts left.
+    for (attempt, delay_ms) in [(1, 1_000), (2, 1_500)] {
+        let lease = ts.store.claim(&worker, &any).await.unwrap().unwrap();
+        assert_eq!(lease.attempt, attempt);
+        let failure = payload.failure_on_attempt(lease.attempt).unwrap();
+        let now = ts.clock.now_ms();
+        let disposition = ts.store.fail(&lease, &failure).await.unwrap();
+        assert_eq!(
+            disposition,
+            FailureDisposition::Retry {
+                not_before_ms: now + delay_ms
+            }
+        );
+        let record = ts.store.job(job).await.unwrap();
+        assert_eq!(record.state, JobState::Ready);
+        assert_eq!(record.error_class.as_deref(), Some("test_transient"));
+        ts.clock.advance_ms(delay_ms - 1);
+        assert!(
+            ts.store.claim(&worker, &any).await.unwrap().is_none(),
+            "claimed during backoff"
+        );
+        ts.clock.advance_ms(1);
+    }
+    let lease = ts.store.claim(&worker, &any).await.unwrap().unwrap();
+    assert_eq!(lease.attempt, 3);
+    let failure = payload.failure_on_attempt(3).unwrap();
+    let disposition = ts.store.fail(&lease, &failure).await.unwrap();
+    assert_eq!(
+        disposition,
+        FailureDisposition::Failed {
+            dependents_failed: 0
+        }
+    );
+    let record = ts.store.job(job).await.unwrap();
+    assert_eq!(record.state, JobState::Failed);
+    let message = record.error_message.unwrap();
+    assert!(message.contains("attempt 3 of 3"), "{message}");
+    let outcomes: Vec<_> = ts
+        .store
+        .attempts_of_campaign(id)
+        .await
+        .unwrap()
+        .into_iter()
+        .map(|a| a.outcome)
+        .collect();
+    assert_eq!(outcomes, vec![Some(AttemptOutcome::TransientFailure); 3]);
+
+    // A job whose fault clears on the second attempt ends done.
+    let recovering = TestPayload::FailTransient {
+        failing_attempts: 1,
+    };
+    let job = ts
+        .store
+        .insert_plan(id, &[test_job(recovering.clone())])
+        .await
+        .unwrap()[0];
+    let lease = ts.store.claim(&worker, &any).await.unwrap().unwrap();
+    assert_eq!(lease.job, job);
+    let failure = recovering.failure_on_attempt(lease.attempt).unwrap();
+    ts.store.fail(&lease, &failure).await.unwrap();
+    ts.clock.advance_ms(1_000);
+    let lease = ts.store.claim(&worker, &any).await.unwrap().unwrap();
+    assert!(recovering.failure_on_attempt(lease.attempt).is_none());
+    ts.store
+        .complete(&lease, &JobResults::default())
+        .await
+        .unwrap();
+    let record = ts.store.job(job).await.unwrap();
+    assert_eq!((record.state, record.attempt), (JobState::Done, 2));
+    assert_eq!(record.error_class, None);
+    ts.finish().await;
+}
+
+async fn permanent_failure_fails_at_once_and_fails_everything_downstream(backend: Backend) {
+    let Some(ts) = open_store(backend, QueuePolicy::default()).await else {
+        return;
+    };
+    let id = campaign(&ts.store, "permanent").await;
+    let mut first = test_job(TestPayload::FailPermanent);
+    first.max_attempts = 5;
+    let mut second = test_job(TestPayload::Succeed);
+    second.depends_on = vec![0];
+    let mut third = test_job(TestPayload::Succeed);
+    third.depends_on = vec![1];
+    let independent = test_job(TestPayload::Succeed);
+    let jobs = ts
+        .store
+        .insert_plan(id, &[first, second, third, independent])
+        .await
+        .unwrap();
+    let worker = ts.store.register_worker(&worker_info(1)).await.unwrap();
+
+    let lease = ts
+        .store
+        .claim(&worker, &ClaimFilter::default())
+        .await
+        .unwrap()
+        .unwrap();
+    assert_eq!(lease.job, jobs[0]);
+    let failure = TestPayload::FailPermanent.failure_on_attempt(1).unwrap();
+    let disposition = ts.store.fail(&lease, &failure).await.unwrap();
+    assert_eq!(
+        disposition,
+        FailureDisposition::Failed {
+            dependents_failed: 2
+        }
+    );
+    let record = ts.store.job(jobs[0]).await.unwrap();
+    assert_eq!((record.state, record.attempt), (JobState::Failed, 1));
+    assert_eq!(record.error_class.as_deref(), Some("test_permanent"));
+    assert_eq!(
+        record.error_message.as_deref(),
+        Some("test job fails permanently")
+    );
+    for downstream in &jobs[1..3] {
+        let record = ts.store.job(*downstream).await.unwrap();
+        assert_eq!(record.state, JobState::Failed);
+        assert_eq!(record.error_class.as_deref(), Some("upstream_failed"));
+    }
+    assert_eq!(ts.store.job(jobs[3]).await.unwrap().state, JobState::Ready);
+    ts.finish().await;
+}
+
+async fn dependents_become_ready_only_when_every_dependency_is_done(backend: Backend) {
+    let Some(ts) = open_store(backend, QueuePolicy::default()).await else {
+        return;
+    };
+    let id = campaign(&ts.store, "deps").await;
+    let mut low = PlannedJob::new(JobKind::Global, json!({ "seed": 1 }));
+    low.priority = 1;
+    let mut high = PlannedJob::new(JobKind::Global, json!({ "seed": 2 }));
+    high.priority = 5;
+    let mut joined = PlannedJob::new(JobKind::Strand, json!({ "hot_spot": 0 }));
+    joined.depends_on = vec![0, 1];
+    let jobs = ts
+        .store
+        .insert_plan(id, &[low, high, joined])
+        .await
+        .unwrap();
+    assert_eq!(
+        ts.store.job(jobs[2]).await.unwrap().state,
+        JobState::Blocked
+    );
+    let worker = ts.store.register_worker(&worker_info(1)).await.unwrap();
+    let any = ClaimFilter::default();
+
+    let first = ts.store.claim(&worker, &any).await.unwrap().unwrap();
+    assert_eq!(first.job, jobs[1], "higher priority first");
+    ts.store
+        .complete(&first, &JobResults::default())
+        .await
+        .unwrap();
+    assert_eq!(
+        ts.store.job(jobs[2]).await.unwrap().state,
+        JobState::Blocked
+    );
+    let second = ts.store.claim(&worker, &any).await.unwrap().unwrap();
+    assert_eq!(second.job, jobs[0]);
+    assert!(
+        ts.store.claim(&worker, &any).await.unwrap().is_none(),
+        "blocked job claimed"
+    );
+    ts.store
+        .complete(&second, &JobResults::default())
+        .await
+        .unwrap();
+    assert_eq!(ts.store.job(jobs[2]).await.unwrap().state, JobState::Ready);
+    let third = ts.store.claim(&worker, &any).await.unwrap().unwrap();
+    assert_eq!((third.job, third.kind), (jobs[2], JobKind::Strand));
+
+    let bad = PlannedJob {
+        depends_on: vec![0],
+        ..PlannedJob::new(JobKind::Test, json!({}))
+    };
+    let refused = ts.store.insert_plan(id, &[bad]).await;
+    assert!(matches!(
+        refused,
+        Err(StoreError::BadDependency {
+            job_index: 0,
+            depends_on: 0
+        })
+    ));
+    ts.finish().await;
+}
+
+async fn cancelling_a_campaign_stops_its_jobs_and_revokes_running_leases(backend: Backend) {
+    let Some(ts) = open_store(backend, QueuePolicy::default()).await else {
+        return;
+    };
+    let doomed = campaign(&ts.store, "doomed").await;
+    let other = campaign(&ts.store, "other").await;
+    let mut plan: Vec<PlannedJob> = (0..3).map(|_| test_job(TestPayload::Succeed)).collect();
+    plan[0].priority = 10;
+    plan[1].priority = 10;
+    plan[2].depends_on = vec![1];
+    let jobs = ts.store.insert_plan(doomed, &plan).await.unwrap();
+    let survivor = ts
+        .store
+        .insert_plan(other, &[test_job(TestPayload::Succeed)])
+        .await
+        .unwrap()[0];
+    let worker = ts.store.register_worker(&worker_info(1)).await.unwrap();
+    let any = ClaimFilter::default();
+
+    let done = ts.store.claim(&worker, &any).await.unwrap().unwrap();
+    ts.store
+        .complete(&done, &JobResults::default())
+        .await
+        .unwrap();
+    let running = ts.store.claim(&worker, &any).await.unwrap().unwrap();
+    assert_eq!((done.job, running.job), (jobs[0], jobs[1]));
+
+    let report = ts.store.cancel_campaign(doomed).await.unwrap();
+    assert_eq!(report.jobs_cancelled, 2, "the running and the blocked job");
+    let states: Vec<JobState> = ts
+        .store
+        .jobs_of_campaign(doomed)
+        .await
+        .unwrap()
+        .iter()
+        .map(|j| j.state)
+        .collect();
+    assert_eq!(
+        states,
+        vec![JobState::Done, JobState::Cancelled, JobState::Cancelled]
+    );
+    assert!(matches!(
+        ts.store.heartbeat(&running).await,
+        Err(StoreError::LeaseLost { .. })
+    ));
+    let late = ts.store.complete(&running, &JobResults::default()).await;
+    assert!(matches!(late, Err(StoreError::LeaseLost { .. })));
+    let attempts = ts.store.attempts_of_campaign(doomed).await.unwrap();
+    assert_eq!(attempts[1].outcome, Some(AttemptOutcome::Cancelled));
+
+    let next = ts.store.claim(&worker, &any).await.unwrap().unwrap();
+    assert_eq!(next.job, survivor, "other campaigns are untouched");
+    let unknown = ts.store.cancel_campaign(CampaignId(999_999)).await;
+    assert!(matches!(unknown, Err(StoreError::UnknownCampaign(_))));
+    ts.finish().await;
+}
+
+async fn cached_results_of_another_campaign_are_reused(backend: Backend) {
+    let Some(ts) = open_store(backend, QueuePolicy::default()).await else {
+        return;
+    };
+    let first = campaign(&ts.store, "first").await;
+    let second = campaign(&ts.store, "second").await;
+    let mut planned = PlannedJob::new(JobKind::Strand, json!({ "hot_spot": 0 }));
+    planned.cache_key = Some("a".repeat(64));
+    let source = ts
+        .store
+        .insert_plan(first, &[planned.clone()])
+        .await
+        .unwrap()[0];
+    let worker = ts.store.register_worker(&worker_info(1)).await.unwrap();
+    let any = ClaimFilter::default();
+    let key = planned.cache_key.clone().unwrap();
+
+    let lease = ts.store.claim(&worker, &any).await.unwrap().unwrap();
+    assert_eq!(
+        ts.store.lookup_cache(&key).await.unwrap(),
+        None,
+        "running jobs are no cache"
+    );
+    ts.store
+        .complete(&lease, &strand_results(3.0))
+        .await
+        .unwrap();
+
+    let reuser = ts.store.insert_plan(second, &[planned]).await.unwrap()[0];
+    let lease = ts.store.claim(&worker, &any).await.unwrap().unwrap();
+    assert_eq!(lease.job, reuser);
+    let hit = ts
+        .store
+        .lookup_cache(lease.cache_key.as_deref().unwrap())
+        .await
+        .unwrap();
+    assert_eq!(hit, Some(source));
+    ts.store.complete_from_cache(&lease, source).await.unwrap();
+
+    assert_eq!(
+        ts.store.results_of(reuser).await.unwrap(),
+        strand_results(3.0)
+    );
+    let record = ts.store.job(reuser).await.unwrap();
+    assert_eq!(
+        (record.state, record.cached_from),
+        (JobState::Done, Some(source))
+    );
+    assert_eq!(
+        record.result_sha256,
+        ts.store.job(source).await.unwrap().result_sha256
+    );
+    let attempts = ts.store.attempts_of_campaign(second).await.unwrap();
+    assert_eq!(attempts[0].outcome, Some(AttemptOutcome::Cached));
+    ts.finish().await;
+}
+
+/// DESIGN §6, damage aggregation: occurrences 0.30 and 0.13758, T_eff = 10 800 s, per-sea-state
+/// damage 1e-6 and 4e-6 give an annual damage of 2.48463504e-3 (Julian year, 31 557 600 s).
+async fn lifetime_view_reproduces_the_reference_annual_damage(backend: Backend) {
+    let Some(ts) = open_store(backend, QueuePolicy::default()).await else {
+        return;
+    };
+    let id = campaign(&ts.store, "lifetime").await;
+    let sea_states = ts
+        .store
+        .insert_sea_states(
+            id,
+            &[
+                NewSeaState {
+                    index: 0,
+                    hs_m: 2.75,
+                    tp_s: 8.5,
+                    occurrence_fraction: 0.30,
+                    seeds: vec![11, 12],
+                },
+                NewSeaState {
+                    index: 1,
+                    hs_m: 8.75,
+                    tp_s: 16.5,
+                    occurrence_fraction: 0.13758,
+                    seeds: vec![13, 14],
+                },
+            ],
+        )
+        .await
+        .unwrap();
+    // Two seeds per sea state whose mean is the reference damage.
+    let per_seed = [(0, 0.5e-6), (0, 1.5e-6), (1, 3.0e-6), (1, 5.0e-6)];
+    let plan: Vec<PlannedJob> = per_seed
+        .iter()
+        .map(|&(s, _)| PlannedJob {
+            sea_state: Some(sea_states[s]),
+            ..PlannedJob::new(JobKind::Strand, json!({}))
+        })
+        .collect();
+    let mut test_plan = test_job(TestPayload::Succeed);
+    test_plan.sea_state = Some(sea_states[0]);
+    let mut all = plan.clone();
+    all.push(test_plan);
+    let jobs = ts.store.insert_plan(id, &all).await.unwrap();
+    let worker = ts.store.register_worker(&worker_info(1)).await.unwrap();
+    let any = ClaimFilter::default();
+    let progress = ts.store.progress(id).await.unwrap();
+    assert!((progress.occurrence_planned - 0.43758).abs() < 1e-12);
+    assert_eq!(progress.occurrence_covered, 0.0);
+
+    for (seed, &(_, d)) in per_seed.iter().enumerate() {
+        let lease = ts.store.claim(&worker, &any).await.unwrap().unwrap();
+        assert_eq!(lease.job, jobs[seed]);
+        let results = JobResults {
+            damage_inputs: vec![damage(0, (seed % 2) as i64, d)],
+            ..JobResults::default()
+        };
+        ts.store.complete(&lease, &results).await.unwrap();
+    }
+    // The test-kind job may not write users' result rows.
+    let lease = ts.store.claim(&worker, &any).await.unwrap().unwrap();
+    let refused = ts
+        .store
+        .complete(
+            &lease,
+            &JobResults {
+                damage_inputs: vec![damage(0, 0, 1.0)],
+                ..JobResults::default()
+            },
+        )
+        .await;
+    assert!(matches!(refused, Err(StoreError::TestKindResults(j)) if j == lease.job));
+    ts.store
+        .complete(&lease, &JobResults::default())
+        .await
+        .unwrap();
+
+    let lifetime = ts.store.lifetime_damage(id).await.unwrap();
+    assert_eq!(lifetime.len(), 1);
+    let reference = 2.48463504e-3;
+    let relative = (lifetime[0].annual_damage - reference).abs() / reference;
+    assert!(
+        relative < 1e-8,
+        "annual damage {} vs {reference}",
+        lifetime[0].annual_damage
+    );
+    assert!((lifetime[0].occurrence_covered - 0.43758).abs() < 1e-12);
+    assert_eq!(lifetime[0].sea_states, 2);
+    let progress = ts.store.progress(id).await.unwrap();
+    assert!((progress.occurrence_covered - 0.43758).abs() < 1e-12);
+    ts.finish().await;
+}
+
+async fn claim_filter_respects_kind_and_expected_cost(backend: Backend) {
+    let Some(ts) = open_store(backend, QueuePolicy::default()).await else {
+        return;
+    };
+    let id = campaign(&ts.store, "filter").await;
+    let mut long = PlannedJob::new(JobKind::Strand, json!({}));
+    long.expected_cost_s = 600.0;
+    long.priority = 9;
+    let mut short = PlannedJob::new(JobKind::Strand, json!({}));
+    short.expected_cost_s = 60.0;
+    let global = PlannedJob::new(JobKind::Global, json!({}));
+    let jobs = ts
+        .store
+        .insert_plan(id, &[long, short, global])
+        .await
+        .unwrap();
+    let worker = ts.store.register_worker(&worker_info(1)).await.unwrap();
+    let only_global = ClaimFilter {
+        kinds: vec![JobKind::Global],
+        max_expected_cost_s: None,
+    };
+    let lease = ts
+        .store
+        .claim(&worker, &only_global)
+        .await
+        .unwrap()
+        .unwrap();
+    assert_eq!(lease.job, jobs[2]);
+    assert!(ts
+        .store
+        .claim(&worker, &only_global)
+        .await
+        .unwrap()
+        .is_none());
+    let little_time = ClaimFilter {
+        kinds: vec![],
+        max_expected_cost_s: Some(100.0),
+    };
+    let lease = ts
+        .store
+        .claim(&worker, &little_time)
+        .await
+        .unwrap()
+        .unwrap();
+    assert_eq!(
+        lease.job, jobs[1],
+        "the long job does not fit the remaining time"
+    );
+    let unregistered = WorkerId("nobody".into());
+    let refused = ts.store.claim(&unregistered, &ClaimFilter::default()).await;
+    assert!(matches!(
+        refused,
+        Err(StoreError::InvalidParameter {
+            field: "worker",
+            ..
+        })
+    ));
+    assert_eq!(
+        ts.store.job(jobs[0]).await.unwrap().state,
+        JobState::Ready,
+        "rolled back"
+    );
+    ts.finish().await;
+}
+
+async fn newer_schema_is_refused_and_left_untouched(backend: Backend) {
+    let Some(ts) = open_store(backend, QueuePolicy::default()).await else {
+        return;
+    };
+    let supported = ts.store.supported_schema_version();
+    assert_eq!(ts.store.schema_version().await.unwrap(), supported);
+    let id = campaign(&ts.store, "kept").await;
+    ts.store
+        .insert_plan(id, &[test_job(TestPayload::Succeed)])
+        .await
+        .unwrap();
+    let newer = (supported + 1).to_string();
+    match backend {
+        Backend::Sqlite => {
+            let pool = sqlx::SqlitePool::connect(&format!("sqlite://{}", ts.location))
+                .await
+                .unwrap();
+            sqlx::query("UPDATE schema_info SET value = $1 WHERE key = 'schema_version'")
+                .bind(&newer)
+                .execute(&pool)
+                .await
+                .unwrap();
+            pool.close().await;
+        }
+        Backend::Postgres => {
+            use sqlx::postgres::{PgConnectOptions, PgPoolOptions};
+            let schema = ts.options.postgres_schema.clone().unwrap();
+            let options: PgConnectOptions = ts.location.parse().unwrap();
+            let pool = PgPoolOptions::new()
+                .connect_with(options.options([("search_path", schema.as_str())]))
+                .await
+                .unwrap();
+            sqlx::query("UPDATE schema_info SET value = $1 WHERE key = 'schema_version'")
+                .bind(&newer)
+                .execute(&pool)
+                .await
+                .unwrap();
+            pool.close().await;
+        }
+    }
+    ts.store.close().await;
+    let file_before = match backend {
+        Backend::Sqlite => Some(std::fs::read(&ts.location).unwrap()),
+        Backend::Postgres => None,
+    };
+    match Store::open(&ts.location, ts.options.clone()).await {
+        Err(StoreError::SchemaTooNew {
+            found,
+            supported: s,
+        }) => {
+            assert_eq!((found, s), (supported + 1, supported));
+        }
+        other => panic!("expected SchemaTooNew, got {other:?}"),
+    }
+    if let Some(before) = file_before {
+        assert_eq!(
+            std::fs::read(&ts.location).unwrap(),
+            before,
+            "database file modified"
+        );
+    }
+    // Restore the version so the store can be opened to clean up.
+    if backend == Backend::Postgres {
+        use sqlx::postgres::{PgConnectOptions, PgPoolOptions};
+        let schema = ts.options.postgres_schema.clone().unwrap();
+        let options: PgConnectOptions = ts.location.parse().unwrap();
+        let pool = PgPoolOptions::new()
+            .connect_with(options.options([("search_path", schema.as_str())]))
+            .await
+            .unwrap();
+        sqlx::query(&format!("DROP SCHEMA {schema} CASCADE"))
+            .execute(&pool)
+            .await
+            .unwrap();
+        pool.close().await;
+    }
+}
+
+#[tokio::test]
+async fn opening_a_missing_path_creates_the_store_with_its_directories() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("new/sub/dir/campaign.sqlite");
+    let location = format!("sqlite://{}", path.display());
+    let store = Store::open(&location, StoreOptions::default())
+        .await
+        .unwrap();
+    assert!(path.exists());
+    assert_eq!(
+        store.schema_version().await.unwrap(),
+        store.supported_schema_version()
+    );
+    store.close().await;
+    // Reopening an up-to-date store applies nothing.
+    let again = Store::open(&location, StoreOptions::default())
+        .await
+        .unwrap();
+    assert_eq!(
+        again.schema_version().await.unwrap(),
+        again.supported_schema_version()
+    );
+    again.close().await;
+}
+
+#[tokio::test]
+async fn opening_garbage_is_refused_with_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("notes.sqlite");
+    let garbage = b"these are field notes, not a database\n".repeat(200);
+    std::fs::write(&path, &garbage).unwrap();
+    match Store::open(path.to_str().unwrap(), StoreOptions::default()).await {
+        Err(StoreError::NotADatabase { path: p, reason }) => {
+            assert_eq!(p, path);
+            assert!(reason.contains("SQLite header"), "{reason}");
+        }
+        other => panic!("expected NotADatabase, got {other:?}"),
+    }
+    assert_eq!(
+        std::fs::read(&path).unwrap(),
+        garbage,
+        "garbage file modified"
+    );
+}
+
+#[test]
+fn artifacts_round_trip_and_identical_content_is_stored_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let store = ArtifactStore::open(dir.path().join("artifacts")).unwrap();
+    let bytes: Vec<u8> = (0..100_000_u32).flat_map(|i| i.to_le_bytes()).collect();
+    let first = store.put("tension_history", &bytes).unwrap();
+    let second = store.put("curvature_history", &bytes).unwrap();
+    assert_eq!(first.sha256, second.sha256);
+    assert_eq!(first.size_bytes, 400_000);
+    // sha256 of the empty input (FIPS 180-4 test vector).
+    let empty = store.put("empty", b"").unwrap();
+    assert_eq!(
+        empty.sha256,
+        "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855"
+    );
+    assert_eq!(store.get(&first.sha256).unwrap(), bytes);
+    let shard = store.dir().join(&first.sha256[..2]);
+    let names: Vec<_> = std::fs::read_dir(&shard)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(
+        names,
+        vec![std::ffi::OsString::from(&first.sha256)],
+        "one file, no temporaries"
+    );
+    assert!(matches!(
+        store.get(&"0".repeat(64)),
+        Err(StoreError::ArtifactMissing(_))
+    ));
+    assert!(matches!(
+        store.get("../../etc"),
+        Err(StoreError::InvalidParameter { .. })
+    ));
+}
+
+#[test]
+fn corrupted_artifact_is_refused_on_read_and_repaired_by_a_new_write() {
+    let dir = tempfile::tempdir().unwrap();
+    let store = ArtifactStore::beside_database(&dir.path().join("c.sqlite")).unwrap();
+    assert!(store.dir().ends_with("c.sqlite.artifacts"));
+    let reference = store.put("checkpoint", b"solver state").unwrap();
+    let path = store.dir().join(&reference.path);
+    std::fs::write(&path, b"solver stat\0").unwrap();
+    match store.get(&reference.sha256) {
+        Err(StoreError::ArtifactCorrupt { expected, actual }) => {
+            assert_eq!(expected, reference.sha256);
+            assert_ne!(actual, expected);
+        }
+        other => panic!("expected ArtifactCorrupt, got {other:?}"),
+    }
+    store.put("checkpoint", b"solver state").unwrap();
+    assert_eq!(store.get(&reference.sha256).unwrap(), b"solver state");
+}
+
+#[test]
+fn interrupted_writes_leave_only_temporaries_which_are_never_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let store = ArtifactStore::open(dir.path()).unwrap();
+    let bytes = vec![7_u8; 4096];
+    let reference = store.put("series", &bytes).unwrap();
+    // A writer killed before its rename leaves a partial temporary beside the real files.
+    let shard = store.dir().join(&reference.sha256[..2]);
+    std::fs::write(shard.join(".tmp-killed"), &bytes[..100]).unwrap();
+    assert_eq!(store.get(&reference.sha256).unwrap(), bytes);
+    assert_eq!(store.remove_stale_temporaries().unwrap(), 1);
+    assert_eq!(std::fs::read_dir(&shard).unwrap().count(), 1);
+}
+
+#[test]
+fn concurrent_writers_and_readers_never_see_a_partial_artifact() {
+    let dir = tempfile::tempdir().unwrap();
+    let store = ArtifactStore::open(dir.path()).unwrap();
+    let bytes: Vec<u8> = (0..2_000_000_u32).map(|i| (i % 251) as u8).collect();
+    let sha256 = hex::encode(<sha2::Sha256 as sha2::Digest>::digest(&bytes));
+    std::thread::scope(|scope| {
+        for _ in 0..4 {
+            scope.spawn(|| {
+                let reference = store.put("big", &bytes).unwrap();
+                assert_eq!(reference.sha256, sha256);
+            });
+        }
+        for _ in 0..4 {
+            scope.spawn(|| {
+                for _ in 0..50 {
+                    // Every read either finds nothing yet or the whole, verified content.
+                    match store.get(&sha256) {
+                        Ok(read) => assert_eq!(read.len(), bytes.len()),
+                        Err(StoreError::ArtifactMissing(_)) => {}
+                        Err(other) => panic!("reader saw {other}"),
+                    }
+                }
+            });
+        }
+    });
+    assert_eq!(store.get(&sha256).unwrap(), bytes);
+    assert_eq!(store.remove_stale_temporaries().unwrap(), 0);
+}
