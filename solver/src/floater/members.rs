@@ -194,6 +194,7 @@ impl Member {
         );
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn add_axial_loads<S: SeaKinematics + ?Sized>(
         &self,
         state: &BodyState,
