@@ -5,7 +5,8 @@
 use moorfret_solver::floater::dynamics::{
     integrate, static_equilibrium, IntegratorParams, LinearMooring,
 };
-use moorfret_solver::floater::{BodyState, Floater, FloaterSpec};
+use moorfret_solver::floater::prescribed::{PrescribedMotion, COLUMNS};
+use moorfret_solver::floater::{fairlead_body_points, BodyState, Floater, FloaterSpec};
 use moorfret_solver::waves::{FluidKinematics, SeaKinematics, StillWater};
 use nalgebra::{Matrix6, Vector3, Vector6};
 use std::f64::consts::PI;
@@ -436,4 +437,62 @@ fn surge_free_decay_period_matches_the_oc4_value() {
         100.0 * rel(t, reference)
     );
     assert!(rel(t, reference).abs() < 5e-2);
+}
+
+#[test]
+fn rotor_thrust_acts_at_hub_height_along_x() {
+    let f = oc4();
+    let thrust = 5.0e5;
+    let loads = f.loads(&BodyState::at_rest(), &StillWater, 0.0, thrust);
+    assert_eq!(
+        loads.wind,
+        Vector6::new(thrust, 0.0, 0.0, 0.0, 90.0 * thrust, 0.0)
+    );
+    // Pitched by 5°, the hub moves forward and the moment arm shrinks to 90 cos 5°.
+    let mut s = BodyState::at_rest();
+    s.rotation =
+        moorfret_solver::beam::rotation::exp_so3(&Vector3::new(0.0, 5f64.to_radians(), 0.0));
+    let tilted = f.loads(&s, &StillWater, 0.0, thrust);
+    assert!((tilted.wind[4] - 90.0 * 5f64.to_radians().cos() * thrust).abs() < 1e-6 * thrust);
+}
+
+#[test]
+fn prescribed_motion_gives_fairlead_kinematics_consistent_with_its_positions() {
+    let f = oc4();
+    let w = 2.0 * PI / 14.0;
+    let mut text = COLUMNS.join(",") + "\n";
+    for k in 0..=2000 {
+        let t = k as f64 * 0.05;
+        let s = (w * t).sin();
+        let c = (w * t).cos();
+        text += &format!(
+            "{t},{},{},{},{},{},{}\n",
+            3.0 * s,
+            0.5 * c,
+            1.2 * s,
+            0.03 * c,
+            0.06 * s,
+            0.02 * c
+        );
+    }
+    let motion = PrescribedMotion::from_csv_str(&text).unwrap();
+    let fairlead = fairlead_body_points(40.868, 14.0, &[-5.0])[0];
+    let (t, h) = (47.3, 1e-3);
+    let at = |t: f64| {
+        let s = motion.sample(t).unwrap();
+        f.point_kinematics(&s.state, &s.acceleration, &fairlead)
+    };
+    let (k, kp, km) = (at(t), at(t + h), at(t - h));
+    let v_fd = (kp.position_m - km.position_m) / (2.0 * h);
+    let a_fd = (kp.position_m - 2.0 * k.position_m + km.position_m) / (h * h);
+    assert!(
+        (k.velocity_m_per_s - v_fd).norm() < 1e-5 * k.velocity_m_per_s.norm(),
+        "{} vs {v_fd}",
+        k.velocity_m_per_s
+    );
+    assert!(
+        (k.acceleration_m_per_s2 - a_fd).norm() < 1e-3 * k.acceleration_m_per_s2.norm(),
+        "{} vs {a_fd}",
+        k.acceleration_m_per_s2
+    );
 }

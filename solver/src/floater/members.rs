@@ -262,3 +262,52 @@ impl Member {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pile(from_z: f64, to_z: f64, ca_axial: f64) -> Member {
+        let r = ResolvedMember {
+            name: "pile".into(),
+            diameter_m: 2.0,
+            from_m: Vector3::new(3.0, 0.0, from_z),
+            to_m: Vector3::new(3.0, 0.0, to_z),
+            drag_coefficient: 1.0,
+            added_mass_coefficient: 1.0,
+            axial_drag_coefficient: 0.0,
+            axial_added_mass_coefficient: ca_axial,
+            end_pressure_areas_m2: [0.0, 0.0],
+        };
+        Member::new(&r, 1.0)
+    }
+
+    #[test]
+    fn added_mass_counts_only_the_wetted_length_of_a_surface_piercing_member() {
+        // 15 m long, the still water level in the middle of a strip: 10.5 m wetted.
+        let rho = 1025.0;
+        let m = pile(-10.5, 4.5, 0.0);
+        let mut a = Matrix6::zeros();
+        m.add_added_mass(rho, &mut a);
+        let expected = rho * std::f64::consts::PI * 10.5;
+        assert!((a[(0, 0)] - expected).abs() < 1e-9 * expected);
+        assert!((a[(1, 1)] - expected).abs() < 1e-9 * expected);
+        assert_eq!(a[(2, 2)], 0.0);
+        // Yaw: the lever of 3 m to the body axis.
+        assert!((a[(5, 5)] - 9.0 * expected).abs() < 1e-9 * expected);
+    }
+
+    #[test]
+    fn heave_plate_added_mass_is_the_circular_disc_value() {
+        let rho = 1025.0;
+        let m = pile(-20.0, -14.0, 1.0);
+        let mut a = Matrix6::zeros();
+        m.add_added_mass(rho, &mut a);
+        let disc = rho * 8.0 / 3.0;
+        assert!((a[(2, 2)] - disc).abs() < 1e-12 * disc);
+        // Pitch: the disc at 3 m from the axis, plus the six 1 m strips at z = −19.5 … −14.5
+        // (Σ z² = 6·17² + 17.5).
+        let strips = a[(0, 0)] / 6.0 * (6.0 * 17.0 * 17.0 + 17.5);
+        assert!((a[(4, 4)] - (9.0 * disc + strips)).abs() < 1e-9 * a[(4, 4)]);
+    }
+}

@@ -22,7 +22,9 @@ pub mod model;
 pub mod prescribed;
 pub mod spec;
 
-pub use body::{fairlead_body_points, BodyState, MassProperties, PointKinematics, Wrench};
+pub use body::{
+    fairlead_body_points, fairlead_load, BodyState, MassProperties, PointKinematics, Wrench,
+};
 pub use error::FloaterError;
 pub use model::{Floater, JacobianSteps, LoadBreakdown, LoadJacobians};
 pub use spec::FloaterSpec;
