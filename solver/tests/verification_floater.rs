@@ -6,7 +6,9 @@ use moorfret_solver::floater::dynamics::{
     integrate, static_equilibrium, IntegratorParams, LinearMooring,
 };
 use moorfret_solver::floater::prescribed::{PrescribedMotion, COLUMNS};
-use moorfret_solver::floater::{fairlead_body_points, BodyState, Floater, FloaterSpec};
+use moorfret_solver::floater::{
+    fairlead_body_points, BodyState, Floater, FloaterSpec, JacobianSteps,
+};
 use moorfret_solver::waves::{FluidKinematics, SeaKinematics, StillWater};
 use nalgebra::{Matrix6, Vector3, Vector6};
 use std::f64::consts::PI;
@@ -494,5 +496,56 @@ fn prescribed_motion_gives_fairlead_kinematics_consistent_with_its_positions() {
         (k.acceleration_m_per_s2 - a_fd).norm() < 1e-3 * k.acceleration_m_per_s2.norm(),
         "{} vs {a_fd}",
         k.acceleration_m_per_s2
+    );
+}
+
+#[test]
+fn wave_response_is_the_same_with_the_sea_independent_position_jacobian() {
+    let full = oc4();
+    let light = oc4().with_jacobian_steps(JacobianSteps {
+        include_wave_terms: false,
+        ..JacobianSteps::default()
+    });
+    let buoyancy = RHO * G * full.hydrostatics().volume_m3;
+    let mooring = oc4_mooring(buoyancy - full.mass_properties().mass_kg * G);
+    let sea = DeepRegularWave::new(6.0, 10.0);
+    let params = IntegratorParams {
+        time_step_s: 0.1,
+        ..IntegratorParams::default()
+    };
+    let run = |f: &Floater| {
+        let mut last = BodyState::at_rest();
+        let mut heave_max: f64 = 0.0;
+        let stats = integrate(
+            f,
+            &mooring,
+            &sea,
+            5.0e5,
+            &BodyState::at_rest(),
+            40.0,
+            &params,
+            |_, s| {
+                last = *s;
+                heave_max = heave_max.max(s.position_m.z.abs());
+            },
+        )
+        .unwrap();
+        (last, heave_max, stats)
+    };
+    let (a, heave_a, stats_a) = run(&full);
+    let (b, _, stats_b) = run(&light);
+    println!("full Jacobian {stats_a:?}; sea-independent Jacobian {stats_b:?}; max |heave| {heave_a:.3} m");
+    assert!(
+        (a.position_m - b.position_m).norm() < 1e-6,
+        "{} vs {}",
+        a.position_m,
+        b.position_m
+    );
+    assert!((a.rotation - b.rotation).norm() < 1e-8);
+    // A 6 m, 10 s wave: heave well below the wave amplitude (heave period 17 s), but not zero.
+    assert!(heave_a > 0.1 && heave_a < 3.0, "{heave_a}");
+    assert!(
+        stats_b.newton_iterations <= 2 * stats_a.newton_iterations,
+        "{stats_a:?} {stats_b:?}"
     );
 }

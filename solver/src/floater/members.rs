@@ -1,7 +1,8 @@
 //! Cylindrical members and their strip-theory (Morison) loads.
 //!
 //! Each member is cut into strips of about the spec's strip length. On the wetted part of a
-//! strip (below the local free-surface elevation η(x, y, t)), of volume V = πD²/4 · ℓ_wet, with
+//! strip (below the free-surface elevation η(x, y, t), sampled once per member where its axis
+//! crosses the still water level), of volume V = πD²/4 · ℓ_wet, with
 //! unit axis e, normal projector P = I − e eᵀ, fluid velocity u and acceleration u̇ from
 //! [`SeaKinematics`] at the wetted centre and body velocity v_p there:
 //!
@@ -103,21 +104,36 @@ impl Member {
         )
     }
 
-    /// Wetted part of strip `k` between global end points `a`, `b` with free surface `eta`
-    /// evaluated at the strip centre.
-    fn wet_strip<S: SeaKinematics + ?Sized>(
-        &self,
-        k: usize,
+    /// Free-surface elevation seen by the member: sampled once, where its axis crosses the still
+    /// water level (or at its end nearest to it), which is exact for vertical members and saves
+    /// one sea evaluation per strip.
+    fn member_elevation<S: SeaKinematics + ?Sized>(
         a: &Vector3<f64>,
         b: &Vector3<f64>,
         sea: &S,
         t: f64,
+    ) -> f64 {
+        let p = if (a.z <= 0.0) != (b.z <= 0.0) {
+            a + (b - a) * (a.z / (a.z - b.z))
+        } else if a.z.abs() < b.z.abs() {
+            *a
+        } else {
+            *b
+        };
+        sea.elevation(p.x, p.y, t)
+    }
+
+    /// Wetted part of strip `k` between global end points `a`, `b` below the elevation `eta`.
+    fn wet_strip(
+        &self,
+        k: usize,
+        a: &Vector3<f64>,
+        b: &Vector3<f64>,
+        eta: f64,
     ) -> Option<WetStrip> {
         let n = self.strips as f64;
         let p0 = a + (b - a) * (k as f64 / n);
         let p1 = a + (b - a) * ((k + 1) as f64 / n);
-        let mid = 0.5 * (p0 + p1);
-        let eta = sea.elevation(mid.x, mid.y, t);
         let (z0, z1) = (p0.z - eta, p1.z - eta);
         let (t0, t1) = if z0 <= 0.0 && z1 <= 0.0 {
             (0.0, 1.0)
@@ -160,8 +176,9 @@ impl Member {
         let e = (b - a) / (b - a).norm();
         let proj = Matrix3::identity() - e * e.transpose();
         let area = self.section_area_m2();
+        let eta = Self::member_elevation(&a, &b, sea, t);
         for k in 0..self.strips {
-            let Some(strip) = self.wet_strip(k, &a, &b, sea, t) else {
+            let Some(strip) = self.wet_strip(k, &a, &b, eta) else {
                 continue;
             };
             let r = strip.centre - state.position_m;
@@ -243,9 +260,8 @@ impl Member {
         let (a, b) = (self.from_m, self.to_m);
         let e = (b - a) / (b - a).norm();
         let proj = Matrix3::identity() - e * e.transpose();
-        let calm = crate::waves::StillWater;
         for k in 0..self.strips {
-            let Some(strip) = self.wet_strip(k, &a, &b, &calm, 0.0) else {
+            let Some(strip) = self.wet_strip(k, &a, &b, 0.0) else {
                 continue;
             };
             let mass = self.added_mass_coefficient * rho * self.section_area_m2() * strip.length_m;
