@@ -245,10 +245,8 @@ fn velocity_jacobian_matches_central_differences_in_a_regular_wave() {
     }
 }
 
-#[test]
-fn morison_force_on_a_fixed_vertical_cylinder_matches_the_hand_formula() {
-    // One surface-piercing cylinder, D = 2 m, bottom at 30 m, Cd = 1, Ca = 1, bottom face exposed.
-    let (d, depth, cd, ca) = (2.0, 30.0, 1.0, 1.0);
+/// One surface-piercing vertical cylinder from z = −depth to +5 m, bottom face exposed.
+fn pile(d: f64, depth: f64, cd: f64, ca: f64) -> Floater {
     let area = PI * d * d / 4.0;
     let text = format!(
         r#"{{"mass_kg": 1.0e5, "centre_of_mass_m": [0, 0, -20], "inertia_about_com_kg_m2": {{"roll": 1e6, "pitch": 1e6, "yaw": 1e5}},
@@ -257,7 +255,41 @@ fn morison_force_on_a_fixed_vertical_cylinder_matches_the_hand_formula() {
                           "drag_coefficient": {cd}, "added_mass_coefficient": {ca}, "end_pressure_areas_m2": [{area}, 0]}}]}}"#,
         vol = area * depth
     );
-    let f = Floater::from_spec(&FloaterSpec::from_json_str(&text).unwrap()).unwrap();
+    Floater::from_spec(&FloaterSpec::from_json_str(&text).unwrap()).unwrap()
+}
+
+#[test]
+fn maccamy_fuchs_scales_the_inertia_of_a_large_pile() {
+    // D = 20 m in 8 s deep-water waves: ka = 0.63, C_M = 1.86 instead of 2.
+    let (d, depth) = (20.0, 30.0);
+    let sea = DeepRegularWave::new(2.0, 8.0);
+    let plain = pile(d, depth, 0.0, 1.0);
+    let corrected = pile(d, depth, 0.0, 1.0)
+        .with_maccamy_fuchs(8.0, 1.0e4)
+        .unwrap();
+    let cm = moorfret_solver::floater::diffraction::inertia_coefficient(0.5 * sea.k * d);
+    let t = 1.3;
+    let a = plain
+        .loads(&BodyState::at_rest(), &sea, t, 0.0)
+        .wave_inertia[0];
+    let b = corrected
+        .loads(&BodyState::at_rest(), &sea, t, 0.0)
+        .wave_inertia[0];
+    println!("ka = {:.3}, C_M = {cm:.4}", 0.5 * sea.k * d);
+    assert!(cm > 1.7 && cm < 1.95, "{cm}");
+    assert!(
+        (b - a * cm / 2.0).abs() < 1e-9 * a.abs(),
+        "{b} vs {}",
+        a * cm / 2.0
+    );
+}
+
+#[test]
+fn morison_force_on_a_fixed_vertical_cylinder_matches_the_hand_formula() {
+    // One surface-piercing cylinder, D = 2 m, bottom at 30 m, Cd = 1, Ca = 1, bottom face exposed.
+    let (d, depth, cd, ca) = (2.0, 30.0, 1.0, 1.0);
+    let area = PI * d * d / 4.0;
+    let f = pile(d, depth, cd, ca);
     let sea = DeepRegularWave::new(4.0, 9.0);
     let (a, w, k) = (sea.amplitude_m, sea.omega, sea.k);
     let decay1 = (1.0 - (-k * depth).exp()) / k; // ∫ e^{kz} dz over [−d, 0]

@@ -55,6 +55,9 @@ pub struct Member {
     pub end_pressure_areas_m2: [f64; 2],
     /// Number of strips.
     pub strips: usize,
+    /// Factor on the transverse Froude–Krylov + diffraction term (1, or the MacCamy–Fuchs
+    /// ratio C_M(ka)/2 of [`super::diffraction`]).
+    pub inertia_factor: f64,
 }
 
 /// Wetted part of one strip in the current pose.
@@ -78,6 +81,7 @@ impl Member {
             axial_added_mass_coefficient: r.axial_added_mass_coefficient,
             end_pressure_areas_m2: r.end_pressure_areas_m2,
             strips: ((len / strip_length_m).ceil() as usize).max(1),
+            inertia_factor: 1.0,
         }
     }
 
@@ -186,8 +190,8 @@ impl Member {
             let u_rel = fluid.velocity - state.velocity_at(&strip.centre);
             let un = proj * u_rel;
             let volume = area * strip.length_m;
-            let f_inertia =
-                (proj * fluid.acceleration) * (rho * volume * (1.0 + self.added_mass_coefficient));
+            let f_inertia = (proj * fluid.acceleration)
+                * (rho * volume * (1.0 + self.added_mass_coefficient) * self.inertia_factor);
             let cd = 0.5 * rho * self.drag_coefficient * self.diameter_m * strip.length_m;
             let speed = un.norm();
             inertia.add_at(&f_inertia, &r);

@@ -167,6 +167,35 @@ impl Floater {
         self
     }
 
+    /// Same floater with the MacCamy–Fuchs correction of every member's transverse wave inertia
+    /// for waves of period `period_s` in water of depth `depth_m` (see [`super::diffraction`]).
+    pub fn with_maccamy_fuchs(mut self, period_s: f64, depth_m: f64) -> Result<Self, FloaterError> {
+        if !(period_s.is_finite() && period_s > 0.0) {
+            return Err(FloaterError::field(
+                "maccamy_fuchs.period_s",
+                period_s,
+                "must be > 0",
+            ));
+        }
+        if !(depth_m.is_finite() && depth_m > 0.0) {
+            return Err(FloaterError::field(
+                "maccamy_fuchs.depth_m",
+                depth_m,
+                "must be > 0",
+            ));
+        }
+        let k = super::diffraction::wave_number(
+            2.0 * std::f64::consts::PI / period_s,
+            depth_m,
+            self.gravity,
+        );
+        for m in &mut self.members {
+            m.inertia_factor =
+                0.5 * super::diffraction::inertia_coefficient(0.5 * k * m.diameter_m);
+        }
+        Ok(self)
+    }
+
     /// Members.
     pub fn members(&self) -> &[Member] {
         &self.members
