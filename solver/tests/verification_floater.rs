@@ -581,3 +581,32 @@ fn wave_response_is_the_same_with_the_sea_independent_position_jacobian() {
         "{stats_a:?} {stats_b:?}"
     );
 }
+
+#[test]
+fn rotor_thrust_offsets_the_moored_platform_by_thrust_over_stiffness() {
+    let f = oc4();
+    let pretension = RHO * G * f.hydrostatics().volume_m3 - f.mass_properties().mass_kg * G;
+    let mooring = oc4_mooring(pretension);
+    let thrust = 5.0e5;
+    let (eq0, _) = static_equilibrium(&f, &mooring, 0.0, &BodyState::at_rest(), 1e-12, 20).unwrap();
+    let (eq, _) =
+        static_equilibrium(&f, &mooring, thrust, &BodyState::at_rest(), 1e-12, 20).unwrap();
+    // Only the mooring resists horizontally: x = T / K11 exactly.
+    assert!(
+        rel(eq.position_m.x, thrust / 7.08e4).abs() < 1e-9,
+        "{}",
+        eq.position_m.x
+    );
+    // Pitch: the thrust moment 90 T over the pitch stiffness (hydrostatic + mooring), to first
+    // order in the angle.
+    let pitch = moorfret_solver::beam::rotation::log_so3(&eq.rotation).y
+        - moorfret_solver::beam::rotation::log_so3(&eq0.rotation).y;
+    let linear = 90.0 * thrust / (f.restoring_matrix()[(4, 4)] + 8.73e7);
+    println!(
+        "thrust 500 kN: surge {:.3} m, pitch {:.3}° (linear {:.3}°)",
+        eq.position_m.x,
+        pitch.to_degrees(),
+        linear.to_degrees()
+    );
+    assert!(rel(pitch, linear).abs() < 2e-2, "{pitch} vs {linear}");
+}

@@ -104,6 +104,23 @@ pub fn integrate<S: SeaKinematics + ?Sized>(
     params: &IntegratorParams,
     mut record: impl FnMut(f64, &BodyState),
 ) -> Result<IntegratorStats, FloaterError> {
+    if !(params.time_step_s.is_finite() && params.time_step_s > 0.0) {
+        return Err(FloaterError::field(
+            "time_step_s",
+            params.time_step_s,
+            "must be > 0",
+        ));
+    }
+    if !(duration_s.is_finite() && duration_s >= 0.0) {
+        return Err(FloaterError::field(
+            "duration_s",
+            duration_s,
+            "must be >= 0",
+        ));
+    }
+    if params.max_iterations == 0 {
+        return Err(FloaterError::field("max_iterations", 0, "must be >= 1"));
+    }
     let h = params.time_step_s;
     let rho = params.spectral_radius.clamp(0.0, 1.0);
     let am = (2.0 * rho - 1.0) / (rho + 1.0);
