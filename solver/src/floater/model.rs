@@ -15,7 +15,11 @@
 //! [`Floater::load_jacobians`] returns ∂f/∂ν analytically (drag, linear damping, gyroscopic
 //! terms) and ∂f/∂q by central differences of f, the position variation being a translation
 //! of the reference point and a spatial rotation Λ ← exp(δθ̂) Λ; the velocities are held
-//! fixed in global axes while q varies.
+//! fixed in global axes while q varies. [`JacobianSteps::include_wave_terms`] = false restricts
+//! the differences to the sea-independent loads (12 sea evaluations fewer per call). The
+//! dependence of the mass matrix on Λ is not differentiated. Typical use in a Newton loop:
+//! residual r = M(q) ν̇ − f(q, ν, t) − Σ fairlead loads ([`super::body::fairlead_load`]),
+//! iteration matrix M − β'h² (∂f/∂q + Σ ∂F_line/∂q) − γ'h ∂f/∂ν.
 
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
