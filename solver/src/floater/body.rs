@@ -121,6 +121,35 @@ pub fn fairlead_body_points(
         .collect()
 }
 
+/// Generalised load of a line attached at body point `body_point` and its derivative with
+/// respect to the body position q (translation, spatial rotation).
+///
+/// `force_n` is the force the line exerts on the body at the fairlead (global, N) and
+/// `stiffness_n_per_m` the condensed line stiffness K = −∂f/∂x_p at the fairlead (N/m). With
+/// r = Λ p_b and δx_p = δx − r̂ δθ:
+///
+/// ```text
+/// F = (f, r × f),   ∂F/∂q = −[[K, −K r̂], [r̂ K, −r̂ K r̂]] + [[0, 0], [0, f̂ r̂]]
+/// ```
+///
+/// the last block being the change of lever arm under a rotation with the force held fixed.
+pub fn fairlead_load(
+    state: &BodyState,
+    body_point: &Vector3<f64>,
+    force_n: &Vector3<f64>,
+    stiffness_n_per_m: &Matrix3<f64>,
+) -> (Vector6<f64>, Matrix6<f64>) {
+    let r = state.rotation * body_point;
+    let mut w = Wrench::default();
+    w.add_at(force_n, &r);
+    let mut k = Matrix6::zeros();
+    add_point_block(&mut k, stiffness_n_per_m, &r, -1.0);
+    let geometric = skew(force_n) * skew(&r);
+    let mut block = k.fixed_view_mut::<3, 3>(3, 3);
+    block += geometric;
+    (w.to_vector6(), k)
+}
+
 /// A force and its moment about the body reference point, global axes.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Wrench {
@@ -339,6 +368,56 @@ mod tests {
                 jac.column(j)
             );
         }
+    }
+
+    #[test]
+    fn fairlead_load_jacobian_matches_central_differences() {
+        // A linear spring to a fixed anchor: f = −K (x_p − x_anchor) + f0, so −∂f/∂x_p = K.
+        let k3 = Matrix3::new(
+            5.0e4, 1.0e3, -2.0e3, 1.0e3, 2.0e4, 4.0e3, -2.0e3, 4.0e3, 3.0e4,
+        );
+        let anchor = Vector3::new(560.0, 40.0, -100.0);
+        let f0 = Vector3::new(2.0e5, 1.0e4, -3.0e5);
+        let p_b = fairlead_body_points(40.868, 14.0, &[-5.0])[0];
+        let load = |s: &BodyState| {
+            let xp = s.point_position(&p_b);
+            let f = f0 - k3 * (xp - anchor);
+            fairlead_load(s, &p_b, &f, &k3)
+        };
+        let mut state = BodyState::at_rest();
+        state.position_m = Vector3::new(3.0, -1.0, 0.4);
+        state.rotation = exp_so3(&Vector3::new(0.02, -0.05, 0.1));
+        let (_, jac) = load(&state);
+        for j in 0..6 {
+            let h = if j < 3 { 1e-4 } else { 1e-7 };
+            let shifted = |sign: f64| {
+                let mut s = state;
+                if j < 3 {
+                    s.position_m[j] += sign * h;
+                } else {
+                    let mut th = Vector3::zeros();
+                    th[j - 3] = sign * h;
+                    s.rotation = exp_so3(&th) * state.rotation;
+                }
+                load(&s).0
+            };
+            let fd = (shifted(1.0) - shifted(-1.0)) / (2.0 * h);
+            assert!(
+                (fd - jac.column(j)).norm() < 1e-6 * jac.column(j).norm().max(1e4),
+                "column {j}: {fd} vs {}",
+                jac.column(j)
+            );
+        }
+    }
+
+    #[test]
+    fn paper_case_fairleads_lie_on_their_circle_below_the_water() {
+        let pts = fairlead_body_points(40.868, 14.0, &[-5.0, 5.0, 115.0, 125.0, 235.0, 245.0]);
+        assert_eq!(pts.len(), 6);
+        for p in &pts {
+            assert!((p.xy().norm() - 40.868).abs() < 1e-12 && p.z == -14.0);
+        }
+        assert!((pts[1].y.atan2(pts[1].x).to_degrees() - 5.0).abs() < 1e-12);
     }
 
     #[test]

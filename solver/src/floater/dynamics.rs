@@ -104,6 +104,23 @@ pub fn integrate<S: SeaKinematics + ?Sized>(
     params: &IntegratorParams,
     mut record: impl FnMut(f64, &BodyState),
 ) -> Result<IntegratorStats, FloaterError> {
+    if !(params.time_step_s.is_finite() && params.time_step_s > 0.0) {
+        return Err(FloaterError::field(
+            "time_step_s",
+            params.time_step_s,
+            "must be > 0",
+        ));
+    }
+    if !(duration_s.is_finite() && duration_s >= 0.0) {
+        return Err(FloaterError::field(
+            "duration_s",
+            duration_s,
+            "must be >= 0",
+        ));
+    }
+    if params.max_iterations == 0 {
+        return Err(FloaterError::field("max_iterations", 0, "must be >= 1"));
+    }
     let h = params.time_step_s;
     let rho = params.spectral_radius.clamp(0.0, 1.0);
     let am = (2.0 * rho - 1.0) / (rho + 1.0);
@@ -197,4 +214,49 @@ pub fn integrate<S: SeaKinematics + ?Sized>(
         record(t, &state);
     }
     Ok(stats)
+}
+
+/// Static equilibrium of the floater under gravity, buoyancy, rotor thrust and the linear
+/// mooring in still water, by Newton iterations with the position Jacobian; returns the state
+/// at rest and the number of iterations.
+pub fn static_equilibrium(
+    floater: &Floater,
+    mooring: &LinearMooring,
+    wind_thrust_n: f64,
+    initial: &BodyState,
+    tolerance: f64,
+    max_iterations: usize,
+) -> Result<(BodyState, usize), FloaterError> {
+    let calm = crate::waves::StillWater;
+    let mg = floater.mass_properties().mass_kg * floater.gravity();
+    let scale = Vector6::new(mg, mg, mg, 10.0 * mg, 10.0 * mg, 10.0 * mg);
+    let mut state = BodyState {
+        velocity_m_per_s: Vector3::zeros(),
+        angular_velocity_rad_per_s: Vector3::zeros(),
+        ..*initial
+    };
+    let mut residual = f64::INFINITY;
+    for it in 0..max_iterations {
+        let f = floater.net_forces(&state, &calm, 0.0, wind_thrust_n) + mooring.force(&state);
+        residual = f.component_div(&scale).amax();
+        if residual < tolerance {
+            return Ok((state, it));
+        }
+        let k = floater
+            .load_jacobians(&state, &calm, 0.0, wind_thrust_n)
+            .position
+            - mooring.stiffness;
+        let dq = k.lu().solve(&(-f)).ok_or(FloaterError::SingularMatrix {
+            what: "static stiffness",
+            step: it,
+        })?;
+        state.position_m += dq.fixed_rows::<3>(0);
+        state.rotation = exp_so3(&Vector3::from(dq.fixed_rows::<3>(3))) * state.rotation;
+    }
+    Err(FloaterError::NewtonDiverged {
+        step: 0,
+        time_s: 0.0,
+        iterations: max_iterations,
+        residual,
+    })
 }

@@ -1,7 +1,8 @@
 //! Cylindrical members and their strip-theory (Morison) loads.
 //!
 //! Each member is cut into strips of about the spec's strip length. On the wetted part of a
-//! strip (below the local free-surface elevation η(x, y, t)), of volume V = πD²/4 · ℓ_wet, with
+//! strip (below the free-surface elevation η(x, y, t), sampled once per member where its axis
+//! crosses the still water level), of volume V = πD²/4 · ℓ_wet, with
 //! unit axis e, normal projector P = I − e eᵀ, fluid velocity u and acceleration u̇ from
 //! [`SeaKinematics`] at the wetted centre and body velocity v_p there:
 //!
@@ -54,6 +55,9 @@ pub struct Member {
     pub end_pressure_areas_m2: [f64; 2],
     /// Number of strips.
     pub strips: usize,
+    /// Factor on the transverse Froude–Krylov + diffraction term (1, or the MacCamy–Fuchs
+    /// ratio C_M(ka)/2 of [`super::diffraction`]).
+    pub inertia_factor: f64,
 }
 
 /// Wetted part of one strip in the current pose.
@@ -77,6 +81,7 @@ impl Member {
             axial_added_mass_coefficient: r.axial_added_mass_coefficient,
             end_pressure_areas_m2: r.end_pressure_areas_m2,
             strips: ((len / strip_length_m).ceil() as usize).max(1),
+            inertia_factor: 1.0,
         }
     }
 
@@ -103,21 +108,36 @@ impl Member {
         )
     }
 
-    /// Wetted part of strip `k` between global end points `a`, `b` with free surface `eta`
-    /// evaluated at the strip centre.
-    fn wet_strip<S: SeaKinematics + ?Sized>(
-        &self,
-        k: usize,
+    /// Free-surface elevation seen by the member: sampled once, where its axis crosses the still
+    /// water level (or at its end nearest to it), which is exact for vertical members and saves
+    /// one sea evaluation per strip.
+    fn member_elevation<S: SeaKinematics + ?Sized>(
         a: &Vector3<f64>,
         b: &Vector3<f64>,
         sea: &S,
         t: f64,
+    ) -> f64 {
+        let p = if (a.z <= 0.0) != (b.z <= 0.0) {
+            a + (b - a) * (a.z / (a.z - b.z))
+        } else if a.z.abs() < b.z.abs() {
+            *a
+        } else {
+            *b
+        };
+        sea.elevation(p.x, p.y, t)
+    }
+
+    /// Wetted part of strip `k` between global end points `a`, `b` below the elevation `eta`.
+    fn wet_strip(
+        &self,
+        k: usize,
+        a: &Vector3<f64>,
+        b: &Vector3<f64>,
+        eta: f64,
     ) -> Option<WetStrip> {
         let n = self.strips as f64;
         let p0 = a + (b - a) * (k as f64 / n);
         let p1 = a + (b - a) * ((k + 1) as f64 / n);
-        let mid = 0.5 * (p0 + p1);
-        let eta = sea.elevation(mid.x, mid.y, t);
         let (z0, z1) = (p0.z - eta, p1.z - eta);
         let (t0, t1) = if z0 <= 0.0 && z1 <= 0.0 {
             (0.0, 1.0)
@@ -160,8 +180,9 @@ impl Member {
         let e = (b - a) / (b - a).norm();
         let proj = Matrix3::identity() - e * e.transpose();
         let area = self.section_area_m2();
+        let eta = Self::member_elevation(&a, &b, sea, t);
         for k in 0..self.strips {
-            let Some(strip) = self.wet_strip(k, &a, &b, sea, t) else {
+            let Some(strip) = self.wet_strip(k, &a, &b, eta) else {
                 continue;
             };
             let r = strip.centre - state.position_m;
@@ -169,8 +190,8 @@ impl Member {
             let u_rel = fluid.velocity - state.velocity_at(&strip.centre);
             let un = proj * u_rel;
             let volume = area * strip.length_m;
-            let f_inertia =
-                (proj * fluid.acceleration) * (rho * volume * (1.0 + self.added_mass_coefficient));
+            let f_inertia = (proj * fluid.acceleration)
+                * (rho * volume * (1.0 + self.added_mass_coefficient) * self.inertia_factor);
             let cd = 0.5 * rho * self.drag_coefficient * self.diameter_m * strip.length_m;
             let speed = un.norm();
             inertia.add_at(&f_inertia, &r);
@@ -194,6 +215,7 @@ impl Member {
         );
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn add_axial_loads<S: SeaKinematics + ?Sized>(
         &self,
         state: &BodyState,
@@ -242,9 +264,8 @@ impl Member {
         let (a, b) = (self.from_m, self.to_m);
         let e = (b - a) / (b - a).norm();
         let proj = Matrix3::identity() - e * e.transpose();
-        let calm = crate::waves::StillWater;
         for k in 0..self.strips {
-            let Some(strip) = self.wet_strip(k, &a, &b, &calm, 0.0) else {
+            let Some(strip) = self.wet_strip(k, &a, &b, 0.0) else {
                 continue;
             };
             let mass = self.added_mass_coefficient * rho * self.section_area_m2() * strip.length_m;
@@ -259,5 +280,54 @@ impl Member {
                 1.0,
             );
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pile(from_z: f64, to_z: f64, ca_axial: f64) -> Member {
+        let r = ResolvedMember {
+            name: "pile".into(),
+            diameter_m: 2.0,
+            from_m: Vector3::new(3.0, 0.0, from_z),
+            to_m: Vector3::new(3.0, 0.0, to_z),
+            drag_coefficient: 1.0,
+            added_mass_coefficient: 1.0,
+            axial_drag_coefficient: 0.0,
+            axial_added_mass_coefficient: ca_axial,
+            end_pressure_areas_m2: [0.0, 0.0],
+        };
+        Member::new(&r, 1.0)
+    }
+
+    #[test]
+    fn added_mass_counts_only_the_wetted_length_of_a_surface_piercing_member() {
+        // 15 m long, the still water level in the middle of a strip: 10.5 m wetted.
+        let rho = 1025.0;
+        let m = pile(-10.5, 4.5, 0.0);
+        let mut a = Matrix6::zeros();
+        m.add_added_mass(rho, &mut a);
+        let expected = rho * std::f64::consts::PI * 10.5;
+        assert!((a[(0, 0)] - expected).abs() < 1e-9 * expected);
+        assert!((a[(1, 1)] - expected).abs() < 1e-9 * expected);
+        assert_eq!(a[(2, 2)], 0.0);
+        // Yaw: the lever of 3 m to the body axis.
+        assert!((a[(5, 5)] - 9.0 * expected).abs() < 1e-9 * expected);
+    }
+
+    #[test]
+    fn heave_plate_added_mass_is_the_circular_disc_value() {
+        let rho = 1025.0;
+        let m = pile(-20.0, -14.0, 1.0);
+        let mut a = Matrix6::zeros();
+        m.add_added_mass(rho, &mut a);
+        let disc = rho * 8.0 / 3.0;
+        assert!((a[(2, 2)] - disc).abs() < 1e-12 * disc);
+        // Pitch: the disc at 3 m from the axis, plus the six 1 m strips at z = −19.5 … −14.5
+        // (Σ z² = 6·17² + 17.5).
+        let strips = a[(0, 0)] / 6.0 * (6.0 * 17.0 * 17.0 + 17.5);
+        assert!((a[(4, 4)] - (9.0 * disc + strips)).abs() < 1e-9 * a[(4, 4)]);
     }
 }

@@ -4,6 +4,7 @@
 //!
 //! - [`spec`]: serde description (`campaigns/data/oc4_semi_floater.json`) and validation.
 //! - [`members`]: members, strips and their Morison loads and added mass.
+//! - [`diffraction`]: optional MacCamy–Fuchs correction of the inertia for large members.
 //! - [`hydrostatics`]: submerged volume, centre of buoyancy, waterplane, restoring matrix.
 //! - [`body`]: rigid-body state, mass matrix, inertial terms, point kinematics.
 //! - [`model`]: [`Floater`], the interface a coupled implicit integrator calls.
@@ -14,6 +15,7 @@
 //! [`crate::beam::rotation`] (Λ ← exp(θ̂) Λ, spatial increments).
 
 pub mod body;
+pub mod diffraction;
 pub mod dynamics;
 pub mod error;
 pub mod hydrostatics;
@@ -22,7 +24,9 @@ pub mod model;
 pub mod prescribed;
 pub mod spec;
 
-pub use body::{fairlead_body_points, BodyState, MassProperties, PointKinematics, Wrench};
+pub use body::{
+    fairlead_body_points, fairlead_load, BodyState, MassProperties, PointKinematics, Wrench,
+};
 pub use error::FloaterError;
 pub use model::{Floater, JacobianSteps, LoadBreakdown, LoadJacobians};
 pub use spec::FloaterSpec;

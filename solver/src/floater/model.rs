@@ -15,7 +15,11 @@
 //! [`Floater::load_jacobians`] returns ∂f/∂ν analytically (drag, linear damping, gyroscopic
 //! terms) and ∂f/∂q by central differences of f, the position variation being a translation
 //! of the reference point and a spatial rotation Λ ← exp(δθ̂) Λ; the velocities are held
-//! fixed in global axes while q varies.
+//! fixed in global axes while q varies. [`JacobianSteps::include_wave_terms`] = false restricts
+//! the differences to the sea-independent loads (12 sea evaluations fewer per call). The
+//! dependence of the mass matrix on Λ is not differentiated. Typical use in a Newton loop:
+//! residual r = M(q) ν̇ − f(q, ν, t) − Σ fairlead loads ([`super::body::fairlead_load`]),
+//! iteration matrix M − β'h² (∂f/∂q + Σ ∂F_line/∂q) − γ'h ∂f/∂ν.
 
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
@@ -29,13 +33,18 @@ use super::spec::FloaterSpec;
 use crate::beam::rotation::exp_so3;
 use crate::waves::SeaKinematics;
 
-/// Finite-difference steps for the position Jacobian.
+/// How the position Jacobian is formed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JacobianSteps {
     /// Translation step (m).
     pub translation_m: f64,
     /// Rotation step (rad).
     pub rotation_rad: f64,
+    /// Whether the position derivative of the wave and drag loads (through the sampling points
+    /// of the wave kinematics) is included. Without it, ∂f/∂q differentiates only gravity,
+    /// buoyancy, thrust, linear damping and the inertial terms, which avoids 12 evaluations of
+    /// the sea per call; Newton then converges linearly but to the same solution.
+    pub include_wave_terms: bool,
 }
 
 impl Default for JacobianSteps {
@@ -43,6 +52,7 @@ impl Default for JacobianSteps {
         Self {
             translation_m: 1e-3,
             rotation_rad: 1e-5,
+            include_wave_terms: true,
         }
     }
 }
@@ -159,6 +169,35 @@ impl Floater {
     pub fn with_jacobian_steps(mut self, steps: JacobianSteps) -> Self {
         self.steps = steps;
         self
+    }
+
+    /// Same floater with the MacCamy–Fuchs correction of every member's transverse wave inertia
+    /// for waves of period `period_s` in water of depth `depth_m` (see [`super::diffraction`]).
+    pub fn with_maccamy_fuchs(mut self, period_s: f64, depth_m: f64) -> Result<Self, FloaterError> {
+        if !(period_s.is_finite() && period_s > 0.0) {
+            return Err(FloaterError::field(
+                "maccamy_fuchs.period_s",
+                period_s,
+                "must be > 0",
+            ));
+        }
+        if !(depth_m.is_finite() && depth_m > 0.0) {
+            return Err(FloaterError::field(
+                "maccamy_fuchs.depth_m",
+                depth_m,
+                "must be > 0",
+            ));
+        }
+        let k = super::diffraction::wave_number(
+            2.0 * std::f64::consts::PI / period_s,
+            depth_m,
+            self.gravity,
+        );
+        for m in &mut self.members {
+            m.inertia_factor =
+                0.5 * super::diffraction::inertia_coefficient(0.5 * k * m.diameter_m);
+        }
+        Ok(self)
     }
 
     /// Members.
@@ -310,6 +349,30 @@ impl Floater {
         self.loads(state, sea, t, wind_thrust_n).total() - self.inertial_bias(state)
     }
 
+    /// The part of f that does not sample the sea: gravity, buoyancy, thrust, linear damping,
+    /// minus the inertial terms.
+    fn sea_independent_forces(&self, state: &BodyState, wind_thrust_n: f64) -> Vector6<f64> {
+        let mut w = Wrench::default();
+        let g = self.gravity;
+        w.add_at(
+            &Vector3::new(0.0, 0.0, -self.mass.mass_kg * g),
+            &(state.rotation * self.mass.centre_of_mass_m),
+        );
+        let buoy = self.buoyancy(state);
+        if buoy.volume_m3 > 0.0 {
+            w.add_at(
+                &Vector3::new(0.0, 0.0, self.rho * g * buoy.volume_m3),
+                &(buoy.centre_m - state.position_m),
+            );
+        }
+        w.add_at(
+            &Vector3::new(wind_thrust_n, 0.0, 0.0),
+            &(state.rotation * Vector3::new(0.0, 0.0, self.hub_height_m)),
+        );
+        let b = rotate6(&self.linear_damping_body, &state.rotation);
+        w.to_vector6() - b * state.velocity6() - self.inertial_bias(state)
+    }
+
     /// ∂f/∂q (central differences) and ∂f/∂ν (analytic) of [`Floater::net_forces`].
     pub fn load_jacobians<S: SeaKinematics + ?Sized>(
         &self,
@@ -337,7 +400,11 @@ impl Floater {
                     th[j - 3] = sign * h;
                     s.rotation = exp_so3(&th) * state.rotation;
                 }
-                self.net_forces(&s, sea, t, wind_thrust_n)
+                if self.steps.include_wave_terms {
+                    self.net_forces(&s, sea, t, wind_thrust_n)
+                } else {
+                    self.sea_independent_forces(&s, wind_thrust_n)
+                }
             };
             let col = (perturb(1.0) - perturb(-1.0)) / (2.0 * h);
             position.set_column(j, &col);
