@@ -458,7 +458,7 @@ fn chebyshev_node_count(
         terms.push((2.0 * w * c_hi, 0.5 * c.wavenumber_rad_m * half));
     }
     let scale = rms2.sqrt();
-    if !(scale > 0.0) || half == 0.0 {
+    if scale.is_nan() || scale <= 0.0 || half == 0.0 {
         return (1, 0.0);
     }
     let mut current: Vec<f64> = terms.iter().map(|t| t.0).collect();
