@@ -15,6 +15,7 @@
 mod error;
 mod sea;
 
+mod chebyshev;
 pub mod dispersion;
 pub mod fft;
 pub mod kinematics;

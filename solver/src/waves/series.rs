@@ -14,7 +14,7 @@
 //! series is interpolated exactly (to a bound) in s by a Chebyshev interpolant: the component
 //! sums are evaluated by FFT with the profiles frozen at M Chebyshev nodes sₘ of that interval,
 //! and combined at every sample by the barycentric formula at s(t_j). M is the smallest count for
-//! which a conservative bound of the interpolation error (see `chebyshev_node_count`: derivative
+//! which a conservative bound of the interpolation error (see the `chebyshev` module: derivative
 //! bound of cosh/sinh profiles, summed over the components with acceleration weights, relative to
 //! the RMS horizontal acceleration) is below `chebyshev_tolerance`; so the grid values equal
 //! direct summation to about that relative accuracy. Deep points, where the stretched height
@@ -34,6 +34,7 @@ use nalgebra::{Complex, Vector3};
 
 use rayon::prelude::*;
 
+use super::chebyshev::{barycentric_weights, chebyshev_node_count};
 use super::error::{finite, positive, WavesError};
 use super::fft::InverseFft;
 use super::kinematics::{depth_profiles, stretched_height};
@@ -376,7 +377,15 @@ fn compute_point(shared: &Shared<'_>, p: &Vector3<f64>) -> PointResult {
     }
     let centre = 0.5 * (s_lo + s_hi);
     let half = 0.5 * (s_hi - s_lo);
-    let (m, bound) = chebyshev_node_count(comps, depth, s_lo, s_hi, half, &shared.params);
+    let (m, bound) = chebyshev_node_count(
+        comps,
+        depth,
+        s_lo,
+        s_hi,
+        half,
+        shared.params.chebyshev_tolerance,
+        shared.params.max_chebyshev_nodes,
+    );
 
     let angle = |i: usize| (2 * i + 1) as f64 * std::f64::consts::PI / (2 * m) as f64;
     let nodes: Vec<f64> = (0..m).map(|i| centre + half * angle(i).cos()).collect();
@@ -429,70 +438,6 @@ fn compute_point(shared: &Shared<'_>, p: &Vector3<f64>) -> PointResult {
         ffts,
         nodes: m,
         bound,
-    }
-}
-
-/// Smallest Chebyshev node count M whose interpolation bound meets the tolerance, and that bound.
-///
-/// For a component, C(k, s) = cosh(ks)/sinh(kd) has |∂ᴹC/∂sᴹ| ≤ kᴹ C(k, s_hi) on the interval, so
-/// Chebyshev interpolation with M nodes errs by at most (k h)ᴹ / (2ᴹ⁻¹ M!) · C(k, s_hi) (the same
-/// holds for S ≤ C). Summing over the components with the acceleration weights |aₙ| ωₙ² (the
-/// quantity that weights high frequencies most) and dividing by the RMS horizontal acceleration
-/// at the lowest stretched height gives a conservative relative bound.
-fn chebyshev_node_count(
-    comps: &[super::kinematics::WaveComponent],
-    depth: f64,
-    s_lo: f64,
-    s_hi: f64,
-    half: f64,
-    params: &SeriesParams,
-) -> (usize, f64) {
-    let mut terms: Vec<(f64, f64)> = Vec::with_capacity(comps.len());
-    let mut rms2 = 0.0;
-    for c in comps {
-        let w = c.amplitude_m.norm() * c.omega_rad_s * c.omega_rad_s;
-        let (c_lo, _) = depth_profiles(c.wavenumber_rad_m, s_lo, depth);
-        let (c_hi, _) = depth_profiles(c.wavenumber_rad_m, s_hi, depth);
-        rms2 += 0.5 * (w * c_lo).powi(2);
-        // term(M) = 2 w C_hi (kh/2)^M / M!, started at M = 0.
-        terms.push((2.0 * w * c_hi, 0.5 * c.wavenumber_rad_m * half));
-    }
-    let scale = rms2.sqrt();
-    if scale.is_nan() || scale <= 0.0 || half == 0.0 {
-        return (1, 0.0);
-    }
-    let mut current: Vec<f64> = terms.iter().map(|t| t.0).collect();
-    let mut bound = f64::INFINITY;
-    for m in 1..=params.max_chebyshev_nodes {
-        let mut total = 0.0;
-        for (v, t) in current.iter_mut().zip(&terms) {
-            *v *= t.1 / m as f64;
-            total += *v;
-        }
-        bound = total / scale;
-        if bound <= params.chebyshev_tolerance {
-            return (m, bound);
-        }
-    }
-    (params.max_chebyshev_nodes, bound)
-}
-
-/// Lagrange basis values at x for Chebyshev nodes, by the barycentric formula.
-fn barycentric_weights(nodes: &[f64], weights: &[f64], x: f64, out: &mut [f64]) {
-    for (i, &s) in nodes.iter().enumerate() {
-        if x == s {
-            out.fill(0.0);
-            out[i] = 1.0;
-            return;
-        }
-    }
-    let mut total = 0.0;
-    for ((o, &s), &w) in out.iter_mut().zip(nodes).zip(weights) {
-        *o = w / (x - s);
-        total += *o;
-    }
-    for o in out.iter_mut() {
-        *o /= total;
     }
 }
 
