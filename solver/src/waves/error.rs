@@ -42,6 +42,12 @@ pub enum WavesError {
         /// Grid spacing (rad/s).
         d_omega_rad_s: f64,
     },
+    /// The worker thread pool could not be created.
+    #[error("could not create a thread pool: {reason}")]
+    ThreadPool {
+        /// The reason given by the thread-pool builder.
+        reason: String,
+    },
     /// Two tables that must have equal lengths do not.
     #[error("{field}: expected {expected} values, got {got}")]
     LengthMismatch {

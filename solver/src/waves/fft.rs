@@ -15,6 +15,8 @@ use super::error::WavesError;
 #[derive(Debug, Clone)]
 pub struct InverseFft {
     n: usize,
+    /// Twiddles of every stage, contiguous: stage with half-length h uses entries h−1 … 2h−2,
+    /// e^{2πi m/(2h)} for m < h.
     twiddles: Vec<Complex<f64>>,
     bit_reversed: Vec<usize>,
 }
@@ -29,12 +31,15 @@ impl InverseFft {
                 rule: "a power of two >= 2",
             });
         }
-        let twiddles = (0..n / 2)
-            .map(|m| {
-                let (s, c) = (2.0 * PI * m as f64 / n as f64).sin_cos();
+        let mut twiddles = Vec::with_capacity(n);
+        let mut half = 1;
+        while half < n {
+            twiddles.extend((0..half).map(|m| {
+                let (s, c) = (PI * m as f64 / half as f64).sin_cos();
                 Complex::new(c, s)
-            })
-            .collect();
+            }));
+            half *= 2;
+        }
         let bits = n.trailing_zeros();
         let bit_reversed = (0..n)
             .map(|i| i.reverse_bits() >> (usize::BITS - bits))
@@ -67,14 +72,13 @@ impl InverseFft {
         }
         let mut half = 1;
         while half < self.n {
-            let stride = self.n / (2 * half);
-            for start in (0..self.n).step_by(2 * half) {
-                for m in 0..half {
-                    let w = self.twiddles[m * stride];
-                    let a = buf[start + m];
-                    let b = buf[start + m + half] * w;
-                    buf[start + m] = a + b;
-                    buf[start + m + half] = a - b;
+            let tw = &self.twiddles[half - 1..2 * half - 1];
+            for block in buf.chunks_exact_mut(2 * half) {
+                let (lo, hi) = block.split_at_mut(half);
+                for ((a, b), w) in lo.iter_mut().zip(hi.iter_mut()).zip(tw) {
+                    let t = *b * w;
+                    *b = *a - t;
+                    *a += t;
                 }
             }
             half *= 2;

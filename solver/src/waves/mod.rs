@@ -5,10 +5,17 @@
 //! Every consumer of water kinematics (Morison loads on lines and floater members) goes through
 //! [`SeaKinematics`], so a still sea, a regular wave or an irregular realisation are
 //! interchangeable.
+//!
+//! Files: `spectrum` (JONSWAP), `dispersion` (ω² = g k tanh kd), `kinematics` (Airy sums with
+//! Wheeler stretching), `realisation` ([`IrregularSea`], [`RegularWave`]), `series`
+//! ([`PointKinematicsSeries`]: FFT precomputation at fixed points), `fft`, `wind` (rotor loads,
+//! wind speed per sea state), `scatter` (scatter-diagram tables), `sea` (the shared trait) and
+//! `error`. Gravity is [`dispersion::GRAVITY`] = 9.81 m/s² throughout.
 
 mod error;
 mod sea;
 
+mod chebyshev;
 pub mod dispersion;
 pub mod fft;
 pub mod kinematics;

@@ -18,18 +18,13 @@ use std::f64::consts::PI;
 use super::error::{positive, WavesError};
 
 /// How the JONSWAP peak-enhancement factor γ is chosen.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 pub enum PeakEnhancement {
-    /// γ given explicitly (must be in [1, 7], the range the A_γ fit covers, DNV-RP-C205 §3.5.5.2).
+    /// γ given explicitly; accepted in [1, 7], the range spanned by the DNV default rule.
     Given(f64),
     /// γ from Tp/√Hs by the DNV-RP-C205 §3.5.5.5 rule.
+    #[default]
     DnvDefault,
-}
-
-impl Default for PeakEnhancement {
-    fn default() -> Self {
-        Self::DnvDefault
-    }
 }
 
 /// Spectral width parameter below and above the peak (DNV-RP-C205 §3.5.5.1).
@@ -200,7 +195,7 @@ impl Jonswap {
     /// Copy scaled so that Σ S(ωₙ)·Δω = Hs²/16 over the given grid.
     pub fn renormalised(&self, omegas: &[f64], d_omega: f64) -> Result<Self, WavesError> {
         let m0: f64 = omegas.iter().map(|&w| self.formula_density(w)).sum::<f64>() * d_omega;
-        if !(m0 > 0.0) {
+        if m0.is_nan() || m0 <= 0.0 {
             return Err(WavesError::EmptyBand {
                 omega_min_rad_s: omegas.first().copied().unwrap_or(0.0),
                 omega_max_rad_s: omegas.last().copied().unwrap_or(0.0),

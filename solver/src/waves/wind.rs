@@ -225,7 +225,7 @@ impl WindLaw {
 
 fn increasing(field: &'static str, v: &[f64]) -> Result<(), WavesError> {
     for w in v.windows(2) {
-        if !(w[1] > w[0]) || !w[0].is_finite() || !w[1].is_finite() {
+        if !w[0].is_finite() || !w[1].is_finite() || w[1] <= w[0] {
             return Err(WavesError::InvalidParameter {
                 field,
                 value: w[1],
