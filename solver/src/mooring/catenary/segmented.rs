@@ -310,14 +310,14 @@ fn shoot(model: &SegmentedCatenary, h: f64, v_f: f64, pieces: &mut Vec<Piece>) -
             .unwrap_or(h);
         laid.push((seg, l, t_top));
     }
-    // Derivatives of the laid reach: every top tension moves with H; the touchdown piece's
-    // length λ = L_k − l_s moves the tensions below it by −C_B w_k per metre.
+    // Place the laid pieces from the anchor upwards. Derivatives of the laid reach: every top
+    // tension moves with H; the touchdown piece's length λ = L_k − l_s (first in `laid`) moves
+    // the tensions of the pieces below it by −C_B w_k per metre.
     let mut x = 0.0;
     let touchdown_piece_moves = dl_dv != 0.0;
     let mut dx_dlambda = 0.0;
     let mut start_from_anchor_m = 0.0;
-    let mut placed = Vec::with_capacity(laid.len());
-    for (m, &(seg, l, t_top)) in laid.iter().enumerate() {
+    for (m, &(seg, l, t_top)) in laid.iter().enumerate().rev() {
         let s = &segs[seg];
         let (stretch, ds_dt, ds_dl) =
             laid_stretch(t_top, l, s.weight_n_per_m, s.axial_stiffness_n, cb);
@@ -329,10 +329,6 @@ fn shoot(model: &SegmentedCatenary, h: f64, v_f: f64, pieces: &mut Vec<Piece>) -
                 dx_dlambda -= ds_dt * cb * segs[laid[0].0].weight_n_per_m;
             }
         }
-        placed.push((seg, l, t_top, l + stretch));
-    }
-    // Place laid pieces from the anchor upwards.
-    for &(seg, l, t_top, reach) in placed.iter().rev() {
         pieces.push(Piece {
             segment: seg,
             length_m: l,
@@ -343,7 +339,7 @@ fn shoot(model: &SegmentedCatenary, h: f64, v_f: f64, pieces: &mut Vec<Piece>) -
                 tension_top_n: t_top,
             },
         });
-        x += reach;
+        x += l + stretch;
         start_from_anchor_m += l;
     }
     // dλ/dV_F = −dl_s/dV_F.
