@@ -18,6 +18,7 @@ pub mod newton;
 mod pieces;
 pub mod profile;
 pub mod segmented;
+mod shooting;
 pub mod single;
 
 pub use error::CatenaryError;
