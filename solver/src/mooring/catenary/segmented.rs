@@ -321,15 +321,24 @@ mod tests {
 
     #[test]
     fn solved_line_lands_on_its_fairlead_with_friction_and_clump() {
-        for cb in [0.0, 0.3, 5.0] {
-            let model = three_segment(cb);
-            let sol = solve_segmented(&model, &CatenaryParams::default()).unwrap();
-            let top = sol.at_arc_length_from_fairlead(0.0).unwrap();
-            let anchor = sol.at_arc_length_from_fairlead(500.0).unwrap();
-            assert!((top.x_m - 420.0).abs() < 1e-7 && (top.z_m - 90.0).abs() < 1e-7);
-            assert!(anchor.x_m.abs() < 1e-12 && anchor.z_m.abs() < 1e-12);
-            assert!((top.tension_n - sol.fairlead_tension_n()).abs() < 1e-6 * top.tension_n);
-            assert!((anchor.tension_n - sol.anchor_tension_n()).abs() < 1e-6 * top.tension_n);
+        // Touchdown in the rope (420 m), at the clump, which partly rests on the seabed
+        // (470 m: exactly the bottom chain laid), and in the bottom chain (488 m).
+        for (span, laid) in [(420.0, None), (470.0, Some(300.0)), (488.0, None)] {
+            for cb in [0.0, 0.3, 5.0] {
+                let mut model = three_segment(cb);
+                model.horizontal_span_m = span;
+                let sol = solve_segmented(&model, &CatenaryParams::default()).unwrap();
+                let top = sol.at_arc_length_from_fairlead(0.0).unwrap();
+                let anchor = sol.at_arc_length_from_fairlead(500.0).unwrap();
+                assert!((top.x_m - span).abs() < 1e-7 && (top.z_m - 90.0).abs() < 1e-7);
+                assert!(anchor.x_m.abs() < 1e-12 && anchor.z_m.abs() < 1e-12);
+                let t_f = top.tension_n;
+                assert!((t_f - sol.fairlead_tension_n()).abs() < 1e-6 * t_f);
+                assert!((anchor.tension_n - sol.anchor_tension_n()).abs() < 1e-6 * t_f);
+                if let Some(laid) = laid {
+                    assert_eq!(sol.laid_length_m, laid, "span {span}, C_B {cb}");
+                }
+            }
         }
     }
 
@@ -379,5 +388,46 @@ mod tests {
         let expected = 140.6 + 2000.0 * 9.80665 * (1.0 - 1025.0 / 7850.0) / 40.0;
         assert!((seg.weight_n_per_m - expected).abs() < 1e-12);
         assert!((seg.weight_n_per_m - 566.91).abs() < 0.01);
+    }
+
+    #[test]
+    fn profile_tangent_follows_the_tension_in_every_segment() {
+        // dx/ds = (H/T)(1 + T/EA), dz/ds = (V/T)(1 + T/EA) with the section of the segment the
+        // point lies in; the vertical tension jumps by the clump weight across its joint.
+        let mut model = three_segment(0.3);
+        model.horizontal_span_m = 488.0; // nearly taut: touchdown in the bottom chain
+        let sol = solve_segmented(&model, &CatenaryParams::default()).unwrap();
+        assert!(
+            sol.laid_length_m > 0.0 && sol.laid_length_m < 300.0,
+            "{sol:?}"
+        );
+        let ds = 1e-4;
+        for (s, ea) in [
+            (10.0, 4.93e8),
+            (40.0, 4.93e8),
+            (120.0, 3.6e8),
+            (190.0, 3.6e8),
+        ] {
+            let p = sol.at_arc_length_from_fairlead(s).unwrap();
+            assert!(!p.on_seabed);
+            let up = sol.at_arc_length_from_fairlead(s - ds).unwrap();
+            let down = sol.at_arc_length_from_fairlead(s + ds).unwrap();
+            let stretch = 1.0 + p.tension_n / ea;
+            let dx = (up.x_m - down.x_m) / (2.0 * ds);
+            let dz = (up.z_m - down.z_m) / (2.0 * ds);
+            assert!(
+                (dx - p.horizontal_tension_n / p.tension_n * stretch).abs() < 1e-7,
+                "s = {s}"
+            );
+            assert!(
+                (dz - p.vertical_tension_n / p.tension_n * stretch).abs() < 1e-7,
+                "s = {s}"
+            );
+        }
+        let above = sol.at_arc_length_from_fairlead(200.0 - 1e-9).unwrap();
+        let below = sol.at_arc_length_from_fairlead(200.0 + 1e-9).unwrap();
+        assert!(!below.on_seabed);
+        let jump = above.vertical_tension_n - below.vertical_tension_n;
+        assert!((jump - 2.0e4).abs() < 1e-3, "jump {jump} N");
     }
 }
