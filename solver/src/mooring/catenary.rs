@@ -1,1 +1,0 @@
-//! Analytical elastic catenary with seabed contact (under construction).
