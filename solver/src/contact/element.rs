@@ -269,9 +269,7 @@ impl ContactPair {
             V3::cst(&n1),
             V3::cst(&n2),
         );
-        for i in 0..NDOF {
-            force[i] = k.force[i];
-        }
+        force.as_mut_slice().copy_from_slice(&k.force);
         self.respond(history, &k, node1, node2, &d, &t1, &t2)
     }
 
@@ -406,12 +404,10 @@ impl ContactPair {
         let u2 = ft - n.scale(fnorm);
         let th2 = gt_th2 - gn_th2.scale(fnorm);
         let mut force = [zero; NDOF];
-        for i in 0..3 {
-            force[i] = u1.c[i];
-            force[3 + i] = th1.c[i];
-            force[6 + i] = u2.c[i];
-            force[9 + i] = th2.c[i];
-        }
+        force[0..3].copy_from_slice(&u1.c);
+        force[3..6].copy_from_slice(&th1.c);
+        force[6..9].copy_from_slice(&u2.c);
+        force[9..12].copy_from_slice(&th2.c);
         Kernel {
             force,
             gap,

@@ -1,6 +1,6 @@
 //! Analytical strand references used to verify the FE strand model.
 //!
-//! 1. Costello's theory of a simple straight strand (Costello 1997, *Theory of Wire Rope*, Ch. 3):
+//! (1) Costello's theory of a simple straight strand (Costello 1997, *Theory of Wire Rope*, Ch. 3):
 //!    a straight core of radius R₁ and m helical wires of radius R₂ on helix radius r₂ = R₁ + R₂
 //!    with helix angle α₂ = π/2 − β (measured from the cross-section plane), axial strain ε and no
 //!    strand rotation. Linearised kinematics (wire strain ξ₂, helix-angle change Δα₂, radius
@@ -14,7 +14,7 @@
 //!    wire tension T₂ = E π R₂² ξ₂, bending moment G₂ = E (π R₂⁴/4) Δκ₂, twisting moment
 //!    H₂ = G (π R₂⁴/2) Δτ₂, shear N₂ = H₂ κ₂ − G₂ τ₂ (κ₂ = cos²α₂/r₂, τ₂ = sin α₂ cos α₂/r₂);
 //!    strand force F = E π R₁² ε + m (T₂ sin α₂ + N₂ cos α₂).
-//! 2. Helical wire of a bent strand (seed Sec. 2.2 and [11] therein): with no slip, the axial
+//! (2) Helical wire of a bent strand (seed Sec. 2.2 and [11] therein): with no slip, the axial
 //!    force of a wire at angular position φ varies by ΔF = EA cos²β R κ sin φ; it starts to slip
 //!    at κ_b = μ sin β T / (EA cos²β R) (DESIGN §6).
 

@@ -122,6 +122,10 @@ pub struct StrandMesh {
     pub stats: MeshStats,
 }
 
+/// A contact point on a wire: z and, unless it is an end node, (contact index, side 0 = inner,
+/// 1 = outer).
+type WirePoint = (f64, Option<(usize, usize)>);
+
 /// Meshes `strand` with nodes at the contact points of `contacts`.
 pub fn build_mesh(
     strand: &Strand,
@@ -146,7 +150,7 @@ pub fn build_mesh(
     let length = strand.model_length_m;
     let wires = strand.wires();
     // Per wire: (z, Some((contact index, side))) with side 0 = inner, 1 = outer.
-    let mut points: Vec<Vec<(f64, Option<(usize, usize)>)>> = vec![Vec::new(); wires.len()];
+    let mut points: Vec<Vec<WirePoint>> = vec![Vec::new(); wires.len()];
     for (c, p) in contacts.contacts.iter().enumerate() {
         points[p.inner.0].push((p.z_m, Some((c, 0))));
         points[p.outer.0].push((p.z_m, Some((c, 1))));
@@ -162,7 +166,7 @@ pub fn build_mesh(
         pts.sort_by(|a, b| a.0.total_cmp(&b.0));
         let cos_b = w.helix.lay_angle_rad.cos();
         // Clusters of points within the merge tolerance (arc length) of the cluster's first.
-        let mut clusters: Vec<(f64, Vec<(f64, Option<(usize, usize)>)>)> = Vec::new();
+        let mut clusters: Vec<(f64, Vec<WirePoint>)> = Vec::new();
         for &p in pts.iter() {
             match clusters.last_mut() {
                 Some((_, members)) if (p.0 - members[0].0) / cos_b <= tol => members.push(p),

@@ -304,7 +304,7 @@ impl StrandProfile {
                     let beta = deg.to_radians();
                     if let Some(len) = len {
                         let from_len = (2.0 * PI * helix_radius_m / len).atan();
-                        if !(len > 0.0) || (from_len - beta).abs() > 1e-3 * beta {
+                        if len.is_nan() || len <= 0.0 || (from_len - beta).abs() > 1e-3 * beta {
                             return Err(ProfileError::ConflictingLay {
                                 layer: k,
                                 lay_angle_deg: deg,
