@@ -388,21 +388,17 @@ impl ContactPair {
             (gt.scale(limit / gt.norm()), ContactStatus::Slip)
         };
         // −f_N ∂g_N/∂q
-        let m = (d - n.scale(n.dot(&d))).scale(sig_over_s);
-        let gn_th1 = t1.cross(&t2.cross(&m));
-        let gn_th2 = t2.cross(&m.cross(&t1));
-        // (∂g_T/∂q)ᵀ f_T
-        let mphi = ft.scale(sig_over_s);
-        let gt_th1 = -(n1.cross(&ft).scalef(r1))
-            - t1.cross(&t2.cross(&mphi)).scale(nv)
-            - t1.cross(&ft).scalef(a1);
-        let gt_th2 = -(n2.cross(&ft).scalef(r2))
-            - t2.cross(&mphi.cross(&t1)).scale(nv)
-            - t2.cross(&ft).scalef(a2);
+        // Normal and tangential terms share their structure: with
+        // M = (σ/|t₁ × t₂|)(f_N P d + (n·v) f_T) and φ = f_T,
+        //   θ₁: −t₁ × (t₂ × M) − (r₁ n₁ + α₁ t₁) × φ,
+        //   θ₂: −t₂ × (M × t₁) − (r₂ n₂ + α₂ t₂) × φ,
+        //   u₁: f_N n − φ,  u₂: −u₁.
+        let pd = d - n.scale(n.dot(&d));
+        let big_m = (pd.scale(fnorm) + ft.scale(nv)).scale(sig_over_s);
+        let th1 = -(t1.cross(&t2.cross(&big_m))) - (n1.scalef(r1) + t1.scalef(a1)).cross(&ft);
+        let th2 = -(t2.cross(&big_m.cross(&t1))) - (n2.scalef(r2) + t2.scalef(a2)).cross(&ft);
         let u1 = n.scale(fnorm) - ft;
-        let th1 = gt_th1 - gn_th1.scale(fnorm);
-        let u2 = ft - n.scale(fnorm);
-        let th2 = gt_th2 - gn_th2.scale(fnorm);
+        let u2 = -u1;
         let mut force = [zero; NDOF];
         force[0..3].copy_from_slice(&u1.c);
         force[3..6].copy_from_slice(&th1.c);
