@@ -350,7 +350,8 @@ impl ContactPair {
         let w = t1.cross(&t2);
         let sig_over_s = S::cst(self.orientation) / w.norm();
         let n = w.scale(sig_over_s);
-        let gap = d.dot(&n) + (-(r1 + r2));
+        let dn = d.dot(&n);
+        let gap = dn + (-(r1 + r2));
         let v = d - n1.scalef(r1) - n2.scalef(r2);
         let nv = n.dot(&v);
         let a1 = h.sliding_m[0] - h.elastic_gap_m[0];
@@ -387,13 +388,12 @@ impl ContactPair {
         } else {
             (gt.scale(limit / gt.norm()), ContactStatus::Slip)
         };
-        // −f_N ∂g_N/∂q
         // Normal and tangential terms share their structure: with
         // M = (σ/|t₁ × t₂|)(f_N P d + (n·v) f_T) and φ = f_T,
         //   θ₁: −t₁ × (t₂ × M) − (r₁ n₁ + α₁ t₁) × φ,
         //   θ₂: −t₂ × (M × t₁) − (r₂ n₂ + α₂ t₂) × φ,
         //   u₁: f_N n − φ,  u₂: −u₁.
-        let pd = d - n.scale(n.dot(&d));
+        let pd = d - n.scale(dn);
         let big_m = (pd.scale(fnorm) + ft.scale(nv)).scale(sig_over_s);
         let th1 = -(t1.cross(&t2.cross(&big_m))) - (n1.scalef(r1) + t1.scalef(a1)).cross(&ft);
         let th2 = -(t2.cross(&big_m.cross(&t1))) - (n2.scalef(r2) + t2.scalef(a2)).cross(&ft);
