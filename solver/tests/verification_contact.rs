@@ -219,3 +219,42 @@ fn rolling_spinning_and_sliding_give_the_circumferential_slip_of_the_r_n_terms()
     let (g, e) = step_slip(0.0, R * psi);
     assert!((g - R * psi * e).norm() <= 1e-15 * R, "{g}");
 }
+
+#[test]
+fn contacts_detected_on_the_benchmark_strand_start_closed_with_an_outward_radial_normal() {
+    use moorfret_solver::strand::contacts::{find_contacts, ContactSearchParameters};
+    use moorfret_solver::strand::profile::profile_from_json;
+    let text = include_str!(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../campaigns/benchmarks/strand_1_6_1.json"
+    ));
+    let strand = profile_from_json(text).unwrap().validate().unwrap();
+    let wires = strand.wires();
+    let set = find_contacts(&strand, &ContactSearchParameters::default()).unwrap();
+    let p = ContactParameters::default();
+    for c in &set.contacts {
+        let (wi, wo) = (&wires[c.inner.0], &wires[c.outer.0]);
+        let a = NodeKinematics::at(c.inner_position);
+        let b = NodeKinematics::at(c.outer_position);
+        let (pair, hist) = ContactPair::new(
+            &p,
+            wi.radius_m,
+            wo.radius_m,
+            &a,
+            &wi.helix.tangent(c.z_m),
+            &b,
+            &wo.helix.tangent(c.z_m),
+        )
+        .unwrap();
+        let mut f = ElementVector::zeros();
+        let r = pair.residual(&hist, &a, &b, &mut f);
+        assert!(
+            r.normal_gap_m.abs() < 1e-15,
+            "{c:?}: g_N = {:e}",
+            r.normal_gap_m
+        );
+        let radial = Vector3::new(c.outer_position.x, c.outer_position.y, 0.0).normalize();
+        assert!((r.normal - radial).norm() < 1e-12, "{c:?}");
+        assert_eq!(hist.sliding_m.map(|x| (x.abs() < 1e-15) as u8), [1, 1]);
+    }
+}

@@ -269,9 +269,7 @@ impl ContactPair {
             V3::cst(&n1),
             V3::cst(&n2),
         );
-        for i in 0..NDOF {
-            force[i] = k.force[i];
-        }
+        force.as_mut_slice().copy_from_slice(&k.force);
         self.respond(history, &k, node1, node2, &d, &t1, &t2)
     }
 
@@ -352,7 +350,8 @@ impl ContactPair {
         let w = t1.cross(&t2);
         let sig_over_s = S::cst(self.orientation) / w.norm();
         let n = w.scale(sig_over_s);
-        let gap = d.dot(&n) + (-(r1 + r2));
+        let dn = d.dot(&n);
+        let gap = dn + (-(r1 + r2));
         let v = d - n1.scalef(r1) - n2.scalef(r2);
         let nv = n.dot(&v);
         let a1 = h.sliding_m[0] - h.elastic_gap_m[0];
@@ -389,29 +388,22 @@ impl ContactPair {
         } else {
             (gt.scale(limit / gt.norm()), ContactStatus::Slip)
         };
-        // −f_N ∂g_N/∂q
-        let m = (d - n.scale(n.dot(&d))).scale(sig_over_s);
-        let gn_th1 = t1.cross(&t2.cross(&m));
-        let gn_th2 = t2.cross(&m.cross(&t1));
-        // (∂g_T/∂q)ᵀ f_T
-        let mphi = ft.scale(sig_over_s);
-        let gt_th1 = -(n1.cross(&ft).scalef(r1))
-            - t1.cross(&t2.cross(&mphi)).scale(nv)
-            - t1.cross(&ft).scalef(a1);
-        let gt_th2 = -(n2.cross(&ft).scalef(r2))
-            - t2.cross(&mphi.cross(&t1)).scale(nv)
-            - t2.cross(&ft).scalef(a2);
+        // Normal and tangential terms share their structure: with
+        // M = (σ/|t₁ × t₂|)(f_N P d + (n·v) f_T) and φ = f_T,
+        //   θ₁: −t₁ × (t₂ × M) − (r₁ n₁ + α₁ t₁) × φ,
+        //   θ₂: −t₂ × (M × t₁) − (r₂ n₂ + α₂ t₂) × φ,
+        //   u₁: f_N n − φ,  u₂: −u₁.
+        let pd = d - n.scale(dn);
+        let big_m = (pd.scale(fnorm) + ft.scale(nv)).scale(sig_over_s);
+        let th1 = -(t1.cross(&t2.cross(&big_m))) - (n1.scalef(r1) + t1.scalef(a1)).cross(&ft);
+        let th2 = -(t2.cross(&big_m.cross(&t1))) - (n2.scalef(r2) + t2.scalef(a2)).cross(&ft);
         let u1 = n.scale(fnorm) - ft;
-        let th1 = gt_th1 - gn_th1.scale(fnorm);
-        let u2 = ft - n.scale(fnorm);
-        let th2 = gt_th2 - gn_th2.scale(fnorm);
+        let u2 = -u1;
         let mut force = [zero; NDOF];
-        for i in 0..3 {
-            force[i] = u1.c[i];
-            force[3 + i] = th1.c[i];
-            force[6 + i] = u2.c[i];
-            force[9 + i] = th2.c[i];
-        }
+        force[0..3].copy_from_slice(&u1.c);
+        force[3..6].copy_from_slice(&th1.c);
+        force[6..9].copy_from_slice(&u2.c);
+        force[9..12].copy_from_slice(&th2.c);
         Kernel {
             force,
             gap,

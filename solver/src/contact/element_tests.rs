@@ -312,3 +312,102 @@ fn separated_nodes_give_no_force_and_reset_the_elastic_gap() {
     assert_eq!(k.amax(), 0.0);
     assert_eq!(r.next_history.elastic_gap_m, [0.0, 0.0]);
 }
+
+#[test]
+fn tangent_matches_finite_differences_in_seeded_random_configurations() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(20_260_101);
+    let unit = |rng: &mut rand_chacha::ChaCha8Rng| {
+        Vector3::new(
+            rng.gen_range(-1.0..1.0),
+            rng.gen_range(-1.0..1.0),
+            rng.gen_range(-1.0..1.0),
+        )
+        .normalize()
+    };
+    let laws = [
+        (
+            NormalLaw::Penalty {
+                stiffness_n_per_m: 2e6,
+            },
+            TangentialLaw::ElasticSlip {
+                elastic_slip_m: 1e-6,
+            },
+        ),
+        (
+            NormalLaw::Hertz,
+            TangentialLaw::ElasticSlip {
+                elastic_slip_m: 1e-6,
+            },
+        ),
+        (
+            NormalLaw::Penalty {
+                stiffness_n_per_m: 2e8,
+            },
+            TangentialLaw::Mindlin,
+        ),
+        (NormalLaw::Hertz, TangentialLaw::Mindlin),
+    ];
+    let (mut checked, mut slips) = (0, 0);
+    for case in 0..40 {
+        let (tm1, tm2) = (unit(&mut rng), unit(&mut rng));
+        if tm1.cross(&tm2).norm() < 0.3 {
+            continue;
+        }
+        let lam1 = exp_so3(&(unit(&mut rng) * rng.gen_range(0.0..3.0)));
+        let lam2 = exp_so3(&(unit(&mut rng) * rng.gen_range(0.0..3.0)));
+        let (t1, t2) = (lam1 * tm1, lam2 * tm2);
+        let n = t1.cross(&t2).normalize();
+        let x1 = Vector3::new(
+            rng.gen_range(-0.1..0.1),
+            rng.gen_range(-0.1..0.1),
+            rng.gen_range(-0.1..0.1),
+        );
+        let a = NodeKinematics {
+            position: x1,
+            rotation: lam1,
+        };
+        let b = NodeKinematics {
+            position: x1 + (R1 + R2) * n,
+            rotation: lam2,
+        };
+        let (normal, tangential) = laws[case % laws.len()];
+        let p = params(normal, tangential);
+        let (pair, hist) = ContactPair::new(&p, R1, R2, &a, &tm1, &b, &tm2).unwrap();
+        let s = Setup {
+            pair,
+            history: hist,
+            ref1: a,
+            ref2: b,
+        };
+        let a = moved(
+            &s.ref1,
+            unit(&mut rng) * rng.gen_range(0.0..2e-6),
+            unit(&mut rng) * rng.gen_range(0.0..2e-3),
+        );
+        let b = moved(
+            &s.ref2,
+            -rng.gen_range(2e-6..1e-5) * n + unit(&mut rng) * rng.gen_range(0.0..4e-6),
+            unit(&mut rng) * rng.gen_range(0.0..2e-3),
+        );
+        let mut f = ElementVector::zeros();
+        let status = s.pair.residual(&s.history, &a, &b, &mut f).status;
+        // Skip configurations within the finite-difference step of the stick/slip boundary.
+        let stable = (0..12).all(|j| {
+            let (ap, bp) = perturbed(&a, &b, j, step_size(j));
+            let (am, bm) = perturbed(&a, &b, j, -step_size(j));
+            s.pair.residual(&s.history, &ap, &bp, &mut f).status == status
+                && s.pair.residual(&s.history, &am, &bm, &mut f).status == status
+        });
+        if !stable || status == ContactStatus::Open {
+            continue;
+        }
+        check_tangent(&s, &s.history, &a, &b, status);
+        checked += 1;
+        slips += (status == ContactStatus::Slip) as usize;
+    }
+    assert!(
+        checked >= 25 && slips >= 5 && checked - slips >= 5,
+        "checked {checked}, slips {slips}"
+    );
+}

@@ -75,8 +75,8 @@ impl Dual {
     #[inline]
     fn map2(self, o: Self, a: f64, b: f64) -> [f64; NDOF] {
         let mut d = [0.0; NDOF];
-        for k in 0..NDOF {
-            d[k] = a * self.d[k] + b * o.d[k];
+        for ((x, p), q) in d.iter_mut().zip(&self.d).zip(&o.d) {
+            *x = a * p + b * q;
         }
         d
     }

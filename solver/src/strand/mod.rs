@@ -1,1 +1,21 @@
-//! strand (module under construction).
+//! Spiral-strand geometry for the detailed strand model (DESIGN §4.4).
+//!
+//! - [`profile`]: the serde profile (core wire, layers, material, model length), its validation
+//!   (radial stacking, lateral clearance, lay angle, counts) into a resolved [`profile::Strand`];
+//! - [`helix`]: exact helical centrelines, Frenet frames, arc length ↔ z;
+//! - [`clearance`]: exact lateral clearance of neighbouring helical wires;
+//! - [`wires`]: wire numbering ([`wires::WireId`]);
+//! - [`contacts`]: trellis crossings between adjacent layers and the core line contact;
+//! - [`mesh`]: nodes at contact points, wire elements, contact elements, counts;
+//! - [`analytical`]: Costello's simple straight strand and the bent-helix stick/slip references.
+//!
+//! Strand frame: axis along z, angular position θ in the x-y plane (θ = +π/2 outer arc for
+//! bending about y with κ > 0 towards +x is the DESIGN convention). Units: m, rad, N, Pa.
+
+pub mod analytical;
+pub mod clearance;
+pub mod contacts;
+pub mod helix;
+pub mod mesh;
+pub mod profile;
+pub mod wires;
