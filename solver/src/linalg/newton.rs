@@ -1,10 +1,12 @@
 //! Newton-Raphson driver for quasi-static nonlinear problems r(u, λ) = 0 with load stepping
 //! and cut-back.
 //!
-//! The load factor λ goes from the last committed value to 1 in increments Δλ. In each step
-//! the full Newton iteration K(uₖ) δu = −r(uₖ, λ), uₖ₊₁ = uₖ ⊕ δu runs until
+//! The load factor λ goes from the last committed value to the requested end in increments Δλ. In each step
+//! the full Newton iteration K(uₖ) δu = −r(uₖ, λ), uₖ₊₁ = uₖ ⊕ δu runs until either
 //! ‖r‖₂ ≤ atol + rtol · s, where s is the force scale the problem reports (typically
-//! ‖λ f_ext‖₂ plus the norm of the reactions). A step that fails (iteration limit, non-finite
+//! ‖λ f_ext‖₂), or the work of the correction has fallen to |δuₖ · rₖ| ≤ etol · |δu₀ · r₀|
+//! (energy criterion, free of unit mixing between forces and moments, and reachable when stiff
+//! axial terms put a round-off floor under the residual). A step that fails (iteration limit, non-finite
 //! or exploding residual, an element that cannot be evaluated, a failed factorisation) is
 //! rolled back to the last committed state and retried with Δλ × `cutback_factor`; steps that
 //! converge in at most `easy_iterations` let Δλ grow by `growth_factor`. Below
@@ -52,6 +54,8 @@ pub struct NewtonParams {
     pub relative_tolerance: f64,
     /// Absolute residual tolerance (force units).
     pub absolute_tolerance: f64,
+    /// Energy tolerance: converged once |δu·r| ≤ this × the step's first |δu·r|.
+    pub energy_tolerance: f64,
     /// First load increment Δλ.
     pub initial_load_increment: f64,
     /// Smallest Δλ before giving up.
@@ -74,6 +78,7 @@ impl Default for NewtonParams {
             max_iterations: 25,
             relative_tolerance: 1e-9,
             absolute_tolerance: 1e-12,
+            energy_tolerance: 1e-20,
             initial_load_increment: 1.0,
             min_load_increment: 1e-6,
             max_load_increment: 1.0,
@@ -127,6 +132,12 @@ impl NewtonParams {
             self.absolute_tolerance >= 0.0,
             "absolute_tolerance",
             self.absolute_tolerance,
+            "must be ≥ 0",
+        )?;
+        check(
+            self.energy_tolerance >= 0.0,
+            "energy_tolerance",
+            self.energy_tolerance,
             "must be ≥ 0",
         )?;
         check(
@@ -288,10 +299,12 @@ enum Failure<E> {
     },
 }
 
-/// Drives `problem` from its committed load factor `start` to λ = 1.
+/// Drives `problem` from its committed load factor `start` to `end` (usually 0 → 1).
+#[allow(clippy::too_many_arguments)]
 pub fn solve_load_path<P: NonlinearProblem, S: LinearSolver>(
     problem: &mut P,
     start: f64,
+    end: f64,
     pattern: &SparsePattern,
     solver: &mut S,
     params: &NewtonParams,
@@ -307,7 +320,6 @@ pub fn solve_load_path<P: NonlinearProblem, S: LinearSolver>(
     }
     let mut lambda = start;
     let mut dlambda = params.initial_load_increment;
-    let end = 1.0;
     while lambda < end - 1e-12 {
         let target = if lambda + dlambda > end - 1e-9 {
             end
@@ -388,6 +400,7 @@ fn newton_step<P: NonlinearProblem, S: LinearSolver>(
     stats: &mut NewtonStats,
 ) -> Result<usize, Failure<P::Error>> {
     let mut first = f64::NAN;
+    let mut first_energy = f64::NAN;
     for iteration in 0..=params.max_iterations {
         ws.residual.iter_mut().for_each(|v| *v = 0.0);
         ws.values.iter_mut().for_each(|v| *v = 0.0);
@@ -427,6 +440,18 @@ fn newton_step<P: NonlinearProblem, S: LinearSolver>(
             .map_err(|source| Failure::Linear { iteration, source })?;
         stats.iterations += 1;
         problem.apply_increment(&ws.increment);
+        let energy = ws
+            .increment
+            .iter()
+            .zip(&ws.residual)
+            .map(|(d, r)| d * r)
+            .sum::<f64>()
+            .abs();
+        if iteration == 0 {
+            first_energy = energy;
+        } else if energy <= params.energy_tolerance * first_energy {
+            return Ok(iteration + 1);
+        }
     }
     // the loop returns at iteration == max_iterations at the latest
     Err(Failure::Diverged {
@@ -494,7 +519,16 @@ mod tests {
         let mut solver = SparseCholesky::new(&p, CholeskyKind::Llt, Par::Seq).unwrap();
         let mut ws = NewtonWorkspace::new(&p);
         let mut stats = NewtonStats::default();
-        let r = solve_load_path(spring, 0.0, &p, &mut solver, params, &mut ws, &mut stats);
+        let r = solve_load_path(
+            spring,
+            0.0,
+            1.0,
+            &p,
+            &mut solver,
+            params,
+            &mut ws,
+            &mut stats,
+        );
         (r, stats)
     }
 
