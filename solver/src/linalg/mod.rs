@@ -1,1 +1,17 @@
-//! linalg (module under construction).
+//! Sparse linear algebra for the implicit solvers: the assembly pattern built once from
+//! element connectivities, faer's sparse Cholesky (symbolic analysis once, numeric
+//! refactorisation per iteration) and LU, and the Newton driver with load-step cut-back.
+
+pub mod cholesky;
+pub mod linear_solver;
+pub mod lu;
+pub mod newton;
+pub mod pattern;
+
+pub use cholesky::{CholeskyKind, SparseCholesky};
+pub use linear_solver::{LinalgError, LinearSolver};
+pub use lu::SparseLu;
+pub use newton::{
+    solve_load_path, NewtonError, NewtonParams, NewtonStats, NewtonWorkspace, NonlinearProblem,
+};
+pub use pattern::{Equation, PatternError, SparsePattern, Storage};

@@ -1,0 +1,597 @@
+//! Newton-Raphson driver for quasi-static nonlinear problems r(u, λ) = 0 with load stepping
+//! and cut-back.
+//!
+//! The load factor λ goes from the last committed value to the requested end in increments Δλ. In each step
+//! the full Newton iteration K(uₖ) δu = −r(uₖ, λ), uₖ₊₁ = uₖ ⊕ δu runs until either
+//! ‖r‖₂ ≤ atol + rtol · s, where s is the force scale the problem reports (typically
+//! ‖λ f_ext‖₂), or the work of the correction has fallen to |δuₖ · rₖ| ≤ etol · |δu₀ · r₀|
+//! (energy criterion, free of unit mixing between forces and moments, and reachable when stiff
+//! axial terms put a round-off floor under the residual). A step that fails (iteration limit, non-finite
+//! or exploding residual, an element that cannot be evaluated, a failed factorisation) is
+//! rolled back to the last committed state and retried with Δλ × `cutback_factor`; steps that
+//! converge in at most `easy_iterations` let Δλ grow by `growth_factor`. Below
+//! `min_load_increment` the driver gives up with the data of the last failure.
+//!
+//! The problem owns its state and decides what "⊕" means (multiplicative rotation updates for
+//! beams); history variables (friction) change only on [`NonlinearProblem::commit`].
+
+use thiserror::Error;
+
+use super::linear_solver::{LinalgError, LinearSolver};
+use super::pattern::SparsePattern;
+
+/// A nonlinear system the driver can solve.
+pub trait NonlinearProblem {
+    /// Error of the problem's own evaluation (an element that cannot be evaluated).
+    type Error: std::error::Error + Clone + Send + Sync + 'static;
+
+    /// Residual r = f_int − λ f_ext over the free equations into `residual` (zeroed by the
+    /// caller) and, if asked, the tangent values on the driver's pattern into `tangent`
+    /// (zeroed by the caller). Returns the force scale s of the convergence test.
+    fn evaluate(
+        &mut self,
+        load_factor: f64,
+        residual: &mut [f64],
+        tangent: Option<&mut [f64]>,
+    ) -> Result<f64, Self::Error>;
+
+    /// Applies the iterative correction δu (solution of K δu = −r) to the trial state.
+    fn apply_increment(&mut self, increment: &[f64]);
+
+    /// Accepts the trial state as the converged state at `load_factor`.
+    fn commit(&mut self, load_factor: f64);
+
+    /// Discards the trial state and returns to the last committed one.
+    fn restore(&mut self);
+}
+
+/// Parameters of the Newton driver.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonParams {
+    /// Iterations allowed per load step.
+    pub max_iterations: usize,
+    /// Relative residual tolerance (against the problem's force scale).
+    pub relative_tolerance: f64,
+    /// Absolute residual tolerance (force units).
+    pub absolute_tolerance: f64,
+    /// Energy tolerance: converged once |δu·r| ≤ this × the step's first |δu·r|.
+    pub energy_tolerance: f64,
+    /// First load increment Δλ.
+    pub initial_load_increment: f64,
+    /// Smallest Δλ before giving up.
+    pub min_load_increment: f64,
+    /// Largest Δλ.
+    pub max_load_increment: f64,
+    /// Δλ multiplier after a failed step, in (0, 1).
+    pub cutback_factor: f64,
+    /// Δλ multiplier after an easy step, ≥ 1.
+    pub growth_factor: f64,
+    /// A step converging in at most this many iterations counts as easy.
+    pub easy_iterations: usize,
+    /// A residual this many times larger than the step's first one counts as divergence.
+    pub divergence_ratio: f64,
+}
+
+impl Default for NewtonParams {
+    fn default() -> Self {
+        Self {
+            max_iterations: 25,
+            relative_tolerance: 1e-9,
+            absolute_tolerance: 1e-12,
+            energy_tolerance: 1e-20,
+            initial_load_increment: 1.0,
+            min_load_increment: 1e-6,
+            max_load_increment: 1.0,
+            cutback_factor: 0.5,
+            growth_factor: 1.5,
+            easy_iterations: 4,
+            divergence_ratio: 1e8,
+        }
+    }
+}
+
+/// A Newton parameter out of its admissible range.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("newton parameter {field} = {value}: {reason}")]
+pub struct NewtonParamError {
+    /// Parameter name.
+    pub field: &'static str,
+    /// Its value.
+    pub value: f64,
+    /// What is required.
+    pub reason: &'static str,
+}
+
+impl NewtonParams {
+    /// Checks every parameter.
+    pub fn validated(self) -> Result<Self, NewtonParamError> {
+        let check = |ok: bool, field, value, reason| {
+            if ok {
+                Ok(())
+            } else {
+                Err(NewtonParamError {
+                    field,
+                    value,
+                    reason,
+                })
+            }
+        };
+        check(
+            self.max_iterations >= 1,
+            "max_iterations",
+            self.max_iterations as f64,
+            "must be ≥ 1",
+        )?;
+        check(
+            self.relative_tolerance >= 0.0,
+            "relative_tolerance",
+            self.relative_tolerance,
+            "must be ≥ 0",
+        )?;
+        check(
+            self.absolute_tolerance >= 0.0,
+            "absolute_tolerance",
+            self.absolute_tolerance,
+            "must be ≥ 0",
+        )?;
+        check(
+            self.energy_tolerance >= 0.0,
+            "energy_tolerance",
+            self.energy_tolerance,
+            "must be ≥ 0",
+        )?;
+        check(
+            self.relative_tolerance > 0.0 || self.absolute_tolerance > 0.0,
+            "relative_tolerance",
+            self.relative_tolerance,
+            "one tolerance must be > 0",
+        )?;
+        check(
+            self.min_load_increment > 0.0,
+            "min_load_increment",
+            self.min_load_increment,
+            "must be > 0",
+        )?;
+        check(
+            self.initial_load_increment >= self.min_load_increment
+                && self.initial_load_increment <= self.max_load_increment,
+            "initial_load_increment",
+            self.initial_load_increment,
+            "must lie in [min_load_increment, max_load_increment]",
+        )?;
+        check(
+            self.cutback_factor > 0.0 && self.cutback_factor < 1.0,
+            "cutback_factor",
+            self.cutback_factor,
+            "must lie in (0, 1)",
+        )?;
+        check(
+            self.growth_factor >= 1.0,
+            "growth_factor",
+            self.growth_factor,
+            "must be ≥ 1",
+        )?;
+        check(
+            self.divergence_ratio > 1.0,
+            "divergence_ratio",
+            self.divergence_ratio,
+            "must be > 1",
+        )?;
+        Ok(self)
+    }
+}
+
+/// Work counts of a Newton run (accumulated over calls).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct NewtonStats {
+    /// Accepted load steps.
+    pub steps: usize,
+    /// Rejected attempts (each followed by a cut-back).
+    pub cutbacks: usize,
+    /// Newton iterations (linear solves), accepted and rejected attempts together.
+    pub iterations: usize,
+    /// Numeric factorisations.
+    pub factorisations: usize,
+    /// Residual and tangent evaluations.
+    pub evaluations: usize,
+    /// Iterations of each accepted step.
+    pub step_iterations: Vec<usize>,
+    /// Load factor reached by each accepted step.
+    pub load_factors: Vec<f64>,
+    /// ‖r‖₂ at every evaluation of the accepted steps, in order.
+    pub residual_history: Vec<f64>,
+}
+
+/// Why the driver gave up (after all cut-backs).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum NewtonError<E: std::error::Error + 'static> {
+    /// The parameters are invalid.
+    #[error(transparent)]
+    Params(#[from] NewtonParamError),
+    /// The workspace was built for another system size.
+    #[error("workspace for {workspace} equations, pattern has {pattern}")]
+    SizeMismatch {
+        /// Workspace size.
+        workspace: usize,
+        /// Pattern size.
+        pattern: usize,
+    },
+    /// Newton did not converge even with the smallest load increment.
+    #[error(
+        "newton diverged at step {step}, iteration {iteration}: residual {residual:e} \
+         (tolerance {tolerance:e}) at load factor {load_factor}"
+    )]
+    NewtonDiverged {
+        /// Load step (accepted steps before it).
+        step: usize,
+        /// Iteration of the last attempt at which it was declared diverged.
+        iteration: usize,
+        /// Residual norm then.
+        residual: f64,
+        /// Tolerance it had to reach.
+        tolerance: f64,
+        /// Target load factor of the attempt.
+        load_factor: f64,
+    },
+    /// The problem could not be evaluated even with the smallest load increment.
+    #[error("evaluation failed at step {step}, iteration {iteration}, load factor {load_factor}: {source}")]
+    Problem {
+        /// Load step.
+        step: usize,
+        /// Iteration.
+        iteration: usize,
+        /// Target load factor of the attempt.
+        load_factor: f64,
+        /// The problem's error.
+        source: E,
+    },
+    /// The linear solver failed even with the smallest load increment.
+    #[error("linear solve failed at step {step}, iteration {iteration}, load factor {load_factor}: {source}")]
+    Linear {
+        /// Load step.
+        step: usize,
+        /// Iteration.
+        iteration: usize,
+        /// Target load factor of the attempt.
+        load_factor: f64,
+        /// The solver's error.
+        source: LinalgError,
+    },
+}
+
+/// Scratch vectors of the driver, sized once for a pattern.
+#[derive(Debug, Clone)]
+pub struct NewtonWorkspace {
+    residual: Vec<f64>,
+    increment: Vec<f64>,
+    values: Vec<f64>,
+}
+
+impl NewtonWorkspace {
+    /// Workspace for systems on `pattern`.
+    pub fn new(pattern: &SparsePattern) -> Self {
+        Self {
+            residual: vec![0.0; pattern.size()],
+            increment: vec![0.0; pattern.size()],
+            values: vec![0.0; pattern.nnz()],
+        }
+    }
+
+    /// Residual of the last evaluation.
+    pub fn residual(&self) -> &[f64] {
+        &self.residual
+    }
+}
+
+enum Failure<E> {
+    Diverged {
+        iteration: usize,
+        residual: f64,
+        tolerance: f64,
+    },
+    Problem {
+        iteration: usize,
+        source: E,
+    },
+    Linear {
+        iteration: usize,
+        source: LinalgError,
+    },
+}
+
+/// Drives `problem` from its committed load factor `start` to `end` (usually 0 → 1).
+#[allow(clippy::too_many_arguments)]
+pub fn solve_load_path<P: NonlinearProblem, S: LinearSolver>(
+    problem: &mut P,
+    start: f64,
+    end: f64,
+    pattern: &SparsePattern,
+    solver: &mut S,
+    params: &NewtonParams,
+    workspace: &mut NewtonWorkspace,
+    stats: &mut NewtonStats,
+) -> Result<(), NewtonError<P::Error>> {
+    let params = params.validated()?;
+    if workspace.residual.len() != pattern.size() || workspace.values.len() != pattern.nnz() {
+        return Err(NewtonError::SizeMismatch {
+            workspace: workspace.residual.len(),
+            pattern: pattern.size(),
+        });
+    }
+    let mut lambda = start;
+    let mut dlambda = params.initial_load_increment;
+    while lambda < end - 1e-12 {
+        let target = if lambda + dlambda > end - 1e-9 {
+            end
+        } else {
+            lambda + dlambda
+        };
+        let history_len = stats.residual_history.len();
+        match newton_step(problem, target, pattern, solver, &params, workspace, stats) {
+            Ok(iterations) => {
+                problem.commit(target);
+                stats.steps += 1;
+                stats.step_iterations.push(iterations);
+                stats.load_factors.push(target);
+                tracing::debug!(
+                    step = stats.steps,
+                    load_factor = target,
+                    iterations,
+                    "load step converged"
+                );
+                lambda = target;
+                if iterations <= params.easy_iterations {
+                    dlambda = (dlambda * params.growth_factor).min(params.max_load_increment);
+                }
+            }
+            Err(failure) => {
+                problem.restore();
+                stats.residual_history.truncate(history_len);
+                stats.cutbacks += 1;
+                dlambda *= params.cutback_factor;
+                tracing::debug!(
+                    step = stats.steps,
+                    load_factor = target,
+                    next_increment = dlambda,
+                    "load step cut back"
+                );
+                if dlambda < params.min_load_increment {
+                    let step = stats.steps;
+                    return Err(match failure {
+                        Failure::Diverged {
+                            iteration,
+                            residual,
+                            tolerance,
+                        } => NewtonError::NewtonDiverged {
+                            step,
+                            iteration,
+                            residual,
+                            tolerance,
+                            load_factor: target,
+                        },
+                        Failure::Problem { iteration, source } => NewtonError::Problem {
+                            step,
+                            iteration,
+                            load_factor: target,
+                            source,
+                        },
+                        Failure::Linear { iteration, source } => NewtonError::Linear {
+                            step,
+                            iteration,
+                            load_factor: target,
+                            source,
+                        },
+                    });
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Full Newton iterations at a fixed load factor; returns the iteration count on convergence.
+fn newton_step<P: NonlinearProblem, S: LinearSolver>(
+    problem: &mut P,
+    load_factor: f64,
+    pattern: &SparsePattern,
+    solver: &mut S,
+    params: &NewtonParams,
+    ws: &mut NewtonWorkspace,
+    stats: &mut NewtonStats,
+) -> Result<usize, Failure<P::Error>> {
+    let mut first = f64::NAN;
+    let mut first_energy = f64::NAN;
+    for iteration in 0..=params.max_iterations {
+        ws.residual.iter_mut().for_each(|v| *v = 0.0);
+        ws.values.iter_mut().for_each(|v| *v = 0.0);
+        stats.evaluations += 1;
+        let scale = problem
+            .evaluate(load_factor, &mut ws.residual, Some(&mut ws.values))
+            .map_err(|source| Failure::Problem { iteration, source })?;
+        let norm = ws.residual.iter().map(|v| v * v).sum::<f64>().sqrt();
+        stats.residual_history.push(norm);
+        let tolerance = params.absolute_tolerance + params.relative_tolerance * scale;
+        if norm <= tolerance {
+            return Ok(iteration);
+        }
+        if iteration == 0 {
+            first = norm;
+        }
+        if !norm.is_finite()
+            || norm > params.divergence_ratio * first
+            || iteration == params.max_iterations
+        {
+            return Err(Failure::Diverged {
+                iteration,
+                residual: norm,
+                tolerance,
+            });
+        }
+        stats.factorisations += 1;
+        solver
+            .factorize(pattern, &ws.values)
+            .map_err(|source| Failure::Linear { iteration, source })?;
+        ws.increment
+            .iter_mut()
+            .zip(&ws.residual)
+            .for_each(|(d, r)| *d = -r);
+        solver
+            .solve_in_place(&mut ws.increment)
+            .map_err(|source| Failure::Linear { iteration, source })?;
+        stats.iterations += 1;
+        problem.apply_increment(&ws.increment);
+        let energy = ws
+            .increment
+            .iter()
+            .zip(&ws.residual)
+            .map(|(d, r)| d * r)
+            .sum::<f64>()
+            .abs();
+        if iteration == 0 {
+            first_energy = energy;
+        } else if energy <= params.energy_tolerance * first_energy {
+            return Ok(iteration + 1);
+        }
+    }
+    // the loop returns at iteration == max_iterations at the latest
+    Err(Failure::Diverged {
+        iteration: params.max_iterations,
+        residual: f64::NAN,
+        tolerance: 0.0,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::cholesky::{CholeskyKind, SparseCholesky};
+    use crate::linalg::pattern::{Equation, Storage};
+    use faer::Par;
+
+    #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+    #[error("spring overstretched: u = {u}")]
+    struct Overstretched {
+        u: f64,
+    }
+
+    /// Hardening spring k u + c u³ = λ F, which refuses trial states with u > u_max (as an
+    /// element refuses a too-large rotation).
+    struct Spring {
+        u: f64,
+        committed: f64,
+        force: f64,
+        u_max: f64,
+    }
+
+    impl NonlinearProblem for Spring {
+        type Error = Overstretched;
+        fn evaluate(
+            &mut self,
+            lambda: f64,
+            r: &mut [f64],
+            k: Option<&mut [f64]>,
+        ) -> Result<f64, Overstretched> {
+            if self.u > self.u_max {
+                return Err(Overstretched { u: self.u });
+            }
+            r[0] = 2.0 * self.u + 5.0 * self.u.powi(3) - lambda * self.force;
+            if let Some(k) = k {
+                k[0] = 2.0 + 15.0 * self.u * self.u;
+            }
+            Ok(lambda * self.force)
+        }
+        fn apply_increment(&mut self, d: &[f64]) {
+            self.u += d[0];
+        }
+        fn commit(&mut self, _: f64) {
+            self.committed = self.u;
+        }
+        fn restore(&mut self) {
+            self.u = self.committed;
+        }
+    }
+
+    fn run(
+        spring: &mut Spring,
+        params: &NewtonParams,
+    ) -> (Result<(), NewtonError<Overstretched>>, NewtonStats) {
+        let p = SparsePattern::new(1, Storage::Upper, &[[Equation::free(0).unwrap()]]).unwrap();
+        let mut solver = SparseCholesky::new(&p, CholeskyKind::Llt, Par::Seq).unwrap();
+        let mut ws = NewtonWorkspace::new(&p);
+        let mut stats = NewtonStats::default();
+        let r = solve_load_path(
+            spring,
+            0.0,
+            1.0,
+            &p,
+            &mut solver,
+            params,
+            &mut ws,
+            &mut stats,
+        );
+        (r, stats)
+    }
+
+    #[test]
+    fn hardening_spring_converges_quadratically_in_one_step() {
+        let mut s = Spring {
+            u: 0.0,
+            committed: 0.0,
+            force: 7.0,
+            u_max: 10.0,
+        };
+        let (r, stats) = run(&mut s, &NewtonParams::default());
+        r.unwrap();
+        // exact root of 5u³ + 2u − 7 = 0 is u = 1
+        assert!((s.u - 1.0).abs() < 1e-12);
+        assert_eq!(stats.steps, 1);
+        assert_eq!(stats.step_iterations, vec![8]);
+        assert_eq!(stats.factorisations, stats.iterations);
+        // quadratic convergence: r_{k+1} ≤ C r_k² near the root (C ≈ f''/(2f'²) ≈ 0.2 here)
+        let h = &stats.residual_history;
+        let n = h.len();
+        assert!(h[n - 2] <= 1.0 * h[n - 3] * h[n - 3], "{h:?}");
+    }
+
+    #[test]
+    fn refused_trial_states_trigger_cutbacks_until_the_path_is_followed() {
+        // the first Newton iterate from u = 0 at full load overshoots u_max
+        let mut s = Spring {
+            u: 0.0,
+            committed: 0.0,
+            force: 7.0,
+            u_max: 1.2,
+        };
+        let (r, stats) = run(&mut s, &NewtonParams::default());
+        r.unwrap();
+        assert!((s.u - 1.0).abs() < 1e-12);
+        assert!(stats.cutbacks >= 1);
+        assert_eq!(*stats.load_factors.last().unwrap(), 1.0);
+    }
+
+    #[test]
+    fn impossible_problem_reports_the_failure_with_its_step() {
+        let mut s = Spring {
+            u: 0.0,
+            committed: 0.0,
+            force: 7.0,
+            u_max: 0.5,
+        };
+        let (r, _) = run(
+            &mut s,
+            &NewtonParams {
+                min_load_increment: 1e-3,
+                ..Default::default()
+            },
+        );
+        match r {
+            Err(NewtonError::Problem {
+                step, load_factor, ..
+            }) => {
+                assert!(step > 0);
+                assert!(load_factor < 1.0);
+            }
+            other => panic!("unexpected {other:?}"),
+        }
+    }
+}

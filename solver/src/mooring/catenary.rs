@@ -1,0 +1,1 @@
+//! Placeholder (local only) until the catenary module lands.
