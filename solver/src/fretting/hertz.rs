@@ -25,7 +25,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::error::{non_negative, positive, FrettingError};
+use super::error::{positive, FrettingError};
 
 /// Elastic constants of one body.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -267,7 +267,6 @@ impl HertzModel {
                 approach_m: 0.0,
             });
         }
-        non_negative("normal_force_n", normal_force_n)?;
         let a = (self.a_cubed_per_newton * normal_force_n).cbrt();
         let b = self.axis_ratio * a;
         let p0 = 3.0 * normal_force_n / (2.0 * std::f64::consts::PI * a * b);
