@@ -332,7 +332,7 @@ mod tests {
         assert!((h.curvature_b / h.curvature_a / 10.105_214_698_327_09 - 1.0).abs() < 1e-13);
         assert!((h.axis_ratio / 0.220_787_548_104_937_7 - 1.0).abs() < 1e-10);
         let c = h.contact(800.0).unwrap();
-        assert!((c.semi_major_m / 5.599_589_440_459_961e-4 - 1.0).abs() < 1e-10);
+        assert!((c.semi_major_m / 5.599_589_440_459_96e-4 - 1.0).abs() < 1e-10);
         assert!((c.semi_minor_m / 1.236_319_622_953_455e-4 - 1.0).abs() < 1e-10);
         assert!((c.peak_pressure_pa / 5.517_526_465_887_587e9 - 1.0).abs() < 1e-10);
         assert!((c.approach_m / 1.726_608_386_938_877e-5 - 1.0).abs() < 1e-10);
