@@ -1,12 +1,16 @@
 //! Verification of the fretting statistics across modules: rainflow invariants on long seeded
 //! random histories (batch vs streaming, count conservation, bounds, invariance to non-reversal
-//! points, checkpoint / resume), and the Hertz / indicator / damage chain against published
-//! numbers.
+//! points, checkpoint / resume), and the chain contact history → slip cycles → histogram →
+//! Hertz / Mindlin regime against the closed-form circular contact.
 
 use moorfret_solver::fretting::rainflow::{count_cycles, total_count, Cycle, RainflowOptions};
 use moorfret_solver::fretting::reversals::extract_reversals;
 use moorfret_solver::fretting::streaming::StreamingRainflow;
-use moorfret_solver::fretting::{ContactCycleAccumulator, ContactSample, SlipCycle};
+use moorfret_solver::fretting::{
+    evaluate_cycle, BinEdges, ContactCycleAccumulator, ContactSample, CrossedCylinders,
+    CycleHistogram, ElasticMaterial, ForceMeasure, FrettingParams, FrettingRegime, HertzModel,
+    SlipCycle, WireStress,
+};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngSeed};
 use rand::{Rng, SeedableRng};
@@ -193,4 +197,73 @@ fn contact_accumulator_checkpoint_resumes_bit_for_bit() {
             assert_eq!(a, b);
         }
     }
+}
+
+#[test]
+fn contact_history_to_regimes_follows_the_mindlin_limit_of_the_circular_contact() {
+    // Equal perpendicular steel wires (r = 2.3 mm) under f_N = 600 N, μ = 0.12: circular Hertz
+    // contact a = (3PR/4E*)^(1/3) and Mindlin gross-slip amplitude δ* = 3μP(2 − ν)/(8Ga)
+    // (Johnson 1985, eqs. 4.22 and 7.42). Fifty slip cycles at 0.5 δ* then fifty at 2 δ*.
+    let m = ElasticMaterial::default();
+    let (r, p, mu) = (2.3e-3, 600.0, 0.12);
+    let model = HertzModel::crossed_cylinders(&CrossedCylinders {
+        radius_1_m: r,
+        radius_2_m: r,
+        crossing_angle_rad: std::f64::consts::FRAC_PI_2,
+        material_1: m,
+        material_2: m,
+    })
+    .unwrap();
+    let e_star = m.youngs_modulus_pa / (2.0 * (1.0 - m.poisson_ratio.powi(2)));
+    let a = (3.0 * p * r / (4.0 * e_star)).cbrt();
+    let delta_star = 3.0 * mu * p * (2.0 - m.poisson_ratio) / (8.0 * m.shear_modulus_pa() * a);
+    let per = 32;
+    let mut acc = ContactCycleAccumulator::new(0.0).unwrap();
+    let mut cycles = Vec::new();
+    for k in 0..100 * per {
+        let amp = if k < 50 * per {
+            0.5 * delta_star
+        } else {
+            2.0 * delta_star
+        };
+        let phase = std::f64::consts::TAU * (k % per) as f64 / per as f64;
+        let sample = ContactSample {
+            slip_m: amp * phase.sin(),
+            normal_force_n: p,
+            tangential_force_n: 40.0 * phase.sin(),
+        };
+        acc.push(sample, &mut cycles).unwrap();
+    }
+    acc.finish(&mut cycles);
+    let slip_edges = BinEdges::geometric(0.1 * delta_star, 10.0 * delta_star, 20).unwrap();
+    let force_edges = BinEdges::uniform(0.0, 1000.0, 10).unwrap();
+    let mut hist = CycleHistogram::new(slip_edges, force_edges, ForceMeasure::Mean);
+    let params = FrettingParams {
+        friction_coefficient: mu,
+        ..FrettingParams::default()
+    };
+    let (mut partial, mut gross) = (0.0, 0.0);
+    for c in &cycles {
+        hist.add_cycle(c);
+        let ind = evaluate_cycle(&model, &params, c, &WireStress::default()).unwrap();
+        assert!((ind.gross_slip_amplitude_m / delta_star - 1.0).abs() < 1e-12);
+        assert!((ind.contact.semi_major_m / a - 1.0).abs() < 1e-12);
+        match ind.regime {
+            FrettingRegime::PartialSlip => partial += c.slip.count,
+            FrettingRegime::GrossSlip => gross += c.slip.count,
+            FrettingRegime::Stick => panic!("Mindlin default has no stick range"),
+        }
+    }
+    // Reversals: the start, 100 peaks, 100 valleys and the last sample → 100.5 cycles. Partial
+    // slip: the start half cycle plus 99 half cycles between the small extremes (50), and the
+    // final half cycle from the last valley to the last sample, amplitude 0.62 δ* (0.5). Gross
+    // slip: the range from the last small valley to the first large peak (amplitude 1.25 δ*)
+    // and every large range (50).
+    assert_eq!(partial, 50.5);
+    assert_eq!(gross, 50.0);
+    assert!(
+        (hist.total() - total_count(&cycles.iter().map(|c| c.slip).collect::<Vec<_>>())).abs()
+            < 1e-12
+    );
+    assert_eq!(hist.out_of_range(), 0.0);
 }

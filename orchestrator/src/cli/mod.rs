@@ -3,6 +3,7 @@
 
 use clap::{Parser, Subcommand};
 
+pub mod rainflow;
 pub mod run;
 
 /// moorfret: fretting fatigue of spiral-strand mooring ropes over a site's long-term sea climate.
@@ -20,11 +21,14 @@ pub enum Command {
     /// Single runs of one stage for one case, outside any campaign.
     #[command(subcommand)]
     Run(run::RunCommand),
+    /// Rainflow-count one column of a CSV file (ASTM E1049-85), cycles as JSON or CSV.
+    Rainflow(rainflow::RainflowArgs),
 }
 
 /// Execute a parsed command line.
 pub fn execute(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Run(cmd) => run::execute(cmd),
+        Command::Rainflow(args) => rainflow::execute(args),
     }
 }

@@ -7,7 +7,8 @@
 //! - [`cycles`]: per-contact slip cycles with the normal and tangential forces over them;
 //! - [`histogram`]: 2D histograms of cycles (slip amplitude × normal force);
 //! - [`hertz`]: Hertz contact of crossed cylinders (ellipse semi-axes, peak pressure);
-//! - [`indicators`]: fretting regime (Mindlin), Ruiz products, fretting S-N damage.
+//! - [`indicators`]: fretting regime (Mindlin), Ruiz products, fretting S-N damage;
+//! - [`runin`]: where the mean slip stops drifting (run-in to exclude from the statistics).
 //!
 //! Units follow the counted history (slip in m, forces in N); indices are zero-based samples.
 
@@ -18,6 +19,7 @@ pub mod histogram;
 pub mod indicators;
 pub mod rainflow;
 pub mod reversals;
+pub mod runin;
 pub mod streaming;
 
 pub use cycles::{ContactCycleAccumulator, ContactSample, ForceStats, SlipCycle};
@@ -30,4 +32,5 @@ pub use indicators::{
 };
 pub use rainflow::{count_cycles, Cycle, RainflowCounter, RainflowOptions};
 pub use reversals::{extract_reversals, Reversal, ReversalDetector};
+pub use runin::{detect_run_in, RunIn, RunInParams};
 pub use streaming::{SegmentSummary, StreamingRainflow};

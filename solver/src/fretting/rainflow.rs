@@ -129,15 +129,10 @@ impl RainflowCounter {
     }
 
     fn count_linear(&mut self, history: &[f64], out: &mut Vec<Cycle>) -> Result<(), FrettingError> {
-        let mut detector = ReversalDetector::new(self.options.hysteresis_gate)?;
+        let count = extract_into(history, self.options.hysteresis_gate, &mut self.reversals);
         let stack = &mut self.stack;
         stack.clear();
-        for (index, &value) in history.iter().enumerate() {
-            if let Some(r) = detector.push(index, value) {
-                push_three_point(stack, r, out);
-            }
-        }
-        if let Some(r) = detector.pending() {
+        for &r in &self.reversals[..count] {
             push_three_point(stack, r, out);
         }
         // ASTM E1049-85 §5.4.4 step 6: the residue counts as half cycles.
@@ -201,6 +196,59 @@ impl RainflowCounter {
         );
         Ok(())
     }
+}
+
+/// Reversals of `history` into `buf` (grown to `history.len() + 1`, never shrunk, so repeated
+/// calls do not allocate); returns how many were written.
+///
+/// The same rule as [`ReversalDetector`] written for speed: one pass, no data-dependent branch
+/// in the loop (each pending extreme is written unconditionally and the length advances only
+/// on a confirmed reversal). The streaming counter uses the detector itself, and the property
+/// tests check that both give the same cycles.
+fn extract_into(history: &[f64], gate: f64, buf: &mut Vec<Reversal>) -> usize {
+    let n = history.len();
+    if n == 0 {
+        return 0;
+    }
+    if buf.len() < n + 1 {
+        buf.resize(n + 1, Reversal::default());
+    }
+    let first = history[0];
+    buf[0] = Reversal {
+        index: 0,
+        value: first,
+    };
+    // Before the first move larger than the gate the direction is unknown.
+    let mut i = 1;
+    while i < n && (history[i] - first).abs() <= gate {
+        i += 1;
+    }
+    if i == n {
+        return 1;
+    }
+    let mut dir = if history[i] > first { 1.0 } else { -1.0 };
+    let mut cand = Reversal {
+        index: i,
+        value: history[i],
+    };
+    let mut len = 1;
+    let buf = &mut buf[..n + 1];
+    for (j, &x) in history.iter().enumerate().skip(i + 1) {
+        // > 0: beyond the pending extreme; < −gate: turned back by more than the gate.
+        let ext = (x - cand.value) * dir;
+        let reverse = -ext > gate;
+        let take = (ext > 0.0) | reverse;
+        buf[len] = cand;
+        len += reverse as usize;
+        dir = if reverse { -dir } else { dir };
+        cand = if take {
+            Reversal { index: j, value: x }
+        } else {
+            cand
+        };
+    }
+    buf[len] = cand;
+    len + 1
 }
 
 /// One step of the three-point method with the starting-point rule (ASTM E1049-85 §5.4.4).

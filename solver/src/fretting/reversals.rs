@@ -157,6 +157,10 @@ pub fn extract_reversals(history: &[f64], gate: f64) -> Result<Vec<Reversal>, Fr
 
 /// Index and value of the first non-finite sample, if any.
 pub(crate) fn first_non_finite(history: &[f64]) -> Option<(usize, f64)> {
+    // A non-short-circuiting fold vectorises; the position is only searched on failure.
+    if history.iter().fold(true, |ok, x| ok & x.is_finite()) {
+        return None;
+    }
     history
         .iter()
         .position(|x| !x.is_finite())

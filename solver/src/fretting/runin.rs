@@ -1,0 +1,175 @@
+//! Run-in detection: where the mean slip of a contact stops drifting (DESIGN §4.5).
+//!
+//! The strand needs a run-in before its slip pattern stabilises: in the seed's Fig. 22 the
+//! mean slip drifts for about the first 100 s of the sea state. The history is cut into
+//! consecutive windows of `window_samples`; the reference is the mean over the final
+//! `reference_fraction` of the record and the scale its standard deviation σ. The run-in ends at
+//! the start of the first window from which every later window mean stays within
+//! `tolerance_sigma · σ` of the reference. If that only happens inside the reference part
+//! itself, or the reference part drifts by more than the tolerance between its halves, the
+//! history never stabilised and this is reported (`end_index = None`), not hidden.
+//!
+//! Units: those of the history (slip in m); indices are zero-based samples.
+
+use serde::{Deserialize, Serialize};
+
+use super::error::{positive, FrettingError};
+
+/// Parameters of the run-in detection (validated, with `Default`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunInParams {
+    /// Samples per window (a few load cycles long).
+    pub window_samples: usize,
+    /// Fraction of the record, at its end, taken as the stabilised reference (0 < f < 1).
+    pub reference_fraction: f64,
+    /// Band half-width around the reference mean, in reference standard deviations.
+    pub tolerance_sigma: f64,
+}
+
+impl Default for RunInParams {
+    fn default() -> Self {
+        Self {
+            window_samples: 500,
+            reference_fraction: 0.25,
+            tolerance_sigma: 0.1,
+        }
+    }
+}
+
+/// Where the run-in ended.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RunIn {
+    /// First sample after the run-in, `None` if the mean never stabilised.
+    pub end_index: Option<usize>,
+    /// Reference (stabilised) mean.
+    pub reference_mean: f64,
+    /// Tolerance band half-width used.
+    pub tolerance: f64,
+    /// Largest |window mean − reference| after the detected end (or over the reference part).
+    pub residual_drift: f64,
+}
+
+/// Detects the end of the run-in of `history`.
+pub fn detect_run_in(history: &[f64], params: &RunInParams) -> Result<RunIn, FrettingError> {
+    positive("window_samples", params.window_samples as f64)?;
+    positive("tolerance_sigma", params.tolerance_sigma)?;
+    if !(params.reference_fraction > 0.0 && params.reference_fraction < 1.0) {
+        return Err(FrettingError::InvalidParameter {
+            field: "reference_fraction",
+            value: params.reference_fraction,
+            reason: "must lie in (0, 1)",
+        });
+    }
+    if let Some((index, value)) = super::reversals::first_non_finite(history) {
+        return Err(FrettingError::NonFiniteSample { index, value });
+    }
+    let w = params.window_samples;
+    let windows = history.len() / w;
+    // Whole windows only; the reference covers at least two of them.
+    let ref_windows = ((windows as f64 * params.reference_fraction).round() as usize).max(2);
+    if windows < ref_windows + 1 {
+        return Err(FrettingError::InvalidParameter {
+            field: "window_samples",
+            value: w as f64,
+            reason: "the history is too short for the reference and one more window",
+        });
+    }
+    let means: Vec<f64> = (0..windows)
+        .map(|k| mean(&history[k * w..(k + 1) * w]))
+        .collect();
+    let ref_start = windows - ref_windows;
+    let reference = &history[ref_start * w..windows * w];
+    let reference_mean = mean(reference);
+    let sigma = (reference
+        .iter()
+        .map(|x| (x - reference_mean).powi(2))
+        .sum::<f64>()
+        / reference.len() as f64)
+        .sqrt();
+    let tolerance = params.tolerance_sigma * sigma;
+    let half = ref_windows / 2;
+    let drift_in_reference =
+        (mean(&means[ref_start..ref_start + half]) - mean(&means[ref_start + half..windows])).abs();
+    // Last window outside the band; the run-in ends after it.
+    let last_out = means
+        .iter()
+        .rposition(|m| (m - reference_mean).abs() > tolerance);
+    let first_in = last_out.map_or(0, |k| k + 1);
+    let stabilised = drift_in_reference <= tolerance && first_in < ref_start;
+    let tail = if stabilised { first_in } else { ref_start };
+    let residual_drift = means[tail..]
+        .iter()
+        .map(|m| (m - reference_mean).abs())
+        .fold(0.0, f64::max);
+    Ok(RunIn {
+        end_index: stabilised.then_some(first_in * w),
+        reference_mean,
+        tolerance,
+        residual_drift,
+    })
+}
+
+fn mean(x: &[f64]) -> f64 {
+    x.iter().sum::<f64>() / x.len() as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Slip oscillation around a mean that relaxes exponentially from `offset` to 0.
+    fn drifting(n: usize, dt: f64, tau: f64, offset: f64) -> Vec<f64> {
+        (0..n)
+            .map(|i| {
+                let t = i as f64 * dt;
+                1e-6 * (std::f64::consts::TAU * t / 12.0).sin() + offset * (-t / tau).exp()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn drift_that_dies_out_is_detected_where_it_enters_the_band() {
+        // 1000 s at 10 Hz, drift 3 µm with τ = 20 s. The window means leave the band
+        // 0.1 σ = 0.1 · 1e-6/√2 once 3e-6 e^(−t/20) < 7.07e-8, i.e. t > 75 s.
+        let h = drifting(10_000, 0.1, 20.0, 3e-6);
+        let params = RunInParams {
+            window_samples: 120,
+            ..Default::default()
+        };
+        let r = detect_run_in(&h, &params).unwrap();
+        let end_s = r.end_index.unwrap() as f64 * 0.1;
+        assert!(end_s > 60.0 && end_s < 96.0, "{end_s}");
+        assert!(r.residual_drift <= r.tolerance);
+    }
+
+    #[test]
+    fn stationary_history_has_no_run_in_and_endless_drift_never_stabilises() {
+        let params = RunInParams {
+            window_samples: 120,
+            ..Default::default()
+        };
+        let steady = drifting(10_000, 0.1, 20.0, 0.0);
+        assert_eq!(detect_run_in(&steady, &params).unwrap().end_index, Some(0));
+        let ramp: Vec<f64> = steady
+            .iter()
+            .enumerate()
+            .map(|(i, x)| x + 1e-9 * i as f64)
+            .collect();
+        let r = detect_run_in(&ramp, &params).unwrap();
+        assert_eq!(r.end_index, None);
+        assert!(r.residual_drift > r.tolerance);
+    }
+
+    #[test]
+    fn too_short_history_is_rejected() {
+        let r = detect_run_in(&[0.0; 100], &RunInParams::default());
+        assert!(matches!(
+            r,
+            Err(FrettingError::InvalidParameter {
+                field: "window_samples",
+                ..
+            })
+        ));
+    }
+}
