@@ -133,7 +133,7 @@ impl CorotationalBeam {
         let e1 = chord / length_m;
         let y = y_hint - e1 * e1.dot(y_hint);
         let ny = y.norm();
-        if !(ny > 1e-8 * y_hint.norm()) {
+        if ny.is_nan() || ny <= 1e-8 * y_hint.norm() {
             return Err(BeamError::DegenerateReference {
                 reason: "y direction parallel to the chord",
                 length_m,
@@ -178,7 +178,7 @@ impl CorotationalBeam {
     ) -> Result<Kinematics, BeamError> {
         let d = x2 - x1;
         let l = d.norm();
-        if !(l > 1e-9 * self.length_m) {
+        if l.is_nan() || l <= 1e-9 * self.length_m {
             return Err(BeamError::CollapsedChord { length_m: l });
         }
         let r1 = d / l;
@@ -188,7 +188,7 @@ impl CorotationalBeam {
         let q = 0.5 * (q1 + q2);
         let c = r1.cross(&q);
         let sine = c.norm();
-        if !(sine > 1e-8) {
+        if sine.is_nan() || sine <= 1e-8 {
             return Err(BeamError::FrameUndefined { sine });
         }
         let r3 = c / sine;
@@ -199,7 +199,7 @@ impl CorotationalBeam {
         let theta2 = log_so3(&(ft * lam2 * self.triad));
         for (node, th) in [(0, &theta1), (1, &theta2)] {
             let angle_rad = th.norm();
-            if !(angle_rad < MAX_LOCAL_ROTATION) {
+            if angle_rad.is_nan() || angle_rad >= MAX_LOCAL_ROTATION {
                 return Err(BeamError::LocalRotationTooLarge { node, angle_rad });
             }
         }

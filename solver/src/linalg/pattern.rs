@@ -244,12 +244,19 @@ impl SparsePattern {
             Storage::Upper => {
                 let eqs = self.element_equations(element);
                 let n = eqs.len();
+                // (a, b) and (b, a) share one slot: visit each unordered pair once
                 for b in 0..n {
-                    for a in 0..n {
+                    for a in 0..=b {
                         let s = slots[b * n + a];
                         if s != SKIP {
-                            let k = ke[b * n + a];
-                            values[s as usize] += if eqs[a] == eqs[b] { k } else { 0.5 * k };
+                            let kab = ke[b * n + a];
+                            values[s as usize] += if a == b {
+                                kab
+                            } else if eqs[a] == eqs[b] {
+                                kab + ke[a * n + b]
+                            } else {
+                                0.5 * (kab + ke[a * n + b])
+                            };
                         }
                     }
                 }
@@ -272,11 +279,11 @@ impl SparsePattern {
     pub fn mul_vec(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
         y.iter_mut().for_each(|v| *v = 0.0);
         for col in 0..self.size {
-            for k in self.col_ptr[col]..self.col_ptr[col + 1] {
-                let row = self.row_idx[k];
-                y[row] += values[k] * x[col];
+            let range = self.col_ptr[col]..self.col_ptr[col + 1];
+            for (&row, &v) in self.row_idx[range.clone()].iter().zip(&values[range]) {
+                y[row] += v * x[col];
                 if self.storage == Storage::Upper && row != col {
-                    y[col] += values[k] * x[row];
+                    y[col] += v * x[row];
                 }
             }
         }
