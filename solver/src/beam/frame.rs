@@ -7,6 +7,7 @@
 //! measured from the reference configuration (Λ = I there).
 
 use nalgebra::{Matrix3, Vector3};
+use rayon::prelude::*;
 use thiserror::Error;
 
 use super::corotational::{BeamError, CorotationalBeam, Matrix12, Vector12};
@@ -285,6 +286,71 @@ pub fn assemble_frame(
     Ok(())
 }
 
+/// Per-element force and tangent buffers for [`assemble_frame_parallel`].
+#[derive(Debug, Clone)]
+pub struct FrameWorkspace {
+    forces: Vec<Vector12>,
+    tangents: Vec<Matrix12>,
+}
+
+impl FrameWorkspace {
+    /// Buffers for every element of `frame`.
+    pub fn new(frame: &BeamFrame) -> Self {
+        Self {
+            forces: vec![Vector12::zeros(); frame.elements.len()],
+            tangents: vec![Matrix12::zeros(); frame.elements.len()],
+        }
+    }
+}
+
+/// Same result as [`assemble_frame`], bit for bit: the element kernels run on `pool`, then the
+/// element results are added in element order on the calling thread.
+#[allow(clippy::too_many_arguments)]
+pub fn assemble_frame_parallel(
+    pool: &rayon::ThreadPool,
+    frame: &BeamFrame,
+    state: &FrameState,
+    pattern: &SparsePattern,
+    first_pattern_element: usize,
+    residual: &mut [f64],
+    tangent: Option<&mut [f64]>,
+    workspace: &mut FrameWorkspace,
+) -> Result<(), FrameError> {
+    let with_tangent = tangent.is_some();
+    let FrameWorkspace { forces, tangents } = workspace;
+    if forces.len() != frame.elements.len() {
+        *forces = vec![Vector12::zeros(); frame.elements.len()];
+        *tangents = vec![Matrix12::zeros(); frame.elements.len()];
+    }
+    pool.install(|| {
+        forces
+            .par_iter_mut()
+            .zip(tangents.par_iter_mut())
+            .zip(frame.elements.par_iter())
+            .enumerate()
+            .try_for_each(|(e, ((fe, ke), el))| {
+                let [a, b] = el.nodes;
+                let (xa, xb) = (&state.positions[a.0], &state.positions[b.0]);
+                let (la, lb) = (&state.rotations[a.0], &state.rotations[b.0]);
+                if with_tangent {
+                    el.beam.internal_force_and_tangent(xa, xb, la, lb, fe, ke)
+                } else {
+                    el.beam.internal_force(xa, xb, la, lb, fe)
+                }
+                .map_err(|source| FrameError::Element { element: e, source })
+            })
+    })?;
+    for (e, fe) in forces.iter().enumerate() {
+        pattern.add_element_vector(residual, first_pattern_element + e, fe.as_slice());
+    }
+    if let Some(values) = tangent {
+        for (e, ke) in tangents.iter().enumerate() {
+            pattern.add_element_matrix(values, first_pattern_element + e, ke.as_slice());
+        }
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -358,6 +424,33 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn parallel_assembly_equals_serial_assembly_bit_for_bit() {
+        let (frame, dofs, pattern, state) = sample();
+        let n = dofs.free_count();
+        let (mut r1, mut r2) = (vec![0.0; n], vec![0.0; n]);
+        let (mut k1, mut k2) = (vec![0.0; pattern.nnz()], vec![0.0; pattern.nnz()]);
+        assemble_frame(&frame, &state, &pattern, 0, &mut r1, Some(&mut k1)).unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let mut ws = FrameWorkspace::new(&frame);
+        assemble_frame_parallel(
+            &pool,
+            &frame,
+            &state,
+            &pattern,
+            0,
+            &mut r2,
+            Some(&mut k2),
+            &mut ws,
+        )
+        .unwrap();
+        assert_eq!(r1, r2);
+        assert_eq!(k1, k2);
     }
 
     #[test]
