@@ -43,7 +43,7 @@ pub fn bar_system(
     }
     let w = 0.5 * l;
     let dn = [-1.0 / l, 1.0 / l];
-    for node in 0..2 {
+    for (node, water_at_node) in water.iter().take(2).enumerate() {
         let n = if node == 0 { [1.0, 0.0] } else { [0.0, 1.0] };
         if ctx.dynamic {
             out.r[node] += x.a[node] * (w * sec.mass_kg_per_m);
@@ -62,7 +62,7 @@ pub fn bar_system(
         load.f.z = -sec.weight_n_per_m;
         load.add(&seabed_load(sec, ctx.bed, ctx.depth_m, &k.r, &k.v));
         if ctx.dynamic {
-            load.add(&morison(sec, &k, &water[node]));
+            load.add(&morison(sec, &k, water_at_node));
         }
         out.add_point_load(&n, &dn, w, &load, &ctx.coef);
     }

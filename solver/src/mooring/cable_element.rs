@@ -105,10 +105,10 @@ pub fn cable_system(
 pub fn cable_point(q: &[Vector3<f64>; 4], l: f64, xi: f64) -> [Vector3<f64>; 3] {
     let s = hermite(xi, l);
     let mut r = [Vector3::zeros(); 3];
-    for a in 0..4 {
-        r[0] += q[a] * s.n[a];
-        r[1] += q[a] * s.dn[a];
-        r[2] += q[a] * s.ddn[a];
+    for (a, qa) in q.iter().enumerate() {
+        r[0] += qa * s.n[a];
+        r[1] += qa * s.dn[a];
+        r[2] += qa * s.ddn[a];
     }
     r
 }

@@ -74,7 +74,7 @@ impl DynamicParams {
                 "must be in [0, 1]",
             ));
         }
-        if !(self.force_tolerance_n > 0.0) {
+        if self.force_tolerance_n.is_nan() || self.force_tolerance_n <= 0.0 {
             return Err(LineError::invalid(
                 "force_tolerance_n",
                 self.force_tolerance_n,
@@ -234,7 +234,7 @@ impl<'m> LineIntegrator<'m> {
         motion: &dyn FairleadMotion,
         sea: &dyn SeaKinematics,
     ) -> Result<StepReport, LineError> {
-        if !(dt_s > 0.0) || state.q.len() != self.model.dof_count() {
+        if dt_s.is_nan() || dt_s <= 0.0 || state.q.len() != self.model.dof_count() {
             return Err(LineError::invalid(
                 "dt_s",
                 dt_s,

@@ -145,6 +145,9 @@ pub struct LineOutputs {
     pub envelope: Envelope,
 }
 
+/// Time, fairlead tension and hot-spot (tension, curvature) of the previous step.
+type Observation = (f64, f64, Vec<(f64, f64)>);
+
 /// Collects [`LineOutputs`] from successive states.
 #[derive(Debug, Clone)]
 pub struct LineRecorder {
@@ -152,7 +155,7 @@ pub struct LineRecorder {
     interval_s: f64,
     record_from_s: f64,
     next_sample: u64,
-    previous: Option<(f64, f64, Vec<(f64, f64)>)>,
+    previous: Option<Observation>,
     scratch: Vec<(f64, f64)>,
     node_t: Vec<f64>,
     node_k: Vec<f64>,
@@ -168,7 +171,7 @@ impl LineRecorder {
         interval_s: f64,
         record_from_s: f64,
     ) -> Result<Self, LineError> {
-        if !(interval_s > 0.0) {
+        if interval_s.is_nan() || interval_s <= 0.0 {
             return Err(LineError::invalid(
                 "output_interval_s",
                 interval_s,

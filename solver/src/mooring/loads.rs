@@ -130,10 +130,10 @@ impl<const NC: usize> LocalSystem<NC> {
         x: &[Vector3<f64>; NC],
         k_scale: f64,
     ) {
-        for a in 0..NC {
-            for b in 0..NC {
-                let v = s * c[a][b];
-                self.r[a] += x[b] * v;
+        for (a, row) in c.iter().enumerate() {
+            for (b, (&cab, xb)) in row.iter().zip(x).enumerate() {
+                let v = s * cab;
+                self.r[a] += xb * v;
                 let kd = v * k_scale;
                 self.k[a][b][(0, 0)] += kd;
                 self.k[a][b][(1, 1)] += kd;
