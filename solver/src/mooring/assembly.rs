@@ -36,8 +36,8 @@ fn quadrature_points(model: &LineModel, k: usize, q: &[f64]) -> [Vector3<f64>; C
         ElementKind::Cable => {
             for (g, &(xi, _)) in GAUSS3.iter().enumerate() {
                 let s = hermite(xi, e.length_m);
-                for a in 0..4 {
-                    p[g] += vec3(q, d[a]) * s.n[a];
+                for (&dof, &n) in d.iter().zip(&s.n) {
+                    p[g] += vec3(q, dof) * n;
                 }
             }
         }

@@ -101,7 +101,7 @@ impl BandMatrix {
         let threshold = tiny * scale.max(f64::MIN_POSITIVE);
         for k in 0..n {
             let pivot = self.data[k * w + b];
-            if !(pivot.abs() > threshold) {
+            if pivot.is_nan() || pivot.abs() <= threshold {
                 return Err((k, pivot));
             }
             let inv = 1.0 / pivot;
@@ -133,8 +133,8 @@ impl BandMatrix {
             let lo = i.saturating_sub(b);
             let row = i * w + b - i;
             let mut s = x[i];
-            for j in lo..i {
-                s -= self.data[row + j] * x[j];
+            for (a, xj) in self.data[row + lo..row + i].iter().zip(&x[lo..i]) {
+                s -= a * xj;
             }
             x[i] = s;
         }
@@ -142,8 +142,8 @@ impl BandMatrix {
             let hi = (i + b).min(n - 1);
             let row = i * w + b - i;
             let mut s = x[i];
-            for j in i + 1..=hi {
-                s -= self.data[row + j] * x[j];
+            for (a, xj) in self.data[row + i + 1..=row + hi].iter().zip(&x[i + 1..=hi]) {
+                s -= a * xj;
             }
             x[i] = s / self.data[row + i];
         }

@@ -1,9 +1,9 @@
 //! Chain element: a two-node tension-only bar (no bending, 3 DOF per node).
 //!
 //! With d = rⱼ − rᵢ, ℓ = |d|, e = d/ℓ and the engineering strain ε = ℓ/L − 1, the axial force
-//! is N = EA max(ε, 0) (a slack chain carries no compression). Internal forces −N e at node i
-//! and +N e at node j; tangent K = (EA/L) e eᵀ [ε > 0] + (N/ℓ)(I − e eᵀ) in the pattern
-//! [K −K; −K K]. Mass, weight, Morison loads and seabed contact use nodal (trapezoidal)
+//! is N = EA max(ε, 0) (a slack chain carries no compression), smoothed near ε = 0 by
+//! [`super::loads::slack_axial_force`]. Internal forces −N e at node i and +N e at node j;
+//! tangent K = (N'(ε)/L) e eᵀ + (N/ℓ)(I − e eᵀ) in the pattern [K −K; −K K]. Mass, weight, Morison loads and seabed contact use nodal (trapezoidal)
 //! quadrature, i.e. the lumped-mass discretisation usual for chain, with the bar direction as
 //! the tangent.
 
@@ -11,7 +11,7 @@ use nalgebra::{Matrix3, Vector3};
 
 use super::cable_element::{ElementContext, ElementValues};
 use super::hydro::morison;
-use super::loads::{LocalSystem, PointKinematics, PointLoad};
+use super::loads::{slack_axial_force, LocalSystem, PointKinematics, PointLoad};
 use super::seabed::{seabed_energy, seabed_load};
 use crate::waves::FluidKinematics;
 
@@ -31,13 +31,9 @@ pub fn bar_system(
     let len = d.norm();
     if len > 0.0 {
         let e = d / len;
-        let strain = len / l - 1.0;
-        let force = sec.ea_n * strain.max(0.0);
+        let (force, dforce, _) = slack_axial_force(sec.ea_n, len / l - 1.0);
         let eet = e * e.transpose();
-        let mut kb = (Matrix3::identity() - eet) * (force / len);
-        if strain > 0.0 {
-            kb += eet * (sec.ea_n / l);
-        }
+        let kb = (Matrix3::identity() - eet) * (force / len) + eet * (dforce / l);
         out.r[0] -= e * force;
         out.r[1] += e * force;
         out.k[0][0] += kb;
@@ -47,7 +43,7 @@ pub fn bar_system(
     }
     let w = 0.5 * l;
     let dn = [-1.0 / l, 1.0 / l];
-    for node in 0..2 {
+    for (node, water_at_node) in water.iter().take(2).enumerate() {
         let n = if node == 0 { [1.0, 0.0] } else { [0.0, 1.0] };
         if ctx.dynamic {
             out.r[node] += x.a[node] * (w * sec.mass_kg_per_m);
@@ -66,7 +62,7 @@ pub fn bar_system(
         load.f.z = -sec.weight_n_per_m;
         load.add(&seabed_load(sec, ctx.bed, ctx.depth_m, &k.r, &k.v));
         if ctx.dynamic {
-            load.add(&morison(sec, &k, &water[node]));
+            load.add(&morison(sec, &k, water_at_node));
         }
         out.add_point_load(&n, &dn, w, &load, &ctx.coef);
     }
@@ -74,16 +70,15 @@ pub fn bar_system(
 }
 
 /// Axial force of a bar (N).
-pub fn bar_tension(ctx_ea_n: f64, l: f64, q: &[Vector3<f64>; 2]) -> f64 {
-    ctx_ea_n * ((q[1] - q[0]).norm() / l - 1.0).max(0.0)
+pub fn bar_tension(ea_n: f64, l: f64, q: &[Vector3<f64>; 2]) -> f64 {
+    slack_axial_force(ea_n, (q[1] - q[0]).norm() / l - 1.0).0
 }
 
 /// Strain energy plus the potential of weight and seabed spring (J).
 pub fn bar_potential(ctx: &ElementContext<'_>, q: &[Vector3<f64>; 2]) -> f64 {
     let sec = ctx.sec;
     let l = ctx.length_m;
-    let strain = ((q[1] - q[0]).norm() / l - 1.0).max(0.0);
-    let mut e = 0.5 * sec.ea_n * l * strain * strain;
+    let mut e = l * slack_axial_force(sec.ea_n, (q[1] - q[0]).norm() / l - 1.0).2;
     for r in q {
         e += 0.5 * l * (sec.weight_n_per_m * r.z + seabed_energy(sec, ctx.depth_m, r));
     }

@@ -7,7 +7,10 @@
 //! U = ½ ∫ EA (|r'| − 1)² dx + ½ ∫ EI |r''|² dx.
 //!
 //! The axial force is N = EA (|r'| − 1) (engineering strain of the interpolated gradient,
-//! integrated with 3-point Gauss). Bending uses |r''|², which equals the curvature squared up to
+//! integrated with 3-point Gauss). Unlike chain, the rope element also carries compression
+//! (reported as negative tension), as line codes do for lines with bending stiffness: the
+//! axial term is what keeps the nodal gradients at unit length, and a tension-only law lets
+//! them drift when the rope goes slack (folded shapes of a few centimetres radius). Bending uses |r''|², which equals the curvature squared up to
 //! terms of the order of the axial strain (≤ 0.3 % for steel rope); it makes the bending
 //! stiffness the constant Euler–Bernoulli matrix EI ∫ N''ᵀ N'' dx. The reported curvature is the
 //! exact one of the interpolation, κ = |r' × r''| / |r'|³.
@@ -77,9 +80,9 @@ pub fn cable_system(
         // Axial force.
         let stretch = k.r_x.norm();
         let t = k.r_x / stretch;
-        let force = sec.ea_n * (stretch - 1.0);
+        let (force, dforce) = (sec.ea_n * (stretch - 1.0), sec.ea_n);
         let ttt = t * t.transpose();
-        let kt = ttt * (w * sec.ea_n) + (Matrix3::identity() - ttt) * (w * force / stretch);
+        let kt = ttt * (w * dforce) + (Matrix3::identity() - ttt) * (w * force / stretch);
         for a in 0..4 {
             out.r[a] += t * (w * force * s.dn[a]);
             for b in 0..4 {
@@ -102,10 +105,10 @@ pub fn cable_system(
 pub fn cable_point(q: &[Vector3<f64>; 4], l: f64, xi: f64) -> [Vector3<f64>; 3] {
     let s = hermite(xi, l);
     let mut r = [Vector3::zeros(); 3];
-    for a in 0..4 {
-        r[0] += q[a] * s.n[a];
-        r[1] += q[a] * s.dn[a];
-        r[2] += q[a] * s.ddn[a];
+    for (a, qa) in q.iter().enumerate() {
+        r[0] += qa * s.n[a];
+        r[1] += qa * s.dn[a];
+        r[2] += qa * s.ddn[a];
     }
     r
 }

@@ -14,6 +14,11 @@
 //! converge is retried as 2, 4, … sub-steps; after the allowed halvings the error names the
 //! time, the node with the largest residual and the residual norm.
 //!
+//! Newton corrections of the nodal gradients are limited to 0.5 per iteration (a full
+//! correction can flip a gradient and converge to a looped, spurious cable shape), and a
+//! correction that increases ‖R‖₂ after the second iteration is halved back (contact and
+//! slack chain make R only piecewise smooth).
+//!
 //! After each step the integrator exposes the force of the line on the floater at the fairlead
 //! and the condensed fairlead stiffness of S (what a monolithic floater–line integration with
 //! the same h and ρ∞ needs); the force on the floater changes by −K_c dx.
@@ -51,8 +56,8 @@ impl Default for DynamicParams {
         DynamicParams {
             spectral_radius: 0.85,
             force_tolerance_n: 1.0,
-            max_iterations: 10,
-            max_halvings: 4,
+            max_iterations: 20,
+            max_halvings: 6,
             condense_fairlead: true,
             tiny_pivot: 1e-13,
         }
@@ -69,7 +74,7 @@ impl DynamicParams {
                 "must be in [0, 1]",
             ));
         }
-        if !(self.force_tolerance_n > 0.0) {
+        if self.force_tolerance_n.is_nan() || self.force_tolerance_n <= 0.0 {
             return Err(LineError::invalid(
                 "force_tolerance_n",
                 self.force_tolerance_n,
@@ -229,7 +234,7 @@ impl<'m> LineIntegrator<'m> {
         motion: &dyn FairleadMotion,
         sea: &dyn SeaKinematics,
     ) -> Result<StepReport, LineError> {
-        if !(dt_s > 0.0) || state.q.len() != self.model.dof_count() {
+        if dt_s.is_nan() || dt_s <= 0.0 || state.q.len() != self.model.dof_count() {
             return Err(LineError::invalid(
                 "dt_s",
                 dt_s,
@@ -404,6 +409,19 @@ impl<'m> LineIntegrator<'m> {
                 });
             }
             self.ws.solve_correction();
+            // Step-length control on the gradients: a full correction may flip a nodal
+            // gradient and converge to a looped (spurious) configuration of the cable.
+            let largest = model
+                .nodes()
+                .iter()
+                .filter(|n| n.has_gradient)
+                .flat_map(|n| n.dof + 3..n.dof + 6)
+                .map(|i| self.ws.rhs[i].abs())
+                .fold(0.0, f64::max);
+            if largest > MAX_GRADIENT_CORRECTION {
+                let scale = MAX_GRADIENT_CORRECTION / largest;
+                self.ws.rhs.iter_mut().for_each(|x| *x *= scale);
+            }
             for (i, dq) in self.ws.rhs.iter().enumerate() {
                 trial.q[i] += dq;
                 trial.v[i] += gamma_p * dq;
@@ -420,6 +438,9 @@ impl<'m> LineIntegrator<'m> {
         Ok(iterations)
     }
 }
+
+/// Largest change of a nodal gradient component per Newton iteration.
+const MAX_GRADIENT_CORRECTION: f64 = 0.5;
 
 /// Backtracking halvings allowed per step.
 const MAX_BACKTRACKS: usize = 6;

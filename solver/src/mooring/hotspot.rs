@@ -48,27 +48,29 @@ pub fn tension_curvature_at(
     Ok(element_tension_curvature(model, q, e, xi))
 }
 
-/// Tension and curvature at every node (averaging the adjacent elements).
+/// Tension and curvature at every node (averaging the adjacent elements; element k joins
+/// nodes k and k + 1).
 pub fn node_values(model: &LineModel, q: &[f64], tension: &mut [f64], curvature: &mut [f64]) {
     tension.fill(0.0);
     curvature.fill(0.0);
-    let mut count_t = vec![0u8; tension.len()];
-    let mut count_k = vec![0u8; tension.len()];
-    for (k, el) in model.elements().iter().enumerate() {
+    let elements = model.elements();
+    for (k, el) in elements.iter().enumerate() {
         for (side, xi) in [(0, 0.0), (1, 1.0)] {
             let n = el.nodes[side].0;
             let (t, c) = element_tension_curvature(model, q, ElementId(k), xi);
             tension[n] += t;
-            count_t[n] += 1;
-            if el.kind == ElementKind::Cable {
-                curvature[n] += c;
-                count_k[n] += 1;
-            }
+            curvature[n] += c;
         }
     }
-    for n in 0..tension.len() {
-        tension[n] /= f64::from(count_t[n].max(1));
-        curvature[n] /= f64::from(count_k[n].max(1));
+    let last = tension.len() - 1;
+    for n in 0..=last {
+        let left = (n > 0).then(|| elements[n - 1].kind);
+        let right = (n < last).then(|| elements[n].kind);
+        let count_t = usize::from(left.is_some()) + usize::from(right.is_some());
+        let count_k = usize::from(left == Some(ElementKind::Cable))
+            + usize::from(right == Some(ElementKind::Cable));
+        tension[n] /= count_t.max(1) as f64;
+        curvature[n] /= count_k.max(1) as f64;
     }
 }
 
@@ -143,6 +145,9 @@ pub struct LineOutputs {
     pub envelope: Envelope,
 }
 
+/// Time, fairlead tension and hot-spot (tension, curvature) of the previous step.
+type Observation = (f64, f64, Vec<(f64, f64)>);
+
 /// Collects [`LineOutputs`] from successive states.
 #[derive(Debug, Clone)]
 pub struct LineRecorder {
@@ -150,7 +155,8 @@ pub struct LineRecorder {
     interval_s: f64,
     record_from_s: f64,
     next_sample: u64,
-    previous: Option<(f64, f64, Vec<(f64, f64)>)>,
+    previous: Option<Observation>,
+    scratch: Vec<(f64, f64)>,
     node_t: Vec<f64>,
     node_k: Vec<f64>,
     outputs: LineOutputs,
@@ -165,7 +171,7 @@ impl LineRecorder {
         interval_s: f64,
         record_from_s: f64,
     ) -> Result<Self, LineError> {
-        if !(interval_s > 0.0) {
+        if interval_s.is_nan() || interval_s <= 0.0 {
             return Err(LineError::invalid(
                 "output_interval_s",
                 interval_s,
@@ -183,6 +189,7 @@ impl LineRecorder {
             record_from_s,
             next_sample: (record_from_s / interval_s).ceil().max(0.0) as u64,
             previous: None,
+            scratch: Vec::new(),
             node_t: vec![0.0; n],
             node_k: vec![0.0; n],
             outputs: LineOutputs {
@@ -215,11 +222,13 @@ impl LineRecorder {
         q: &[f64],
         fairlead_force_n: &Vector3<f64>,
     ) {
-        let spots: Vec<(f64, f64)> = self
-            .spots
-            .iter()
-            .map(|&(e, xi)| element_tension_curvature(model, q, e, xi))
-            .collect();
+        let mut spots = std::mem::take(&mut self.scratch);
+        spots.clear();
+        spots.extend(
+            self.spots
+                .iter()
+                .map(|&(e, xi)| element_tension_curvature(model, q, e, xi)),
+        );
         let tf = fairlead_force_n.norm();
         if t_s >= self.record_from_s - 1e-9 * self.interval_s {
             node_values(model, q, &mut self.node_t, &mut self.node_k);
@@ -257,7 +266,9 @@ impl LineRecorder {
             }
             self.next_sample += 1;
         }
-        self.previous = Some((t_s, tf, spots));
+        if let Some((_, _, old)) = self.previous.replace((t_s, tf, spots)) {
+            self.scratch = old;
+        }
     }
 
     /// The recorded outputs.

@@ -9,6 +9,34 @@
 
 use nalgebra::{Matrix3, Vector3};
 
+/// Strain half-width of the smoothed slack transition of the axial law.
+pub const SLACK_SMOOTHING_STRAIN: f64 = 2e-5;
+
+/// Axial force law of chain and rope: no compression (a chain folds, a wire rope buckles at a
+/// negligible load), smoothed so that Newton's method converges through slack events:
+/// N/EA = 0 for ε ≤ −ε₀, (ε + ε₀)² / (4 ε₀) for |ε| < ε₀, ε for ε ≥ ε₀ (C¹; at most
+/// EA ε₀ / 4 of tension is added near zero strain, about 2 kN for the paper-case chain and
+/// rope). Returns (N, dN/dε, strain energy per unit length).
+pub fn slack_axial_force(ea_n: f64, strain: f64) -> (f64, f64, f64) {
+    let e0 = SLACK_SMOOTHING_STRAIN;
+    if strain <= -e0 {
+        (0.0, 0.0, 0.0)
+    } else if strain < e0 {
+        let x = strain + e0;
+        (
+            ea_n * x * x / (4.0 * e0),
+            ea_n * x / (2.0 * e0),
+            ea_n * x * x * x / (12.0 * e0),
+        )
+    } else {
+        (
+            ea_n * strain,
+            ea_n,
+            ea_n * (2.0 * e0 * e0 / 3.0 + 0.5 * (strain * strain - e0 * e0)),
+        )
+    }
+}
+
 /// A force per unit length at a point and its partial derivatives.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PointLoad {
@@ -102,10 +130,10 @@ impl<const NC: usize> LocalSystem<NC> {
         x: &[Vector3<f64>; NC],
         k_scale: f64,
     ) {
-        for a in 0..NC {
-            for b in 0..NC {
-                let v = s * c[a][b];
-                self.r[a] += x[b] * v;
+        for (a, row) in c.iter().enumerate() {
+            for (b, (&cab, xb)) in row.iter().zip(x).enumerate() {
+                let v = s * cab;
+                self.r[a] += xb * v;
                 let kd = v * k_scale;
                 self.k[a][b][(0, 0)] += kd;
                 self.k[a][b][(1, 1)] += kd;

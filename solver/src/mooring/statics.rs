@@ -168,7 +168,7 @@ pub fn solve_statics(
         ws.solve_correction();
         // Directional derivative of the potential energy along the step (R = ∇Π).
         let slope: f64 = ws.rhs.iter().zip(&ws.residual).map(|(d, r)| d * r).sum();
-        if !(slope < 0.0) {
+        if slope.is_nan() || slope >= 0.0 {
             sigma = (sigma * 4.0).max(1e-3);
             assemble(
                 model,
