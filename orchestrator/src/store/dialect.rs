@@ -11,6 +11,9 @@ pub(crate) struct Dialect {
     pub(crate) begin_write: &'static str,
     /// Appended to the claim's inner `SELECT`: PostgreSQL skips rows other claimers hold.
     pub(crate) claim_lock_suffix: &'static str,
+    /// Appended to a `SELECT` whose rows the transaction goes on to change: PostgreSQL locks
+    /// them; SQLite's `BEGIN IMMEDIATE` already serialises writers.
+    pub(crate) row_lock_suffix: &'static str,
     /// Query returning the server clock in ms since the epoch.
     pub(crate) now_ms_sql: &'static str,
     /// Query counting tables named `$1` in the current schema.
@@ -21,6 +24,7 @@ pub(crate) struct Dialect {
 pub(crate) const SQLITE: Dialect = Dialect {
     begin_write: "BEGIN IMMEDIATE",
     claim_lock_suffix: "",
+    row_lock_suffix: "",
     now_ms_sql: "SELECT CAST(unixepoch('subsec') * 1000 AS INTEGER)",
     table_exists_sql: "SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' AND name = $1",
 };
@@ -29,6 +33,7 @@ pub(crate) const SQLITE: Dialect = Dialect {
 pub(crate) const POSTGRES: Dialect = Dialect {
     begin_write: "BEGIN",
     claim_lock_suffix: " FOR UPDATE SKIP LOCKED",
+    row_lock_suffix: " FOR UPDATE",
     now_ms_sql: "SELECT moorfret_now_ms()",
     table_exists_sql: "SELECT COUNT(*) FROM information_schema.tables \
                        WHERE table_schema = current_schema() AND table_name = $1",

@@ -499,6 +499,21 @@ impl Queue {
             return Err(lease_lost(lease));
         }
         end_attempt(tx, lease, now, outcome, None).await?;
+        // On PostgreSQL two jobs feeding one dependent may complete concurrently; locking the
+        // dependents makes the second completion wait and then see the first one's `done`.
+        if !DIALECT.row_lock_suffix.is_empty() {
+            let lock = format!(
+                "SELECT id FROM jobs WHERE id IN \
+                 (SELECT job_id FROM job_dependencies WHERE depends_on = $1) \
+                 ORDER BY id{}",
+                DIALECT.row_lock_suffix
+            );
+            sqlx::query(&lock)
+                .bind(lease.job.0)
+                .fetch_all(&mut **tx)
+                .await
+                .map_err(StoreError::db(OP))?;
+        }
         // Dependents whose every dependency is now done become claimable.
         sqlx::query(
             "UPDATE jobs SET state = 'ready', updated_at_ms = $1 \
@@ -709,10 +724,11 @@ impl Queue {
         const OP: &str = "fail job";
         let mut tx = self.begin_write(OP).await?;
         let now = self.now_ms(&mut tx).await?;
-        let row = sqlx::query(
+        let row = sqlx::query(&format!(
             "SELECT attempt, max_attempts FROM jobs \
-             WHERE id = $1 AND lease_token = $2 AND state = 'running'",
-        )
+                 WHERE id = $1 AND lease_token = $2 AND state = 'running'{}",
+            DIALECT.row_lock_suffix
+        ))
         .bind(lease.job.0)
         .bind(&lease.token.0)
         .fetch_optional(&mut *tx)
@@ -760,7 +776,7 @@ impl Queue {
         sqlx::query(
             "UPDATE jobs SET state = $1, lease_token = NULL, lease_expires_at_ms = NULL, \
              error_class = $2, error_message = $3, not_before_ms = $4, updated_at_ms = $5 \
-             WHERE id = $6",
+             WHERE id = $6 AND lease_token = $7",
         )
         .bind(state.as_str())
         .bind(&failure.error_class)
@@ -768,6 +784,7 @@ impl Queue {
         .bind(not_before)
         .bind(now)
         .bind(lease.job.0)
+        .bind(&lease.token.0)
         .execute(&mut *tx)
         .await
         .map_err(StoreError::db(OP))?;
@@ -786,42 +803,54 @@ impl Queue {
         const OP: &str = "sweep expired leases";
         let mut tx = self.begin_write(OP).await?;
         let now = self.now_ms(&mut tx).await?;
-        sqlx::query(
-            "UPDATE attempts SET outcome = 'lost', ended_at_ms = $1 \
-             WHERE outcome IS NULL AND lease_token IN \
-               (SELECT lease_token FROM jobs WHERE state = 'running' AND lease_expires_at_ms < $1)",
-        )
-        .bind(now)
-        .execute(&mut *tx)
-        .await
-        .map_err(StoreError::db(OP))?;
-        // A lost lease is not a failed attempt: the attempt counter is given back.
-        let rows = sqlx::query(
-            "UPDATE jobs SET \
-               state = CASE WHEN lost_count + 1 >= $2 THEN 'failed' ELSE 'ready' END, \
-               error_class = CASE WHEN lost_count + 1 >= $2 THEN 'lost' ELSE error_class END, \
-               error_message = CASE WHEN lost_count + 1 >= $2 \
-                 THEN 'lease expired ' || (lost_count + 1) || ' times (limit ' || $2 || \
-                      '); last held by worker ' || COALESCE(worker_id, '?') \
-                 ELSE error_message END, \
-               lost_count = lost_count + 1, attempt = attempt - 1, lease_token = NULL, \
-               lease_expires_at_ms = NULL, updated_at_ms = $1 \
-             WHERE state = 'running' AND lease_expires_at_ms < $1 \
-             RETURNING id, state",
-        )
-        .bind(now)
-        .bind(self.policy.max_lost)
-        .fetch_all(&mut *tx)
-        .await
-        .map_err(StoreError::db(OP))?;
+        // Rows are locked (PostgreSQL) job first, attempt second, the order every other write
+        // uses, so a sweep and a completion cannot deadlock; rows another transaction holds
+        // are left for the next sweep.
+        let select = format!(
+            "SELECT id, lease_token FROM jobs \
+             WHERE state = 'running' AND lease_expires_at_ms < $1 ORDER BY id{}",
+            DIALECT.claim_lock_suffix
+        );
+        let expired = sqlx::query(&select)
+            .bind(now)
+            .fetch_all(&mut *tx)
+            .await
+            .map_err(StoreError::db(OP))?;
         let mut report = SweepReport::default();
-        for row in rows {
+        for row in expired {
             let job = JobId(row.try_get("id").map_err(StoreError::db(OP))?);
-            let state: JobState = row
-                .try_get::<String, _>("state")
-                .map_err(StoreError::db(OP))?
-                .parse()?;
-            if state == JobState::Failed {
+            let token: Option<String> = row.try_get("lease_token").map_err(StoreError::db(OP))?;
+            // A lost lease is not a failed attempt: the attempt counter is given back.
+            let state: Option<String> = sqlx::query_scalar(
+                "UPDATE jobs SET \
+                   state = CASE WHEN lost_count + 1 >= $2 THEN 'failed' ELSE 'ready' END, \
+                   error_class = CASE WHEN lost_count + 1 >= $2 THEN 'lost' ELSE error_class END, \
+                   error_message = CASE WHEN lost_count + 1 >= $2 \
+                     THEN 'lease expired ' || (lost_count + 1) || ' times (limit ' || $2 || \
+                          '); last held by worker ' || COALESCE(worker_id, '?') \
+                     ELSE error_message END, \
+                   lost_count = lost_count + 1, attempt = attempt - 1, lease_token = NULL, \
+                   lease_expires_at_ms = NULL, updated_at_ms = $1 \
+                 WHERE id = $3 AND state = 'running' AND lease_expires_at_ms < $1 \
+                 RETURNING state",
+            )
+            .bind(now)
+            .bind(self.policy.max_lost)
+            .bind(job.0)
+            .fetch_optional(&mut *tx)
+            .await
+            .map_err(StoreError::db(OP))?;
+            let Some(state) = state else { continue };
+            sqlx::query(
+                "UPDATE attempts SET outcome = 'lost', ended_at_ms = $1 \
+                 WHERE lease_token = $2 AND outcome IS NULL",
+            )
+            .bind(now)
+            .bind(&token)
+            .execute(&mut *tx)
+            .await
+            .map_err(StoreError::db(OP))?;
+            if state.parse::<JobState>()? == JobState::Failed {
                 fail_dependents(&mut tx, job, now).await?;
                 report.failed.push(job);
             } else {
@@ -829,8 +858,6 @@ impl Queue {
             }
         }
         tx.commit().await.map_err(StoreError::db(OP))?;
-        report.requeued.sort();
-        report.failed.sort();
         Ok(report)
     }
 
@@ -848,30 +875,42 @@ impl Queue {
             tx.rollback().await.map_err(StoreError::db(OP))?;
             return Err(StoreError::UnknownCampaign(campaign.to_string()));
         }
-        sqlx::query(
-            "UPDATE attempts SET outcome = 'cancelled', ended_at_ms = $1 \
-             WHERE outcome IS NULL AND lease_token IN \
-               (SELECT lease_token FROM jobs WHERE campaign_id = $2 AND state = 'running')",
-        )
-        .bind(now)
-        .bind(campaign.0)
-        .execute(&mut *tx)
-        .await
-        .map_err(StoreError::db(OP))?;
+        // The running jobs' tokens, read (and locked on PostgreSQL) before the jobs change.
+        let running = format!(
+            "SELECT lease_token FROM jobs WHERE campaign_id = $1 AND state = 'running' \
+             ORDER BY id{}",
+            DIALECT.row_lock_suffix
+        );
+        let tokens: Vec<Option<String>> = sqlx::query_scalar(&running)
+            .bind(campaign.0)
+            .fetch_all(&mut *tx)
+            .await
+            .map_err(StoreError::db(OP))?;
         let cancelled = sqlx::query(
             "UPDATE jobs SET state = 'cancelled', lease_token = NULL, lease_expires_at_ms = NULL, \
              updated_at_ms = $1 \
-             WHERE campaign_id = $2 AND state IN ('blocked', 'ready', 'running')",
+             WHERE campaign_id = $2 AND state IN ('blocked', 'ready', 'running') \
+             RETURNING lease_token",
         )
         .bind(now)
         .bind(campaign.0)
-        .execute(&mut *tx)
+        .fetch_all(&mut *tx)
         .await
-        .map_err(StoreError::db(OP))?
-        .rows_affected();
+        .map_err(StoreError::db(OP))?;
+        for token in &tokens {
+            sqlx::query(
+                "UPDATE attempts SET outcome = 'cancelled', ended_at_ms = $1 \
+                 WHERE lease_token = $2 AND outcome IS NULL",
+            )
+            .bind(now)
+            .bind(token)
+            .execute(&mut *tx)
+            .await
+            .map_err(StoreError::db(OP))?;
+        }
         tx.commit().await.map_err(StoreError::db(OP))?;
         Ok(CancelReport {
-            jobs_cancelled: cancelled,
+            jobs_cancelled: cancelled.len() as u64,
         })
     }
 
