@@ -26,6 +26,17 @@ pub enum StoreError {
         /// What the database engine said.
         reason: String,
     },
+    /// An SQLite store on a network file system, where its locking is unreliable.
+    #[error(
+        "{path:?} is on a {fs_type} network file system, where SQLite locking is unreliable: \
+         use a PostgreSQL store (postgres://…) for workers on several hosts"
+    )]
+    NetworkFilesystem {
+        /// The database file.
+        path: PathBuf,
+        /// File system type from the mount table.
+        fs_type: String,
+    },
     /// The database was written by a newer moorfret; it is left untouched.
     #[error(
         "the store has schema version {found}, this moorfret knows up to {supported}: \

@@ -26,6 +26,10 @@ use super::types::{
 };
 
 type Result<T> = std::result::Result<T, StoreError>;
+
+/// Rows per multi-row insert: 13 parameters each stays below SQLite's 32 766 and
+/// PostgreSQL's 65 535 bound parameters per statement.
+const PLAN_BATCH_ROWS: usize = 1_000;
 type Tx = Transaction<'static, Db>;
 
 /// Queue operations on one backend's pool.
@@ -268,41 +272,80 @@ impl Queue {
         }
         let mut tx = self.begin_write(OP).await?;
         let now = self.now_ms(&mut tx).await?;
-        let mut ids: Vec<JobId> = Vec::with_capacity(jobs.len());
-        for (job, payload) in jobs.iter().zip(&payloads) {
-            let state = if job.depends_on.is_empty() {
-                JobState::Ready
-            } else {
-                JobState::Blocked
-            };
-            let id: i64 = sqlx::query_scalar(
-                "INSERT INTO jobs (campaign_id, sea_state_id, kind, state, payload_json, \
-                 max_attempts, priority, expected_cost_s, cache_key, not_before_ms, \
-                 created_at_ms, updated_at_ms) \
-                 VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, 0, $10, $10) RETURNING id",
-            )
-            .bind(campaign.0)
-            .bind(job.sea_state.map(|s| s.0))
-            .bind(job.kind.as_str())
-            .bind(state.as_str())
-            .bind(payload)
-            .bind(job.max_attempts)
-            .bind(job.priority)
-            .bind(job.expected_cost_s)
-            .bind(&job.cache_key)
-            .bind(now)
-            .fetch_one(&mut *tx)
+        // Ids are reserved first so that the rows and their dependencies can be written in
+        // multi-row statements (one round trip per batch instead of per row).
+        let count = i64::try_from(jobs.len()).unwrap_or(i64::MAX);
+        let ids: Vec<JobId> = sqlx::query_scalar::<_, i64>(DIALECT.reserve_job_ids_sql)
+            .bind(count)
+            .fetch_all(&mut *tx)
             .await
-            .map_err(StoreError::db(OP))?;
-            for &dep in &job.depends_on {
-                sqlx::query("INSERT INTO job_dependencies (job_id, depends_on) VALUES ($1, $2)")
-                    .bind(id)
-                    .bind(ids[dep].0)
-                    .execute(&mut *tx)
-                    .await
-                    .map_err(StoreError::db(OP))?;
-            }
-            ids.push(JobId(id));
+            .map_err(StoreError::db(OP))?
+            .into_iter()
+            .map(JobId)
+            .collect();
+        if ids.len() != jobs.len() {
+            return Err(StoreError::InvalidParameter {
+                field: "jobs",
+                value: jobs.len().to_string(),
+                reason: "could not reserve as many job ids",
+            });
+        }
+        let rows: Vec<(JobId, &PlannedJob, &String)> = ids
+            .iter()
+            .copied()
+            .zip(jobs.iter())
+            .zip(&payloads)
+            .map(|((i, j), p)| (i, j, p))
+            .collect();
+        for batch in rows.chunks(PLAN_BATCH_ROWS) {
+            let mut insert = sqlx::QueryBuilder::<Db>::new(
+                "INSERT INTO jobs (id, campaign_id, sea_state_id, kind, state, payload_json, \
+                 max_attempts, priority, expected_cost_s, cache_key, not_before_ms, \
+                 created_at_ms, updated_at_ms) ",
+            );
+            insert.push_values(batch, |mut row, &(id, job, payload)| {
+                let state = if job.depends_on.is_empty() {
+                    JobState::Ready
+                } else {
+                    JobState::Blocked
+                };
+                row.push_bind(id.0)
+                    .push_bind(campaign.0)
+                    .push_bind(job.sea_state.map(|s| s.0))
+                    .push_bind(job.kind.as_str())
+                    .push_bind(state.as_str())
+                    .push_bind(payload.as_str())
+                    .push_bind(job.max_attempts)
+                    .push_bind(job.priority)
+                    .push_bind(job.expected_cost_s)
+                    .push_bind(job.cache_key.as_deref())
+                    .push_bind(0_i64)
+                    .push_bind(now)
+                    .push_bind(now);
+            });
+            insert
+                .build()
+                .execute(&mut *tx)
+                .await
+                .map_err(StoreError::db(OP))?;
+        }
+        let edges: Vec<(i64, i64)> = jobs
+            .iter()
+            .enumerate()
+            .flat_map(|(index, job)| job.depends_on.iter().map(move |&dep| (index, dep)))
+            .map(|(index, dep)| (ids[index].0, ids[dep].0))
+            .collect();
+        for batch in edges.chunks(PLAN_BATCH_ROWS) {
+            let mut insert =
+                sqlx::QueryBuilder::<Db>::new("INSERT INTO job_dependencies (job_id, depends_on) ");
+            insert.push_values(batch, |mut row, &(job, dep)| {
+                row.push_bind(job).push_bind(dep);
+            });
+            insert
+                .build()
+                .execute(&mut *tx)
+                .await
+                .map_err(StoreError::db(OP))?;
         }
         tx.commit().await.map_err(StoreError::db(OP))?;
         Ok(ids)
