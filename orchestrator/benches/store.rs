@@ -4,6 +4,10 @@
 //! SQLite always; PostgreSQL too when `MOORFRET_BENCH_POSTGRES_URL` is set (each run in a
 //! schema of its own, dropped afterwards). Targets (DESIGN §7 and the store's acceptance):
 //! < 10 ms per claimed and completed job, < 1 s for a 10 000-job plan.
+//!
+//! Measured on a shared 2-core machine under heavy load (load average ≈ 13), wall time:
+//! SQLite 400 jobs in 0.75 s (1.9 ms/job), PostgreSQL 1.49 s (3.7 ms/job); plan of 10 000 jobs
+//! with 8 000 dependencies: SQLite 70 ms, PostgreSQL 0.73 s.
 
 use std::time::{Duration, Instant};
 

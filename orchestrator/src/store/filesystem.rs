@@ -114,9 +114,9 @@ lfs@o2ib:/scratch /shared/scratch lustre rw 0 0
     }
 
     #[test]
-    fn a_local_temporary_directory_is_not_a_network_file_system() {
-        let dir = std::env::temp_dir().join("not-yet-created/c.sqlite");
-        let found = network_filesystem_of(&dir);
-        assert!(found.is_none(), "temp dir on {found:?}");
+    fn a_path_not_yet_created_is_judged_by_its_nearest_existing_ancestor() {
+        let base = std::env::temp_dir().canonicalize().unwrap();
+        let missing = std::env::temp_dir().join("not-yet-created/deeper/c.sqlite");
+        assert_eq!(existing_ancestor(&missing), base);
     }
 }
