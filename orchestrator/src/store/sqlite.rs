@@ -41,7 +41,7 @@ pub(crate) async fn connect(path: &Path, max_connections: u32) -> Result<Pool<Db
     }
     check_header(path)?;
     if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(parent).map_err(|source| StoreError::ArtifactIo {
+        std::fs::create_dir_all(parent).map_err(|source| StoreError::Io {
             path: parent.to_path_buf(),
             source,
         })?;
@@ -79,7 +79,7 @@ fn check_header(path: &Path) -> Result<()> {
         Ok(file) => file,
         Err(err) if err.kind() == std::io::ErrorKind::NotFound => return Ok(()),
         Err(source) => {
-            return Err(StoreError::ArtifactIo {
+            return Err(StoreError::Io {
                 path: path.to_path_buf(),
                 source,
             })
@@ -89,7 +89,7 @@ fn check_header(path: &Path) -> Result<()> {
     file.by_ref()
         .take(16)
         .read_to_end(&mut header)
-        .map_err(|source| StoreError::ArtifactIo {
+        .map_err(|source| StoreError::Io {
             path: path.to_path_buf(),
             source,
         })?;
