@@ -186,6 +186,8 @@ on_both_backends!(
     lifetime_view_reproduces_the_reference_annual_damage,
     claim_filter_respects_kind_and_expected_cost,
     newer_schema_is_refused_and_left_untouched,
+    dependents_of_concurrently_completed_jobs_are_all_unblocked,
+    database_clock_sets_lease_times,
 );
 
 async fn eight_workers_complete_a_thousand_jobs_exactly_once(backend: Backend) {
@@ -244,6 +246,99 @@ async fn eight_workers_complete_a_thousand_jobs_exactly_once(backend: Backend) {
     assert!(per_job.values().all(|&n| n == 1));
     let progress = ts.store.progress(id).await.unwrap();
     assert_eq!(progress.jobs_by_state[3], (JobState::Done, JOBS as i64));
+    ts.finish().await;
+}
+
+/// Two upstream jobs per dependent, drained by 8 concurrent workers: a dependent must become
+/// ready even when its two upstream jobs complete at the same moment.
+async fn dependents_of_concurrently_completed_jobs_are_all_unblocked(backend: Backend) {
+    const GROUPS: usize = 60;
+    let Some(ts) = open_store(backend, QueuePolicy::default()).await else {
+        return;
+    };
+    let id = campaign(&ts.store, "fan-in").await;
+    let mut plan = Vec::new();
+    for g in 0..GROUPS {
+        plan.push(test_job(TestPayload::Succeed));
+        plan.push(test_job(TestPayload::Succeed));
+        let mut joined = test_job(TestPayload::Succeed);
+        joined.depends_on = vec![3 * g, 3 * g + 1];
+        plan.push(joined);
+    }
+    ts.store.insert_plan(id, &plan).await.unwrap();
+    let mut handles = Vec::new();
+    for n in 0..8 {
+        let store = ts.another_handle(2).await;
+        handles.push(tokio::spawn(async move {
+            let worker = store.register_worker(&worker_info(n)).await?;
+            loop {
+                match store.claim(&worker, &ClaimFilter::default()).await? {
+                    Some(lease) => store.complete(&lease, &JobResults::default()).await?,
+                    None => {
+                        let progress = store.progress(id).await?;
+                        let pending: i64 = progress.jobs_by_state[..3].iter().map(|(_, n)| n).sum();
+                        if pending == 0 {
+                            break;
+                        }
+                        // A blocked job with nothing running would never be unblocked.
+                        let running = progress.jobs_by_state[2].1;
+                        let ready = progress.jobs_by_state[1].1;
+                        if running == 0 && ready == 0 {
+                            panic!("stranded blocked jobs: {progress:?}");
+                        }
+                        tokio::time::sleep(Duration::from_millis(2)).await;
+                    }
+                }
+            }
+            store.close().await;
+            Ok::<(), StoreError>(())
+        }));
+    }
+    for handle in handles {
+        handle.await.unwrap().unwrap();
+    }
+    let jobs = ts.store.jobs_of_campaign(id).await.unwrap();
+    assert!(jobs.iter().all(|j| j.state == JobState::Done));
+    ts.finish().await;
+}
+
+async fn database_clock_sets_lease_times(backend: Backend) {
+    let Some(ts) = open_store(backend, QueuePolicy::default()).await else {
+        return;
+    };
+    let options = StoreOptions {
+        clock: Clock::Database,
+        ..ts.options.clone()
+    };
+    let store = Store::open(&ts.location, options).await.unwrap();
+    let id = campaign(&store, "server-clock").await;
+    store
+        .insert_plan(id, &[test_job(TestPayload::Succeed)])
+        .await
+        .unwrap();
+    let worker = store.register_worker(&worker_info(1)).await.unwrap();
+    let before = moorfret_orchestrator::store::clock::system_now_ms();
+    let lease = store
+        .claim(&worker, &ClaimFilter::default())
+        .await
+        .unwrap()
+        .unwrap();
+    let after = moorfret_orchestrator::store::clock::system_now_ms();
+    // The server runs on this machine, so its clock agrees with ours to well within a second.
+    let lease_ms = store.policy().lease_ms;
+    assert!(
+        lease.expires_at_ms >= before + lease_ms - 1_000,
+        "{} < {}",
+        lease.expires_at_ms,
+        before
+    );
+    assert!(
+        lease.expires_at_ms <= after + lease_ms + 1_000,
+        "{} > {}",
+        lease.expires_at_ms,
+        after
+    );
+    store.close().await;
     ts.finish().await;
 }
 

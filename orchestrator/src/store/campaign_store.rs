@@ -10,6 +10,8 @@
 //! [`Store::complete`], [`Store::complete_from_cache`] or [`Store::fail`], each guarded by the
 //! lease token (a stale token gets [`StoreError::LeaseLost`] and changes nothing).
 //! [`Store::sweep_expired`] returns jobs whose lease ran out to the queue.
+//! Validity is decided by the token alone: a lease past its end that no sweep has taken back
+//! yet may still be renewed or completed, since no other worker can hold the job.
 
 use std::path::PathBuf;
 

@@ -11,8 +11,13 @@ pub(crate) struct Dialect {
     pub(crate) begin_write: &'static str,
     /// Appended to the claim's inner `SELECT`: PostgreSQL skips rows other claimers hold.
     pub(crate) claim_lock_suffix: &'static str,
+    /// Appended to a `SELECT` whose rows the transaction goes on to change: PostgreSQL locks
+    /// them; SQLite's `BEGIN IMMEDIATE` already serialises writers.
+    pub(crate) row_lock_suffix: &'static str,
     /// Query returning the server clock in ms since the epoch.
     pub(crate) now_ms_sql: &'static str,
+    /// Query reserving `$1` new job ids, in increasing order, inside a write transaction.
+    pub(crate) reserve_job_ids_sql: &'static str,
     /// Query counting tables named `$1` in the current schema.
     pub(crate) table_exists_sql: &'static str,
 }
@@ -21,7 +26,12 @@ pub(crate) struct Dialect {
 pub(crate) const SQLITE: Dialect = Dialect {
     begin_write: "BEGIN IMMEDIATE",
     claim_lock_suffix: "",
+    row_lock_suffix: "",
     now_ms_sql: "SELECT CAST(unixepoch('subsec') * 1000 AS INTEGER)",
+    // The write lock is held from `BEGIN IMMEDIATE`, so ids above the current maximum stay free.
+    reserve_job_ids_sql: "WITH RECURSIVE seq (n) AS \
+                          (SELECT 1 WHERE $1 > 0 UNION ALL SELECT n + 1 FROM seq WHERE n < $1) \
+                          SELECT (SELECT COALESCE(MAX(id), 0) FROM jobs) + n FROM seq ORDER BY n",
     table_exists_sql: "SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' AND name = $1",
 };
 
@@ -29,7 +39,10 @@ pub(crate) const SQLITE: Dialect = Dialect {
 pub(crate) const POSTGRES: Dialect = Dialect {
     begin_write: "BEGIN",
     claim_lock_suffix: " FOR UPDATE SKIP LOCKED",
+    row_lock_suffix: " FOR UPDATE",
     now_ms_sql: "SELECT moorfret_now_ms()",
+    reserve_job_ids_sql: "SELECT nextval(pg_get_serial_sequence('jobs', 'id')) AS id \
+                          FROM generate_series(1, $1) ORDER BY id",
     table_exists_sql: "SELECT COUNT(*) FROM information_schema.tables \
                        WHERE table_schema = current_schema() AND table_name = $1",
 };

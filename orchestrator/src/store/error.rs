@@ -26,6 +26,17 @@ pub enum StoreError {
         /// What the database engine said.
         reason: String,
     },
+    /// An SQLite store on a network file system, where its locking is unreliable.
+    #[error(
+        "{path:?} is on a {fs_type} network file system, where SQLite locking is unreliable: \
+         use a PostgreSQL store (postgres://…) for workers on several hosts"
+    )]
+    NetworkFilesystem {
+        /// The database file.
+        path: PathBuf,
+        /// File system type from the mount table.
+        fs_type: String,
+    },
     /// The database was written by a newer moorfret; it is left untouched.
     #[error(
         "the store has schema version {found}, this moorfret knows up to {supported}: \
@@ -122,6 +133,15 @@ pub enum StoreError {
     /// Results of the test-only job kind were offered for the users' result tables.
     #[error("job {0} is of the test kind; only its job-level result may be stored")]
     TestKindResults(JobId),
+    /// A file or directory of the store (not an artifact) could not be read or created.
+    #[error("I/O on {path:?} failed: {source}")]
+    Io {
+        /// The file or directory.
+        path: PathBuf,
+        /// The OS error.
+        #[source]
+        source: std::io::Error,
+    },
     /// A file of the artifact store could not be read or written.
     #[error("artifact I/O on {path:?} failed: {source}")]
     ArtifactIo {
@@ -162,7 +182,7 @@ impl StoreError {
                         | sqlx::Error::WorkerCrashed
                 ) || is_busy(source)
             }
-            StoreError::ArtifactIo { .. } => true,
+            StoreError::ArtifactIo { .. } | StoreError::Io { .. } => true,
             _ => false,
         }
     }

@@ -17,6 +17,7 @@ pub mod campaign_store;
 pub mod clock;
 mod dialect;
 pub mod error;
+pub mod filesystem;
 pub mod model;
 pub mod policy;
 mod postgres;

@@ -6,7 +6,7 @@
 //! options, so that concurrent workers wait for the write lock instead of failing with
 //! "database is locked". Write transactions begin `IMMEDIATE`: the lock is taken before the
 //! first read, so a transaction never has to upgrade (the upgrade is what fails without waiting
-//! in WAL mode).
+//! in WAL mode). A file on a network file system is refused ([`super::filesystem`]).
 
 use std::io::Read;
 use std::path::Path;
@@ -33,9 +33,15 @@ const SQLITE_HEADER: &[u8; 16] = b"SQLite format 3\0";
 
 /// Opens (creating if needed) the database file and its pool of `max_connections`.
 pub(crate) async fn connect(path: &Path, max_connections: u32) -> Result<Pool<Db>> {
+    if let Some(fs_type) = super::filesystem::network_filesystem_of(path) {
+        return Err(StoreError::NetworkFilesystem {
+            path: path.to_path_buf(),
+            fs_type,
+        });
+    }
     check_header(path)?;
     if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(parent).map_err(|source| StoreError::ArtifactIo {
+        std::fs::create_dir_all(parent).map_err(|source| StoreError::Io {
             path: parent.to_path_buf(),
             source,
         })?;
@@ -73,7 +79,7 @@ fn check_header(path: &Path) -> Result<()> {
         Ok(file) => file,
         Err(err) if err.kind() == std::io::ErrorKind::NotFound => return Ok(()),
         Err(source) => {
-            return Err(StoreError::ArtifactIo {
+            return Err(StoreError::Io {
                 path: path.to_path_buf(),
                 source,
             })
@@ -83,7 +89,7 @@ fn check_header(path: &Path) -> Result<()> {
     file.by_ref()
         .take(16)
         .read_to_end(&mut header)
-        .map_err(|source| StoreError::ArtifactIo {
+        .map_err(|source| StoreError::Io {
             path: path.to_path_buf(),
             source,
         })?;
