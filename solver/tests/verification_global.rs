@@ -139,3 +139,17 @@ fn serial_and_parallel_runs_give_the_same_numbers() {
         assert_eq!(x.envelope, y.envelope);
     }
 }
+
+/// The full paper-case sea state (50 s transient + 1000 s), for the figures quoted in the
+/// README: `cargo test -p moorfret-solver --release --test verification_global -- --ignored
+/// --nocapture`.
+#[test]
+#[ignore = "full 1050 s run; minutes in the dev profile"]
+fn paper_case_full_sea_state_summary() {
+    let model = GlobalModel::new(&case(), floater(), None).unwrap();
+    let r = run(&model, &RunParams::default(), |_, _| {}).unwrap();
+    let s = r.summary();
+    println!("{}", serde_json::to_string_pretty(&s).unwrap());
+    let h = &s.hot_spots[0];
+    assert!(h.tension_n.min > 0.0 && h.curvature_per_m.max.is_finite());
+}

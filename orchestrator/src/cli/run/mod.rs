@@ -2,11 +2,19 @@
 
 use clap::Subcommand;
 
+pub mod global;
+
 /// Single-stage runs.
 #[derive(Debug, Subcommand)]
-pub enum RunCommand {}
+pub enum RunCommand {
+    /// Coupled floater + mooring lines in one irregular sea state: writes hot-spot T(t), κ(t),
+    /// fairlead tensions, envelopes, floater motions, a summary and plots.
+    Global(global::GlobalArgs),
+}
 
 /// Execute a `run` subcommand.
 pub fn execute(cmd: RunCommand) -> anyhow::Result<()> {
-    match cmd {}
+    match cmd {
+        RunCommand::Global(args) => global::execute(&args),
+    }
 }
