@@ -22,7 +22,7 @@ fn case() -> CaseSpec {
 }
 
 fn floater() -> FloaterInput {
-    FloaterInput::RigidBody(FloaterSpec::from_json_str(FLOATER).unwrap())
+    FloaterInput::RigidBody(Box::new(FloaterSpec::from_json_str(FLOATER).unwrap()))
 }
 
 /// The paper case with a shorter transient and ramp, for quick runs.

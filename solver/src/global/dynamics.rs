@@ -63,7 +63,14 @@ impl Default for DynamicsParams {
         Self {
             tolerance: 1e-7,
             max_iterations: 15,
-            line: DynamicParams::default(),
+            // Slack events of the light rope under the clump mass make the line's Newton
+            // iterations piecewise smooth: allow more iterations and step cuts than a line
+            // driven alone needs.
+            line: DynamicParams {
+                max_iterations: 30,
+                max_halvings: 6,
+                ..DynamicParams::default()
+            },
             precompute_line_kinematics: true,
             series: SeriesParams {
                 samples_per_shortest_period: 16.0,

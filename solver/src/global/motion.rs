@@ -25,7 +25,7 @@ pub struct StepMotion {
 impl FairleadMotion for StepMotion {
     fn at(&self, t_s: f64) -> PointMotion {
         let h = self.t1_s - self.t0_s;
-        if !(h > 0.0) || t_s >= self.t1_s {
+        if h.is_nan() || h <= 0.0 || t_s >= self.t1_s {
             return self.end;
         }
         if t_s <= self.t0_s {

@@ -36,7 +36,7 @@ use crate::waves::{IrregularSea, Jonswap, RealisationParams, RotorTable, StillWa
 #[derive(Debug, Clone)]
 pub enum FloaterInput {
     /// A floater description (rigid body).
-    RigidBody(FloaterSpec),
+    RigidBody(Box<FloaterSpec>),
     /// A prescribed motion table.
     Prescribed(PrescribedMotion),
 }

@@ -52,10 +52,10 @@ pub fn load_case(path: &Path) -> anyhow::Result<(CaseSpec, FloaterInput)> {
     let floater = match &case.floater {
         FloaterSource::RigidBody { spec_path } => {
             let p = base.join(spec_path);
-            FloaterInput::RigidBody(
+            FloaterInput::RigidBody(Box::new(
                 FloaterSpec::from_json_str(&read(&p)?)
                     .with_context(|| format!("in floater file {}", p.display()))?,
-            )
+            ))
         }
         FloaterSource::PrescribedMotion { csv_path } => {
             let p = base.join(csv_path);
