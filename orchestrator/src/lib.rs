@@ -4,4 +4,5 @@
 //! the local worker pool, aggregation, queries, reports, and the `moorfret` command line.
 
 pub mod cli;
+pub mod plot;
 pub mod store;

@@ -16,6 +16,7 @@ pub mod contact;
 pub mod fatigue;
 pub mod floater;
 pub mod fretting;
+pub mod global;
 pub mod io;
 pub mod linalg;
 pub mod mooring;

@@ -3,17 +3,22 @@
 use clap::Subcommand;
 
 pub mod catenary;
+pub mod global;
 
 /// Single-stage runs.
 #[derive(Debug, Subcommand)]
 pub enum RunCommand {
     /// Elastic catenary of one homogeneous line with seabed contact and friction.
     Catenary(catenary::CatenaryArgs),
+    /// Coupled floater + mooring lines in one irregular sea state: writes hot-spot T(t), κ(t),
+    /// fairlead tensions, envelopes, floater motions, a summary and plots.
+    Global(global::GlobalArgs),
 }
 
 /// Execute a `run` subcommand.
 pub fn execute(cmd: RunCommand) -> anyhow::Result<()> {
     match cmd {
         RunCommand::Catenary(args) => catenary::execute(args),
+        RunCommand::Global(args) => global::execute(&args),
     }
 }

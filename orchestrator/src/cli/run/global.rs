@@ -1,0 +1,225 @@
+//! `moorfret run global CASE.json --out DIR [--duration-s X] [--transient-s X] [--threads N]`.
+//!
+//! Reads the case and the floater file it names (relative to the case file), runs the coupled
+//! statics and dynamics, and writes into DIR:
+//! `hotspots.csv` (time_s, tension_n_i, curvature_per_m_i per hot spot i), `fairleads.csv`
+//! (fairlead tension per line), `envelopes.csv` (per line and node: arc length, min/max tension,
+//! max |κ|, κ range), `floater.csv` (surge … yaw), `summary.json`, `hotspots.svg` and
+//! `static_shapes.svg`. A progress bar is drawn on a terminal, plain log lines otherwise.
+//! Exit code 1 on any error (bad input names the field; a diverging step names time, line,
+//! node and residual); nothing non-finite is written.
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context};
+use clap::Args;
+use moorfret_solver::floater::prescribed::PrescribedMotion;
+use moorfret_solver::floater::FloaterSpec;
+use moorfret_solver::global::case::FloaterSource;
+use moorfret_solver::global::{run, CaseSpec, FloaterInput, GlobalModel, GlobalResult, RunParams};
+
+use crate::plot;
+
+/// Arguments of `run global`.
+#[derive(Debug, Args)]
+pub struct GlobalArgs {
+    /// Case file (JSON).
+    pub case: PathBuf,
+    /// Output directory (created if missing).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Recorded duration after the transient (s), overriding the case.
+    #[arg(long)]
+    pub duration_s: Option<f64>,
+    /// Discarded start-up time (s), overriding the case (the wave ramp is shortened to fit).
+    #[arg(long)]
+    pub transient_s: Option<f64>,
+    /// Worker threads for the lines.
+    #[arg(long, default_value_t = 1)]
+    pub threads: usize,
+}
+
+fn read(path: &Path) -> anyhow::Result<String> {
+    std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))
+}
+
+/// Loads the case and its floater input.
+pub fn load_case(path: &Path) -> anyhow::Result<(CaseSpec, FloaterInput)> {
+    let case = CaseSpec::from_json_str(&read(path)?)
+        .with_context(|| format!("in case file {}", path.display()))?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let floater = match &case.floater {
+        FloaterSource::RigidBody { spec_path } => {
+            let p = base.join(spec_path);
+            FloaterInput::RigidBody(Box::new(
+                FloaterSpec::from_json_str(&read(&p)?)
+                    .with_context(|| format!("in floater file {}", p.display()))?,
+            ))
+        }
+        FloaterSource::PrescribedMotion { csv_path } => {
+            let p = base.join(csv_path);
+            FloaterInput::Prescribed(
+                PrescribedMotion::from_csv_str(&read(&p)?)
+                    .with_context(|| format!("in motion table {}", p.display()))?,
+            )
+        }
+    };
+    Ok((case, floater))
+}
+
+/// Runs the command.
+pub fn execute(args: &GlobalArgs) -> anyhow::Result<()> {
+    if args.threads == 0 {
+        bail!("--threads must be >= 1");
+    }
+    let (mut case, floater) = load_case(&args.case)?;
+    if let Some(t) = args.transient_s {
+        case.timing.transient_s = t;
+        case.timing.wave_ramp_s = case.timing.wave_ramp_s.min(t);
+    }
+    let model = GlobalModel::new(&case, floater, args.duration_s)
+        .with_context(|| format!("in case file {}", args.case.display()))?;
+    let t_end = model.case.timing.transient_s + model.case.timing.duration_s;
+    tracing::info!(
+        case = %model.case.name,
+        wind_m_s = model.wind_speed_m_s,
+        thrust_n = model.thrust_n,
+        t_end,
+        "global run"
+    );
+    let params = RunParams {
+        threads: args.threads,
+        ..RunParams::default()
+    };
+    let bar = std::io::stderr().is_terminal().then(|| {
+        let b = indicatif::ProgressBar::new(1000);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {msg}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    });
+    let mut next_log = 0.0;
+    let result = run(&model, &params, |t, end| {
+        if let Some(b) = &bar {
+            b.set_position((1000.0 * t / end) as u64);
+            b.set_message(format!("t = {t:.1} / {end:.1} s"));
+        } else if t >= next_log {
+            tracing::info!("t = {t:.1} / {end:.1} s");
+            next_log += (end / 10.0).max(1.0);
+        }
+    });
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let result = result.context("global run failed")?;
+    write_outputs(&result, &args.out)?;
+    let s = &result.stats;
+    tracing::info!(
+        steps = s.steps,
+        coupling_iterations = s.coupling_iterations,
+        dynamics_s = s.dynamics_s,
+        out = %args.out.display(),
+        "global run done"
+    );
+    Ok(())
+}
+
+fn create(path: &Path) -> anyhow::Result<std::io::BufWriter<std::fs::File>> {
+    Ok(std::io::BufWriter::new(
+        std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?,
+    ))
+}
+
+/// Writes every output file of `result` into `dir`.
+pub fn write_outputs(result: &GlobalResult, dir: &Path) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+
+    let path = dir.join("hotspots.csv");
+    let mut w = create(&path)?;
+    let mut header = vec!["time_s".to_string()];
+    for i in 0..result.hot_spots.len() {
+        header.push(format!("tension_n_{i}"));
+        header.push(format!("curvature_per_m_{i}"));
+    }
+    writeln!(w, "{}", header.join(","))?;
+    for (j, t) in result.time_s.iter().enumerate() {
+        write!(w, "{t}")?;
+        for h in &result.hot_spots {
+            write!(w, ",{},{}", h.tension_n[j], h.curvature_per_m[j])?;
+        }
+        writeln!(w)?;
+    }
+    w.flush()
+        .with_context(|| format!("writing {}", path.display()))?;
+
+    let path = dir.join("fairleads.csv");
+    let mut w = create(&path)?;
+    let cols: Vec<String> = result
+        .lines
+        .iter()
+        .map(|l| format!("tension_n_line{}", l.id))
+        .collect();
+    writeln!(w, "time_s,{}", cols.join(","))?;
+    for (j, t) in result.time_s.iter().enumerate() {
+        write!(w, "{t}")?;
+        for l in &result.lines {
+            write!(w, ",{}", l.fairlead_tension_n[j])?;
+        }
+        writeln!(w)?;
+    }
+    w.flush()
+        .with_context(|| format!("writing {}", path.display()))?;
+
+    let path = dir.join("envelopes.csv");
+    let mut w = create(&path)?;
+    writeln!(
+        w,
+        "line,node,arc_length_m,tension_min_n,tension_max_n,curvature_max_per_m,curvature_range_per_m"
+    )?;
+    for l in &result.lines {
+        let e = &l.envelope;
+        let range = e.curvature_range_per_m();
+        for i in 0..e.arc_length_m.len() {
+            writeln!(
+                w,
+                "{},{},{},{},{},{},{}",
+                l.id,
+                i,
+                e.arc_length_m[i],
+                e.tension_min_n[i],
+                e.tension_max_n[i],
+                e.curvature_max_per_m[i],
+                range[i]
+            )?;
+        }
+    }
+    w.flush()
+        .with_context(|| format!("writing {}", path.display()))?;
+
+    let path = dir.join("floater.csv");
+    let mut w = create(&path)?;
+    writeln!(
+        w,
+        "time_s,surge_m,sway_m,heave_m,roll_rad,pitch_rad,yaw_rad"
+    )?;
+    for (t, m) in result.floater.time_s.iter().zip(&result.floater.motion) {
+        writeln!(
+            w,
+            "{t},{},{},{},{},{},{}",
+            m[0], m[1], m[2], m[3], m[4], m[5]
+        )?;
+    }
+    w.flush()
+        .with_context(|| format!("writing {}", path.display()))?;
+
+    let path = dir.join("summary.json");
+    let text =
+        serde_json::to_string_pretty(&result.summary()).context("serialising the summary")?;
+    std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+
+    plot::hotspots_svg(result, &dir.join("hotspots.svg"))?;
+    plot::static_shapes_svg(result, &dir.join("static_shapes.svg"))?;
+    Ok(())
+}

@@ -1,0 +1,146 @@
+//! Plots of a global run.
+
+use std::path::Path;
+
+use anyhow::{anyhow, Context};
+use moorfret_solver::global::GlobalResult;
+use plotters::prelude::*;
+
+fn bounds(x: &[f64]) -> (f64, f64) {
+    let lo = x.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = x.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if !(lo.is_finite() && hi.is_finite()) {
+        return (0.0, 1.0);
+    }
+    let pad = ((hi - lo) * 0.05).max(1e-12 * hi.abs().max(1.0));
+    (lo - pad, hi + pad)
+}
+
+fn plot_err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
+    anyhow!("plotting failed: {e:?}")
+}
+
+/// One panel: `y(t)`.
+fn panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    y_label: &str,
+    t: &[f64],
+    y: &[f64],
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let (t0, t1) = bounds(t);
+    let (y0, y1) = bounds(y);
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 16))
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(70)
+        .build_cartesian_2d(t0..t1, y0..y1)
+        .map_err(plot_err)?;
+    chart
+        .configure_mesh()
+        .x_desc("time (s)")
+        .y_desc(y_label)
+        .draw()
+        .map_err(plot_err)?;
+    chart
+        .draw_series(LineSeries::new(
+            t.iter().copied().zip(y.iter().copied()),
+            &BLUE,
+        ))
+        .map_err(plot_err)?;
+    Ok(())
+}
+
+/// Tension and curvature histories of every hot spot.
+pub fn hotspots_svg(result: &GlobalResult, path: &Path) -> anyhow::Result<()> {
+    let n = result.hot_spots.len().max(1);
+    let root = SVGBackend::new(path, (1000, 320 * 2 * n as u32)).into_drawing_area();
+    root.fill(&WHITE).map_err(plot_err)?;
+    let areas = root.split_evenly((2 * n, 1));
+    for (i, h) in result.hot_spots.iter().enumerate() {
+        let tension_kn: Vec<f64> = h.tension_n.iter().map(|v| v * 1e-3).collect();
+        panel(
+            &areas[2 * i],
+            &format!("line {}, s = {} m: tension", h.line, h.arc_length_m),
+            "T (kN)",
+            &result.time_s,
+            &tension_kn,
+        )?;
+        panel(
+            &areas[2 * i + 1],
+            &format!("line {}, s = {} m: curvature", h.line, h.arc_length_m),
+            "κ (1/m)",
+            &result.time_s,
+            &h.curvature_per_m,
+        )?;
+    }
+    root.present()
+        .map_err(plot_err)
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+/// Static profiles of all lines: elevation versus horizontal distance from the fairlead.
+pub fn static_shapes_svg(result: &GlobalResult, path: &Path) -> anyhow::Result<()> {
+    let curves: Vec<(u32, Vec<(f64, f64)>)> = result
+        .lines
+        .iter()
+        .map(|l| {
+            let p0 = l.static_position_m.first().copied().unwrap_or([0.0; 3]);
+            let pts = l
+                .static_position_m
+                .iter()
+                .map(|p| ((p[0] - p0[0]).hypot(p[1] - p0[1]), p[2]))
+                .collect();
+            (l.id, pts)
+        })
+        .collect();
+    let xs: Vec<f64> = curves
+        .iter()
+        .flat_map(|c| c.1.iter().map(|p| p.0))
+        .collect();
+    let zs: Vec<f64> = curves
+        .iter()
+        .flat_map(|c| c.1.iter().map(|p| p.1))
+        .collect();
+    let (x0, x1) = bounds(&xs);
+    let (z0, z1) = bounds(&zs);
+    let root = SVGBackend::new(path, (1000, 500)).into_drawing_area();
+    root.fill(&WHITE).map_err(plot_err)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!("{}: static line profiles", result.name),
+            ("sans-serif", 18),
+        )
+        .margin(10)
+        .x_label_area_size(35)
+        .y_label_area_size(60)
+        .build_cartesian_2d(x0..x1, z0..z1)
+        .map_err(plot_err)?;
+    chart
+        .configure_mesh()
+        .x_desc("horizontal distance from the fairlead (m)")
+        .y_desc("z (m)")
+        .draw()
+        .map_err(plot_err)?;
+    for (k, (id, pts)) in curves.into_iter().enumerate() {
+        let color = Palette99::pick(k).to_rgba();
+        chart
+            .draw_series(LineSeries::new(pts, color))
+            .map_err(plot_err)?
+            .label(format!("line {id}"))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(plot_err)?;
+    root.present()
+        .map_err(plot_err)
+        .with_context(|| format!("writing {}", path.display()))
+}

@@ -1,0 +1,137 @@
+//! `moorfret run global` on the paper case with a short duration: every output file is written,
+//! finite and consistent with the others; non-physical input fails naming the field.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn case_path() -> PathBuf {
+    Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../campaigns/paper_case.json"
+    ))
+    .to_path_buf()
+}
+
+fn moorfret() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_moorfret"))
+}
+
+fn rows(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<String> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let data = lines
+        .map(|l| l.split(',').map(|c| c.parse::<f64>().unwrap()).collect())
+        .collect();
+    (header, data)
+}
+
+#[test]
+fn run_global_writes_consistent_outputs_for_the_paper_case() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let status = moorfret()
+        .args(["run", "global"])
+        .arg(case_path())
+        .arg("--out")
+        .arg(&out)
+        .args(["--duration-s", "2", "--transient-s", "2", "--threads", "2"])
+        .status()
+        .unwrap();
+    assert!(status.success());
+
+    let (h, hs) = rows(&out.join("hotspots.csv"));
+    assert_eq!(h, ["time_s", "tension_n_0", "curvature_per_m_0"]);
+    // 2 s at 0.1 s, both ends included.
+    assert_eq!(hs.len(), 21);
+    assert!((hs[0][0]).abs() < 1e-9 && (hs[20][0] - 2.0).abs() < 1e-9);
+    assert!(hs.iter().flatten().all(|v| v.is_finite()));
+    assert!(
+        hs.iter().all(|r| r[1] > 0.0 && r[2] >= 0.0),
+        "{:?}",
+        hs.iter().map(|r| (r[1], r[2])).collect::<Vec<_>>()
+    );
+
+    let (h, fl) = rows(&out.join("fairleads.csv"));
+    assert_eq!(h.len(), 7);
+    assert_eq!(fl.len(), hs.len());
+    for (a, b) in fl.iter().zip(&hs) {
+        assert_eq!(a[0], b[0]);
+    }
+
+    let (h, env) = rows(&out.join("envelopes.csv"));
+    assert_eq!(h[0], "line");
+    // The envelope of line 1 contains the hot-spot tension extremes up to the interpolation
+    // between nodes (s = 79 m sits between nodes 1 m apart).
+    let t_hot_max = hs.iter().map(|r| r[1]).fold(f64::MIN, f64::max);
+    let line1_max = env
+        .iter()
+        .filter(|r| r[0] == 1.0 && (r[2] - 79.0).abs() <= 1.0)
+        .map(|r| r[4])
+        .fold(f64::MIN, f64::max);
+    assert!(
+        (t_hot_max - line1_max).abs() < 0.05 * line1_max,
+        "{t_hot_max} vs {line1_max}"
+    );
+    for r in &env {
+        assert!(r[3] <= r[4] && r[6] >= 0.0);
+    }
+    // The fairlead tension of line 1 equals the tension envelope at s = 0 within its range.
+    let f1: Vec<f64> = fl.iter().map(|r| r[1]).collect();
+    let f1_max = f1.iter().copied().fold(f64::MIN, f64::max);
+    assert!(f1_max > 0.0);
+
+    let (h, fm) = rows(&out.join("floater.csv"));
+    assert_eq!(h.len(), 7);
+    assert_eq!(fm.len(), hs.len());
+
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let t = &summary["hot_spots"][0]["tension_n"];
+    assert!((t["max"].as_f64().unwrap() - t_hot_max).abs() < 1e-6 * t_hot_max);
+    assert_eq!(summary["samples"].as_u64(), Some(21));
+    assert_eq!(summary["lines"].as_array().map(Vec::len), Some(6));
+
+    for svg in ["hotspots.svg", "static_shapes.svg"] {
+        let text = std::fs::read_to_string(out.join(svg)).unwrap();
+        assert!(
+            text.starts_with("<svg") && text.contains("polyline"),
+            "{svg}"
+        );
+    }
+}
+
+#[test]
+fn non_physical_case_fails_naming_the_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(case_path())
+        .unwrap()
+        .replace("\"tp_s\": 16.5", "\"tp_s\": -1.0");
+    let case = dir.path().join("bad.json");
+    std::fs::write(&case, text).unwrap();
+    // The floater file is resolved relative to the case file.
+    std::fs::create_dir_all(dir.path().join("data")).unwrap();
+    std::fs::copy(
+        concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../campaigns/data/oc4_semi_floater.json"
+        ),
+        dir.path().join("data/oc4_semi_floater.json"),
+    )
+    .unwrap();
+    let out = moorfret()
+        .args(["run", "global"])
+        .arg(&case)
+        .arg("--out")
+        .arg(dir.path().join("out"))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("sea_state.tp_s must be > 0"), "{err}");
+}

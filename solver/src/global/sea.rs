@@ -1,0 +1,183 @@
+//! Water kinematics as the coupled run samples them: a start-up ramp on the waves, and the
+//! per-line cache of kinematics precomputed at the line's quadrature points in their static
+//! position.
+//!
+//! Ramp: every wave quantity is multiplied by r(t) = ½ (1 − cos(π t / t_r)) for t < t_r (1
+//! afterwards), so the coupled system starts from its calm static equilibrium without an
+//! impulsive load; the ṙ terms of the acceleration are neglected (they act only inside the
+//! discarded transient).
+//!
+//! Line cache: the line model samples the sea once per time step, at the quadrature points of
+//! its elements in a fixed order ([`crate::mooring::assembly::update_water`]: element by element,
+//! three points per cable element, two per bar). [`LineSeaCache`] records that order once at the
+//! static shape, precomputes the kinematics at those fixed points with
+//! [`PointKinematicsSeries`] (FFT over the repeat period) and then answers the i-th query of a
+//! sweep with point i of the series, interpolated in time. This is the usual "kinematics at the
+//! static node positions" approximation of mooring codes: for the paper case the fairlead moves
+//! some metres, small against the ≈ 400 m peak wavelength. A query farther than
+//! `guard_distance_m` from the point it is matched with (a change of the sampling order, or a
+//! very large excursion) is answered by direct summation instead, so a mismatch costs time,
+//! never accuracy.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+use nalgebra::Vector3;
+
+use crate::mooring::assembly::{update_water, WaterCache};
+use crate::mooring::LineModel;
+use crate::waves::{
+    FluidKinematics, IrregularSea, PointKinematicsSeries, SeaKinematics, SeriesParams, WavesError,
+};
+
+/// Start-up ramp of the waves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ramp {
+    /// Ramp duration t_r (s); 0 for none.
+    pub duration_s: f64,
+}
+
+impl Ramp {
+    /// Factor r(t).
+    pub fn factor(&self, t: f64) -> f64 {
+        if self.duration_s > 0.0 && t < self.duration_s {
+            if t <= 0.0 {
+                0.0
+            } else {
+                0.5 * (1.0 - (std::f64::consts::PI * t / self.duration_s).cos())
+            }
+        } else {
+            1.0
+        }
+    }
+}
+
+fn scaled(k: FluidKinematics, r: f64) -> FluidKinematics {
+    FluidKinematics {
+        velocity: k.velocity * r,
+        acceleration: k.acceleration * r,
+        dynamic_pressure_pa: k.dynamic_pressure_pa * r,
+    }
+}
+
+/// A sea with the start-up ramp applied.
+#[derive(Debug, Clone, Copy)]
+pub struct RampedSea<'a, S: SeaKinematics + ?Sized> {
+    /// Underlying sea.
+    pub sea: &'a S,
+    /// Ramp.
+    pub ramp: Ramp,
+}
+
+impl<S: SeaKinematics + ?Sized> SeaKinematics for RampedSea<'_, S> {
+    fn kinematics(&self, x: &Vector3<f64>, t: f64) -> FluidKinematics {
+        let r = self.ramp.factor(t);
+        if r == 0.0 {
+            return FluidKinematics::default();
+        }
+        scaled(self.sea.kinematics(x, t), r)
+    }
+    fn elevation(&self, x: f64, y: f64, t: f64) -> f64 {
+        self.ramp.factor(t) * self.sea.elevation(x, y, t)
+    }
+}
+
+/// Records the points a line samples, in order.
+struct Recorder(Mutex<Vec<Vector3<f64>>>);
+
+impl SeaKinematics for Recorder {
+    fn kinematics(&self, x: &Vector3<f64>, _t: f64) -> FluidKinematics {
+        if let Ok(mut v) = self.0.lock() {
+            v.push(*x);
+        }
+        FluidKinematics::default()
+    }
+    fn elevation(&self, _x: f64, _y: f64, _t: f64) -> f64 {
+        0.0
+    }
+}
+
+/// Precomputed kinematics of one line (see the module documentation).
+#[derive(Debug)]
+pub struct LineSeaCache<'a> {
+    sea: &'a IrregularSea,
+    series: PointKinematicsSeries,
+    ramp: Ramp,
+    guard_distance_m: f64,
+    cursor: AtomicUsize,
+    misses: AtomicUsize,
+}
+
+impl<'a> LineSeaCache<'a> {
+    /// Cache for `model` in the static state `q`.
+    pub fn new(
+        model: &LineModel,
+        q: &[f64],
+        sea: &'a IrregularSea,
+        ramp: Ramp,
+        params: &SeriesParams,
+        guard_distance_m: f64,
+    ) -> Result<Self, WavesError> {
+        let recorder = Recorder(Mutex::new(Vec::new()));
+        let mut water: WaterCache = Vec::new();
+        update_water(model, q, 0.0, &recorder, &mut water);
+        let points = recorder.0.into_inner().unwrap_or_default();
+        let series = PointKinematicsSeries::new(sea, &points, params)?;
+        Ok(Self {
+            sea,
+            series,
+            ramp,
+            guard_distance_m,
+            cursor: AtomicUsize::new(0),
+            misses: AtomicUsize::new(0),
+        })
+    }
+
+    /// Number of cached points.
+    pub fn points(&self) -> usize {
+        self.series.points().len()
+    }
+
+    /// Queries answered by direct summation because they were too far from their cached point.
+    pub fn misses(&self) -> usize {
+        self.misses.load(Ordering::Relaxed)
+    }
+}
+
+impl SeaKinematics for LineSeaCache<'_> {
+    fn kinematics(&self, x: &Vector3<f64>, t: f64) -> FluidKinematics {
+        let r = self.ramp.factor(t);
+        let n = self.series.points().len();
+        if n == 0 {
+            return scaled(self.sea.kinematics(x, t), r);
+        }
+        let i = self.cursor.fetch_add(1, Ordering::Relaxed) % n;
+        if r == 0.0 {
+            return FluidKinematics::default();
+        }
+        let p = &self.series.points()[i];
+        if (p - x).norm() > self.guard_distance_m {
+            self.misses.fetch_add(1, Ordering::Relaxed);
+            return scaled(self.sea.kinematics(x, t), r);
+        }
+        scaled(self.series.sample(i, t).kinematics, r)
+    }
+    fn elevation(&self, x: f64, y: f64, t: f64) -> f64 {
+        self.ramp.factor(t) * self.sea.elevation(x, y, t)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ramp_rises_smoothly_from_zero_to_one() {
+        let r = Ramp { duration_s: 10.0 };
+        assert_eq!(r.factor(0.0), 0.0);
+        assert!((r.factor(5.0) - 0.5).abs() < 1e-15);
+        assert_eq!(r.factor(10.0), 1.0);
+        assert_eq!(r.factor(30.0), 1.0);
+        assert_eq!(Ramp { duration_s: 0.0 }.factor(0.0), 1.0);
+    }
+}

@@ -1,0 +1,155 @@
+//! Verification of the coupled global stage on the paper case: static balance of the floater
+//! with its six lines, rest in calm water, plausible tension and curvature in the severe sea
+//! state, and identical serial and parallel runs.
+
+use moorfret_solver::floater::FloaterSpec;
+use moorfret_solver::global::case::CaseSpec;
+use moorfret_solver::global::system::{solve_coupled_statics, StaticsParams};
+use moorfret_solver::global::{run, FloaterInput, GlobalModel, RunParams};
+use nalgebra::Vector6;
+
+const CASE: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../campaigns/paper_case.json"
+));
+const FLOATER: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../campaigns/data/oc4_semi_floater.json"
+));
+
+fn case() -> CaseSpec {
+    CaseSpec::from_json_str(CASE).unwrap()
+}
+
+fn floater() -> FloaterInput {
+    FloaterInput::RigidBody(Box::new(FloaterSpec::from_json_str(FLOATER).unwrap()))
+}
+
+/// The paper case with a shorter transient and ramp, for quick runs.
+fn short_case(transient_s: f64, ramp_s: f64) -> CaseSpec {
+    let mut c = case();
+    c.timing.transient_s = transient_s;
+    c.timing.wave_ramp_s = ramp_s;
+    c
+}
+
+#[test]
+fn coupled_statics_balances_floater_loads_and_fairlead_forces() {
+    let model = GlobalModel::new(&case(), floater(), None).unwrap();
+    let eq = solve_coupled_statics(&model, &StaticsParams::default(), None).unwrap();
+    let total: Vector6<f64> = eq.fairlead_loads.iter().fold(eq.floater_load, |a, f| a + f);
+    let scale = model.residual_scale();
+    let worst = total.component_div(&scale).amax();
+    println!(
+        "statics: {} iterations, residual {worst:e}, body {:?}, thrust {:.0} N at U = {:.2} m/s",
+        eq.iterations, eq.body.position_m, model.thrust_n, model.wind_speed_m_s
+    );
+    assert!(worst < 1e-9, "scaled imbalance {worst:e}");
+    // Newton with the exact condensed line stiffness: a handful of iterations.
+    assert!(eq.iterations <= 8, "{} iterations", eq.iterations);
+    // Sum of the horizontal fairlead forces balances the thrust (no other horizontal load in
+    // still water): Σ f_x + T = 0 to the tolerance.
+    let fx: f64 = eq.fairlead_loads.iter().map(|f| f[0]).sum();
+    assert!(
+        (fx + model.thrust_n).abs() < 1e-6 * scale[0],
+        "{fx} vs {}",
+        model.thrust_n
+    );
+    // The layout is symmetric about the x axis and the thrust acts along x: no sway, roll, yaw.
+    assert!(eq.body.position_m.y.abs() < 1e-6);
+    // The thrust pushes the floater downstream (+x).
+    assert!(eq.body.position_m.x > 0.5, "surge {}", eq.body.position_m.x);
+    // Each line's fairlead tension is of the order of the 200 kN design pretension.
+    for s in &eq.line_solutions {
+        let t = s.fairlead_force_n.norm();
+        assert!((1e5..2e6).contains(&t), "fairlead tension {t}");
+    }
+}
+
+#[test]
+fn calm_sea_run_stays_at_rest() {
+    let mut c = short_case(0.0, 0.0);
+    // A sea of vanishing height: kinematics of order 1e-9 of the paper case's.
+    c.sea_state.hs_m = 1e-8;
+    c.timing.duration_s = 10.0;
+    c.timing.output_interval_s = 0.5;
+    let model = GlobalModel::new(&c, floater(), None).unwrap();
+    let r = run(&model, &RunParams::default(), |_, _| {}).unwrap();
+    let s0 = r.static_body_position_m;
+    for m in &r.floater.motion {
+        for j in 0..3 {
+            assert!((m[j] - s0[j]).abs() < 1e-5, "drift {:?} from {s0:?}", m);
+        }
+    }
+    let h = &r.hot_spots[0];
+    let t0 = h.tension_n[0];
+    for t in &h.tension_n {
+        assert!((t - t0).abs() < 5.0, "tension moved from {t0} to {t}");
+    }
+    println!("calm: {:?}", r.stats);
+}
+
+#[test]
+fn short_paper_case_run_gives_plausible_tension_and_curvature() {
+    let c = short_case(10.0, 10.0);
+    let model = GlobalModel::new(&c, floater(), Some(20.0)).unwrap();
+    let r = run(&model, &RunParams::default(), |_, _| {}).unwrap();
+    let s = r.summary();
+    let h = &s.hot_spots[0];
+    let static_t = r.lines[0].static_tension_n.clone();
+    println!(
+        "hot spot: T {:.0}..{:.0} N (mean {:.0}), κ {:.3e}..{:.3e} 1/m; stats {:?}",
+        h.tension_n.min,
+        h.tension_n.max,
+        h.tension_n.mean,
+        h.curvature_per_m.min,
+        h.curvature_per_m.max,
+        r.stats
+    );
+    assert_eq!(r.time_s.len(), 201);
+    // Plausible: tension stays positive and of the order of the pretension, with a dynamic
+    // part of tens of kN in this severe sea; curvature finite, positive and moving.
+    assert!(h.tension_n.min > 0.0);
+    assert!(h.tension_n.mean > 0.3 * static_t[0] && h.tension_n.max < 5.0 * static_t[0]);
+    assert!(h.tension_n.range > 1e4, "range {}", h.tension_n.range);
+    assert!(h.curvature_per_m.max > 0.0 && h.curvature_per_m.range > 0.0);
+    assert!(h.curvature_per_m.max < 1.0);
+    // Newton-like coupling: a few iterations per step.
+    assert!(r.stats.max_coupling_iterations <= 8);
+}
+
+#[test]
+fn serial_and_parallel_runs_give_the_same_numbers() {
+    let c = short_case(2.0, 2.0);
+    let model = GlobalModel::new(&c, floater(), Some(2.0)).unwrap();
+    let a = run(&model, &RunParams::default(), |_, _| {}).unwrap();
+    let b = run(
+        &model,
+        &RunParams {
+            threads: 2,
+            ..RunParams::default()
+        },
+        |_, _| {},
+    )
+    .unwrap();
+    assert_eq!(a.hot_spots, b.hot_spots);
+    assert_eq!(a.floater, b.floater);
+    for (x, y) in a.lines.iter().zip(&b.lines) {
+        assert_eq!(x.fairlead_tension_n, y.fairlead_tension_n);
+        assert_eq!(x.envelope, y.envelope);
+    }
+}
+
+/// The full paper-case sea state (50 s transient + 1000 s), for the figures quoted in the
+/// README: `cargo test -p moorfret-solver --release --test verification_global -- --ignored
+/// --nocapture`.
+#[test]
+#[ignore = "full 1050 s run; minutes in the dev profile"]
+fn paper_case_full_sea_state_summary() {
+    let model = GlobalModel::new(&case(), floater(), None).unwrap();
+    let r = run(&model, &RunParams::default(), |_, _| {}).unwrap();
+    let s = r.summary();
+    println!("{}", serde_json::to_string_pretty(&s).unwrap());
+    let h = &s.hot_spots[0];
+    assert!(h.tension_n.min > 0.0 && h.curvature_per_m.max.is_finite());
+}
