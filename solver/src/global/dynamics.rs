@@ -76,6 +76,7 @@ impl Default for DynamicsParams {
                 samples_per_shortest_period: 16.0,
                 chebyshev_tolerance: 1e-8,
                 max_chebyshev_nodes: 32,
+                threads: 1,
             },
             guard_distance_m: 30.0,
         }
