@@ -126,8 +126,8 @@ impl<const NC: usize> LocalSystem<NC> {
 
     /// Adds only the residual part of [`LocalSystem::add_point_load`] for a force `f`.
     pub fn add_point_force(&mut self, n: &[f64; NC], w: f64, f: &Vector3<f64>) {
-        for a in 0..NC {
-            self.r[a] -= f * (w * n[a]);
+        for (r, &na) in self.r.iter_mut().zip(n) {
+            *r -= f * (w * na);
         }
     }
 
