@@ -255,6 +255,7 @@ fn undamped_free_oscillation_conserves_energy() {
         let params = DynamicParams {
             spectral_radius: 1.0,
             force_tolerance_n: 1e-4,
+            axial_damping_ratio: 0.0,
             condense_fairlead: false,
             ..DynamicParams::default()
         };

@@ -10,9 +10,10 @@
 use nalgebra::Vector3;
 
 use super::banded::BandMatrix;
-use super::bar_element::{bar_potential, bar_system};
+use super::bar_element::{bar_potential, bar_residual, bar_system};
 use super::cable_element::{
-    cable_kinetic, cable_potential, cable_system, ElementContext, ElementValues, CABLE_POINTS,
+    cable_kinetic, cable_potential, cable_residual, cable_system, ElementContext, ElementValues,
+    CABLE_POINTS,
 };
 use super::hermite::{hermite, GAUSS3};
 use super::line::{ElementKind, LineModel};
@@ -86,7 +87,8 @@ pub struct StateView<'a> {
     pub a: &'a [f64],
 }
 
-/// Assembles the residual (overwritten) and, when given, the iteration matrix (overwritten).
+/// Assembles the residual (overwritten) and, when given, the iteration matrix (overwritten);
+/// without a matrix the element tangents are not computed at all.
 /// `dynamic = false` drops inertia and hydrodynamic loads (statics).
 pub fn assemble(
     model: &LineModel,
@@ -121,7 +123,11 @@ pub fn assemble(
                     v: d.map(|i| vec3(x.v, i)),
                     a: d.map(|i| vec3(x.a, i)),
                 };
-                let sys = cable_system(&ctx, &vals, w);
+                let sys = if matrix.is_some() {
+                    cable_system(&ctx, &vals, w)
+                } else {
+                    cable_residual(&ctx, &vals, w)
+                };
                 scatter(&d, &sys.r, &sys.k, residual, matrix.as_deref_mut());
             }
             ElementKind::Bar => {
@@ -131,7 +137,11 @@ pub fn assemble(
                     v: dd.map(|i| vec3(x.v, i)),
                     a: dd.map(|i| vec3(x.a, i)),
                 };
-                let sys = bar_system(&ctx, &vals, w);
+                let sys = if matrix.is_some() {
+                    bar_system(&ctx, &vals, w)
+                } else {
+                    bar_residual(&ctx, &vals, w)
+                };
                 scatter(&dd, &sys.r, &sys.k, residual, matrix.as_deref_mut());
             }
         }

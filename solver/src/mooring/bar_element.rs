@@ -10,8 +10,10 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::cable_element::{ElementContext, ElementValues};
-use super::hydro::morison;
-use super::loads::{slack_axial_force, LocalSystem, PointKinematics, PointLoad};
+use super::hydro::{morison, morison_force};
+use super::loads::{
+    slack_axial_force, LocalSystem, PointKinematics, PointLoad, SLACK_SMOOTHING_STRAIN,
+};
 use super::seabed::{seabed_energy, seabed_load};
 use crate::waves::FluidKinematics;
 
@@ -24,6 +26,24 @@ pub fn bar_system(
     x: &ElementValues<2>,
     water: &[FluidKinematics],
 ) -> LocalSystem<2> {
+    bar_kernel(ctx, x, water, true)
+}
+
+/// Residual of a bar; the iteration matrix is left zero.
+pub(crate) fn bar_residual(
+    ctx: &ElementContext<'_>,
+    x: &ElementValues<2>,
+    water: &[FluidKinematics],
+) -> LocalSystem<2> {
+    bar_kernel(ctx, x, water, false)
+}
+
+fn bar_kernel(
+    ctx: &ElementContext<'_>,
+    x: &ElementValues<2>,
+    water: &[FluidKinematics],
+    with_matrix: bool,
+) -> LocalSystem<2> {
     let sec = ctx.sec;
     let l = ctx.length_m;
     let mut out = LocalSystem::<2>::zero();
@@ -31,9 +51,23 @@ pub fn bar_system(
     let len = d.norm();
     if len > 0.0 {
         let e = d / len;
-        let (force, dforce, _) = slack_axial_force(sec.ea_n, len / l - 1.0);
+        let (elastic, dforce, _) = slack_axial_force(sec.ea_n, len / l - 1.0);
+        // Axial structural damping on ε̇ = e · (v_j − v_i) / L, weighted by the slope φ of the
+        // tension-only law (φ = 1 taut, 0 slack) so that a slack chain resists no compression.
+        let c = if ctx.dynamic {
+            sec.axial_damping_n_s(l, ctx.coef.axial_damping_ratio)
+        } else {
+            0.0
+        };
+        let (phi, dphi) = slack_slope(len / l - 1.0);
+        let w_rel = x.v[1] - x.v[0];
+        let rate = e.dot(&w_rel) / l;
+        let force = elastic + c * phi * rate;
         let eet = e * e.transpose();
-        let kb = (Matrix3::identity() - eet) * (force / len) + eet * (dforce / l);
+        let p = Matrix3::identity() - eet;
+        // ∂N/∂d = (N'(ε) + c ε̇ φ'(ε)) e / L + c φ P w / (L ℓ), ∂N/∂w = c φ e / L.
+        let dn_dd = e * ((dforce + c * rate * dphi) / l) + p * w_rel * (c * phi / (l * len));
+        let kb = e * dn_dd.transpose() + eet * (c * phi * ctx.coef.gamma_p / l) + p * (force / len);
         out.r[0] -= e * force;
         out.r[1] += e * force;
         out.k[0][0] += kb;
@@ -62,11 +96,31 @@ pub fn bar_system(
         load.f.z = -sec.weight_n_per_m;
         load.add(&seabed_load(sec, ctx.bed, ctx.depth_m, &k.r, &k.v));
         if ctx.dynamic {
-            load.add(&morison(sec, &k, water_at_node));
+            if with_matrix {
+                load.add(&morison(sec, &k, water_at_node));
+            } else {
+                load.f += morison_force(sec, &k, water_at_node);
+            }
         }
-        out.add_point_load(&n, &dn, w, &load, &ctx.coef);
+        if with_matrix {
+            out.add_point_load(&n, &dn, w, &load, &ctx.coef);
+        } else {
+            out.add_point_force(&n, w, &load.f);
+        }
     }
     out
+}
+
+/// Slope φ = (dN/dε)/EA of the tension-only law and its derivative dφ/dε.
+fn slack_slope(strain: f64) -> (f64, f64) {
+    let e0 = SLACK_SMOOTHING_STRAIN;
+    if strain <= -e0 {
+        (0.0, 0.0)
+    } else if strain < e0 {
+        ((strain + e0) / (2.0 * e0), 1.0 / (2.0 * e0))
+    } else {
+        (1.0, 0.0)
+    }
 }
 
 /// Axial force of a bar (N).
@@ -131,6 +185,7 @@ mod tests {
             ..Default::default()
         };
         let coef = Coefficients {
+            axial_damping_ratio: 0.5,
             beta_p: 900.0,
             gamma_p: 30.0,
         };
@@ -185,6 +240,50 @@ mod tests {
         }
         let scale = sec.ea_n / 5.0;
         assert!(worst < 1e-7 * scale, "worst column error {worst:e}");
+    }
+
+    #[test]
+    fn axial_damping_adds_c_times_strain_rate_when_taut_and_nothing_when_slack() {
+        let sec = chain();
+        let bed = SeabedSpec::default();
+        let ctx = ElementContext {
+            sec: &sec,
+            length_m: 5.0,
+            bed: &bed,
+            depth_m: 30.0,
+            coef: Coefficients {
+                axial_damping_ratio: 0.5,
+                ..Coefficients::default()
+            },
+            dynamic: true,
+        };
+        let c = sec.axial_damping_n_s(5.0, 0.5);
+        // c = ζ L √(EA m): ζ at the two-mass axial frequency ω = (2/L) √(EA/m) is c ω / (2 EA).
+        let omega = 2.0 / 5.0 * (sec.ea_n / sec.mass_kg_per_m).sqrt();
+        assert!((c * omega / (2.0 * sec.ea_n) - 0.5).abs() < 1e-12);
+        let run = |len: f64| {
+            let x = ElementValues {
+                q: [Vector3::new(0.0, 0.0, -10.0), Vector3::new(len, 0.0, -10.0)],
+                v: [Vector3::zeros(), Vector3::new(0.2, 0.0, 0.0)],
+                a: [Vector3::zeros(); 2],
+            };
+            let still = ElementValues {
+                v: [Vector3::zeros(); 2],
+                ..x
+            };
+            let water = [FluidKinematics::default(); 2];
+            (bar_system(&ctx, &x, &water).r[1] - bar_system(&ctx, &still, &water).r[1]).x
+        };
+        // Taut: ε̇ = 0.2 / 5 per second; the drag of the moving node is also in the difference,
+        // so compare with the lumped drag removed: the node moves along the bar (tangential).
+        let drag = 0.5 * 5.0 * sec.drag_tangential_kg_per_m2 * 0.2 * 0.2;
+        let taut = run(5.01);
+        assert!(
+            (taut - (c * 0.2 / 5.0 + drag)).abs() < 1e-6 * c * 0.04,
+            "{taut}"
+        );
+        let slack = run(4.9);
+        assert!((slack - drag).abs() < 1e-9, "{slack}");
     }
 
     #[test]

@@ -22,7 +22,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::hermite::{bending_integrals, hermite, mass_integrals, GAUSS3};
-use super::hydro::morison;
+use super::hydro::{morison, morison_force};
 use super::loads::{Coefficients, LocalSystem, PointKinematics, PointLoad};
 use super::seabed::{seabed_energy, seabed_load};
 use super::section::Section;
@@ -66,6 +66,25 @@ pub fn cable_system(
     x: &ElementValues<4>,
     water: &[FluidKinematics; CABLE_POINTS],
 ) -> LocalSystem<4> {
+    cable_kernel(ctx, x, water, true)
+}
+
+/// Residual of a cable element; the iteration matrix is left zero (modified Newton
+/// iterations reuse an earlier factorisation).
+pub(crate) fn cable_residual(
+    ctx: &ElementContext<'_>,
+    x: &ElementValues<4>,
+    water: &[FluidKinematics; CABLE_POINTS],
+) -> LocalSystem<4> {
+    cable_kernel(ctx, x, water, false)
+}
+
+fn cable_kernel(
+    ctx: &ElementContext<'_>,
+    x: &ElementValues<4>,
+    water: &[FluidKinematics; CABLE_POINTS],
+    with_matrix: bool,
+) -> LocalSystem<4> {
     let sec = ctx.sec;
     let l = ctx.length_m;
     let mut out = LocalSystem::<4>::zero();
@@ -80,13 +99,31 @@ pub fn cable_system(
         // Axial force.
         let stretch = k.r_x.norm();
         let t = k.r_x / stretch;
-        let (force, dforce) = (sec.ea_n * (stretch - 1.0), sec.ea_n);
-        let ttt = t * t.transpose();
-        let kt = ttt * (w * dforce) + (Matrix3::identity() - ttt) * (w * force / stretch);
+        // Axial structural damping on the strain rate ε̇ = t · ṙ' (dynamics only).
+        let c = if ctx.dynamic {
+            sec.axial_damping_n_s(l, ctx.coef.axial_damping_ratio)
+        } else {
+            0.0
+        };
+        let v_x =
+            s.dn.iter()
+                .zip(&x.v)
+                .fold(Vector3::zeros(), |acc, (d, v)| acc + v * *d);
+        let (force, dforce) = (sec.ea_n * (stretch - 1.0) + c * t.dot(&v_x), sec.ea_n);
         for a in 0..4 {
             out.r[a] += t * (w * force * s.dn[a]);
-            for b in 0..4 {
-                out.k[a][b] += kt * (s.dn[a] * s.dn[b]);
+        }
+        if with_matrix {
+            let ttt = t * t.transpose();
+            let p = Matrix3::identity() - ttt;
+            // ∂N/∂r' = EA t + c P ṙ' / |r'|, ∂N/∂ṙ' = c t.
+            let dn_drx = t * dforce + p * v_x * (c / stretch);
+            let kt = (t * dn_drx.transpose() + ttt * (c * ctx.coef.gamma_p)) * w
+                + p * (w * force / stretch);
+            for a in 0..4 {
+                for b in 0..4 {
+                    out.k[a][b] += kt * (s.dn[a] * s.dn[b]);
+                }
             }
         }
         // External loads.
@@ -94,9 +131,17 @@ pub fn cable_system(
         load.f.z = -sec.weight_n_per_m;
         load.add(&seabed_load(sec, ctx.bed, ctx.depth_m, &k.r, &k.v));
         if ctx.dynamic {
-            load.add(&morison(sec, &k, &water[g]));
+            if with_matrix {
+                load.add(&morison(sec, &k, &water[g]));
+            } else {
+                load.f += morison_force(sec, &k, &water[g]);
+            }
         }
-        out.add_point_load(&s.n, &s.dn, w, &load, &ctx.coef);
+        if with_matrix {
+            out.add_point_load(&s.n, &s.dn, w, &load, &ctx.coef);
+        } else {
+            out.add_point_force(&s.n, w, &load.f);
+        }
     }
     out
 }
@@ -235,6 +280,7 @@ mod tests {
             ..Default::default()
         };
         let coef = Coefficients {
+            axial_damping_ratio: 0.5,
             beta_p: 400.0,
             gamma_p: 25.0,
         };

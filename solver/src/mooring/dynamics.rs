@@ -14,6 +14,12 @@
 //! converge is retried as 2, 4, … sub-steps; after the allowed halvings the error names the
 //! time, the node with the largest residual and the residual norm.
 //!
+//! The iterations are a modified Newton method: the factorised S of an earlier iteration of
+//! the step is reused as long as each correction reduces ‖R‖₂ at least tenfold; otherwise S is
+//! re-assembled at the current iterate and re-factorised. Iterations with a reused
+//! factorisation assemble only the residual. Convergence is still judged on the full residual,
+//! so the converged state satisfies the same tolerance.
+//!
 //! Newton corrections of the nodal gradients are limited to 0.5 per iteration (a full
 //! correction can flip a gradient and converge to a looped, spurious cable shape), and a
 //! correction that increases ‖R‖₂ after the second iteration is halved back (contact and
@@ -49,6 +55,13 @@ pub struct DynamicParams {
     pub condense_fairlead: bool,
     /// Relative pivot threshold of the banded factorisation.
     pub tiny_pivot: f64,
+    /// Axial structural damping ratio of chain and rope at each element's own axial frequency
+    /// ω_e = (2/L) √(EA/m): the axial force gains c ε̇ with c = ζ L √(EA m). It damps the
+    /// fast axial oscillation of slack–taut (snap) events, like MoorDyn's internal line damping
+    /// BA, which its user guide allows to be given as a fraction of critical damping of a
+    /// segment. Being stiffness-proportional, its ratio at wave frequencies ω is ζ ω / ω_e,
+    /// below 10⁻³ ζ for the paper-case lines (ω_e > 10² rad/s). Zero switches it off.
+    pub axial_damping_ratio: f64,
 }
 
 impl Default for DynamicParams {
@@ -60,6 +73,7 @@ impl Default for DynamicParams {
             max_halvings: 6,
             condense_fairlead: true,
             tiny_pivot: 1e-13,
+            axial_damping_ratio: 0.5,
         }
     }
 }
@@ -79,6 +93,13 @@ impl DynamicParams {
                 "force_tolerance_n",
                 self.force_tolerance_n,
                 "must be > 0",
+            ));
+        }
+        if self.axial_damping_ratio.is_nan() || self.axial_damping_ratio < 0.0 {
+            return Err(LineError::invalid(
+                "axial_damping_ratio",
+                self.axial_damping_ratio,
+                "must be >= 0",
             ));
         }
         if self.max_iterations == 0 {
@@ -168,8 +189,11 @@ pub struct StepReport {
 pub struct DynamicStats {
     /// Steps taken.
     pub steps: usize,
-    /// Newton iterations (one factorisation each).
+    /// Newton iterations (one linear solve each).
     pub iterations: usize,
+    /// Factorisations of the iteration matrix (modified Newton reuses them across iterations
+    /// and steps).
+    pub factorizations: usize,
     /// Residual assemblies.
     pub assemblies: usize,
     /// Steps that had to be cut.
@@ -282,6 +306,7 @@ impl<'m> LineIntegrator<'m> {
                 let r = &self.ws.residual;
                 let force = -Vector3::new(r[0], r[1], r[2]);
                 let stiffness = if self.params.condense_fairlead {
+                    self.stats.factorizations += 1;
                     self.ws
                         .prepare_and_factorize(self.model, self.params.tiny_pivot)?;
                     Some(self.ws.condense_fairlead(self.model))
@@ -349,12 +374,23 @@ impl<'m> LineIntegrator<'m> {
 
         let beta_p = (1.0 - am) / ((1.0 - af) * beta * h * h);
         let gamma_p = gamma / (beta * h);
-        let coef = Coefficients { beta_p, gamma_p };
+        let coef = Coefficients {
+            beta_p,
+            gamma_p,
+            axial_damping_ratio: self.params.axial_damping_ratio,
+        };
         let mut iterations = 0;
         let mut previous_norm = f64::INFINITY;
         let mut step_fraction = 1.0;
         let mut backtracks = 0;
+        // Modified Newton: the factorisation of an earlier iteration of this step is reused
+        // while each correction reduces ‖R‖₂ by the factor `REUSE_CONTRACTION`; otherwise the
+        // tangent is re-assembled and re-factorised.
+        let mut have_factor = false;
+        let mut last_correction_fresh = false;
+        let mut refresh;
         loop {
+            refresh = !have_factor;
             let view = StateView {
                 q: &trial.q,
                 v: &trial.v,
@@ -367,7 +403,11 @@ impl<'m> LineIntegrator<'m> {
                 coef,
                 true,
                 &mut self.ws.residual,
-                Some(&mut self.ws.matrix),
+                if refresh {
+                    Some(&mut self.ws.matrix)
+                } else {
+                    None
+                },
             );
             self.stats.assemblies += 1;
             let (dof, rmax) = free_residual_max(model, &self.ws.residual);
@@ -380,10 +420,20 @@ impl<'m> LineIntegrator<'m> {
                     dof,
                 });
             }
-            // Contact touch-down/lift-off and slack chain make the residual piecewise smooth;
-            // when a correction increases ‖R‖₂ after the first iterations, take half of it back.
             let norm = free_norm(model, &self.ws.residual);
-            if iterations >= 2 && norm > previous_norm && backtracks < MAX_BACKTRACKS {
+            if !refresh {
+                if norm > REUSE_CONTRACTION * previous_norm {
+                    have_factor = false;
+                    continue;
+                }
+            } else if last_correction_fresh
+                && iterations >= 2
+                && norm > previous_norm
+                && backtracks < MAX_BACKTRACKS
+            {
+                // Contact touch-down/lift-off and slack chain make the residual piecewise
+                // smooth; when a full Newton correction increases ‖R‖₂ after the first
+                // iterations, take half of it back.
                 backtracks += 1;
                 step_fraction *= 0.5;
                 for (i, dq) in self.ws.rhs.iter().enumerate() {
@@ -398,16 +448,23 @@ impl<'m> LineIntegrator<'m> {
             step_fraction = 1.0;
             iterations += 1;
             self.stats.iterations += 1;
-            if self
-                .ws
-                .prepare_and_factorize(model, self.params.tiny_pivot)
-                .is_err()
-            {
-                return Err(SubstepFailure {
-                    residual: rmax,
-                    dof,
-                });
+            if refresh {
+                self.stats.factorizations += 1;
+                if self
+                    .ws
+                    .prepare_and_factorize(model, self.params.tiny_pivot)
+                    .is_err()
+                {
+                    return Err(SubstepFailure {
+                        residual: rmax,
+                        dof,
+                    });
+                }
+                have_factor = true;
+            } else {
+                self.ws.load_rhs(model);
             }
+            last_correction_fresh = refresh;
             self.ws.solve_correction();
             // Step-length control on the gradients: a full correction may flip a nodal
             // gradient and converge to a looped (spurious) configuration of the cable.
@@ -428,6 +485,24 @@ impl<'m> LineIntegrator<'m> {
                 trial.acc[i] += beta_p * dq;
             }
         }
+        if self.params.condense_fairlead && !refresh {
+            // The condensed stiffness needs the iteration matrix of the converged state.
+            let view = StateView {
+                q: &trial.q,
+                v: &trial.v,
+                a: &trial.acc,
+            };
+            assemble(
+                model,
+                view,
+                &self.ws.water,
+                coef,
+                true,
+                &mut self.ws.residual,
+                Some(&mut self.ws.matrix),
+            );
+            self.stats.assemblies += 1;
+        }
         for i in 0..state.q.len() {
             trial.alg_acc[i] = (af * state.acc[i] - am * state.alg_acc[i]
                 + (1.0 - af) * trial.acc[i])
@@ -441,6 +516,9 @@ impl<'m> LineIntegrator<'m> {
 
 /// Largest change of a nodal gradient component per Newton iteration.
 const MAX_GRADIENT_CORRECTION: f64 = 0.5;
+
+/// Largest ratio ‖R_{k+1}‖₂ / ‖R_k‖₂ accepted from a correction with a reused factorisation.
+const REUSE_CONTRACTION: f64 = 0.1;
 
 /// Backtracking halvings allowed per step.
 const MAX_BACKTRACKS: usize = 6;

@@ -81,6 +81,37 @@ pub fn morison(sec: &Section, k: &PointKinematics, water: &FluidKinematics) -> P
     load
 }
 
+/// The force of [`morison`] alone, without its derivatives (N/m).
+pub fn morison_force(sec: &Section, k: &PointKinematics, water: &FluidKinematics) -> Vector3<f64> {
+    let stretch = k.r_x.norm();
+    if stretch <= 0.0 {
+        return Vector3::zeros();
+    }
+    let t = k.r_x / stretch;
+    let mut f = Vector3::zeros();
+    if sec.drag_normal_kg_per_m2 > 0.0 || sec.drag_tangential_kg_per_m2 > 0.0 {
+        let u = water.velocity - k.v;
+        let ut = t * t.dot(&u);
+        let un = u - ut;
+        let eps2 = SPEED_REGULARISATION_M_S * SPEED_REGULARISATION_M_S;
+        f += un * (sec.drag_normal_kg_per_m2 * (un.norm_squared() + eps2).sqrt());
+        f += ut * (sec.drag_tangential_kg_per_m2 * (ut.norm_squared() + eps2).sqrt());
+    }
+    let (man, mat) = (
+        sec.added_mass_normal_kg_per_m,
+        sec.added_mass_tangential_kg_per_m,
+    );
+    if man > 0.0 || mat > 0.0 {
+        let a_t = t * t.dot(&k.a);
+        f -= (k.a - a_t) * man + a_t * mat;
+    }
+    let aw = water.acceleration;
+    if sec.froude_krylov_kg_per_m > 0.0 && aw.norm_squared() > 0.0 {
+        f += (aw - t * t.dot(&aw)) * sec.froude_krylov_kg_per_m;
+    }
+    f
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -115,6 +146,13 @@ mod tests {
             seabed: Default::default(),
         };
         Section::new(&lt, &seg, &env)
+    }
+
+    #[test]
+    fn force_only_path_equals_the_full_load() {
+        let full = morison(&section(), &kin(), &water()).f;
+        let only = morison_force(&section(), &kin(), &water());
+        assert!((full - only).norm() <= 1e-12 * full.norm());
     }
 
     fn kin() -> PointKinematics {

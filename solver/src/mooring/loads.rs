@@ -81,6 +81,9 @@ pub struct Coefficients {
     pub beta_p: f64,
     /// ∂q̇/∂q (1/s); zero in statics.
     pub gamma_p: f64,
+    /// Axial structural damping ratio at each element's axial frequency (see
+    /// [`super::section::Section::axial_damping_n_s`]); zero in statics.
+    pub axial_damping_ratio: f64,
 }
 
 /// Element-local residual and iteration matrix over `NC` vector coefficients of 3 components.
@@ -118,6 +121,13 @@ impl<const NC: usize> LocalSystem<NC> {
             for b in 0..NC {
                 self.k[a][b] -= j * (n[a] * n[b]) + jt * (n[a] * dn[b]);
             }
+        }
+    }
+
+    /// Adds only the residual part of [`LocalSystem::add_point_load`] for a force `f`.
+    pub fn add_point_force(&mut self, n: &[f64; NC], w: f64, f: &Vector3<f64>) {
+        for (r, &na) in self.r.iter_mut().zip(n) {
+            *r -= f * (w * na);
         }
     }
 

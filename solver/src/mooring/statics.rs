@@ -149,6 +149,7 @@ pub fn solve_statics(
         stats.iterations += 1;
         // Shifted tangent: the inertia terms with q̈ = 0 add σ M to the matrix only.
         let coef = Coefficients {
+            axial_damping_ratio: 0.0,
             beta_p: sigma,
             gamma_p: 0.0,
         };

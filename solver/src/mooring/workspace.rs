@@ -79,6 +79,14 @@ impl LineWorkspace {
             })
     }
 
+    /// Sets `rhs` to −R with zeros at the prescribed DOFs, for a solve with the factorisation
+    /// already held by the matrix.
+    pub(crate) fn load_rhs(&mut self, model: &LineModel) {
+        for (i, (r, x)) in self.rhs.iter_mut().zip(&self.residual).enumerate() {
+            *r = if model.is_constrained(i) { 0.0 } else { -x };
+        }
+    }
+
     /// Newton correction into `rhs`, after [`LineWorkspace::prepare_and_factorize`].
     pub(crate) fn solve_correction(&mut self) {
         self.matrix.solve_in_place(&mut self.rhs);
