@@ -140,9 +140,11 @@ fn serial_and_parallel_runs_give_the_same_numbers() {
     }
 }
 
-/// The full paper-case sea state (50 s transient + 1000 s), for the figures quoted in the
-/// README: `cargo test -p moorfret-solver --release --test verification_global -- --ignored
-/// --nocapture`.
+/// The full paper-case sea state (50 s transient + 1000 s):
+/// `cargo test -p moorfret-solver --release --test verification_global -- --ignored
+/// --nocapture`. Known open problem: with seed 1 the coupling iterations stall at t = 54.9 s
+/// (scaled floater residual about 1e-2 after 25 iterations) although every line converges; a
+/// coupled step cut (not yet implemented) is the expected remedy.
 #[test]
 #[ignore = "full 1050 s run; minutes in the dev profile"]
 fn paper_case_full_sea_state_summary() {

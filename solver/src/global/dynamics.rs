@@ -62,7 +62,7 @@ impl Default for DynamicsParams {
     fn default() -> Self {
         Self {
             tolerance: 1e-7,
-            max_iterations: 15,
+            max_iterations: 25,
             // Slack events of the light rope under the clump mass make the line's Newton
             // iterations piecewise smooth: allow more iterations and step cuts than a line
             // driven alone needs.
@@ -272,6 +272,8 @@ pub fn run_dynamics(
         };
         let mut converged = false;
         let mut residual = f64::INFINITY;
+        let mut previous_residual = f64::INFINITY;
+        let mut last_delta = Vector6::zeros();
         let mut iterations = 0;
         while iterations < params.max_iterations {
             iterations += 1;
@@ -347,6 +349,16 @@ pub fn run_dynamics(
                 stats.floater_s += c.elapsed().as_secs_f64();
                 break;
             }
+            // A line switching between slack and taut makes the coupled residual piecewise
+            // smooth: when a correction increased the residual, take half of it back.
+            if iterations > 2 && residual > previous_residual {
+                last_delta *= 0.5;
+                acc1 -= last_delta;
+                trial = advance(&acc1);
+                stats.floater_s += c.elapsed().as_secs_f64();
+                continue;
+            }
+            previous_residual = residual;
             let s = f.mass_matrix(&trial)
                 - kq * (beta * ratio * h * h)
                 - jac.velocity * (gamma * ratio * h);
@@ -354,6 +366,7 @@ pub fn run_dynamics(
             stats.floater_s += c.elapsed().as_secs_f64();
             match delta {
                 Some(d) if d.iter().all(|x| x.is_finite()) => {
+                    last_delta = d;
                     acc1 += d;
                     trial = advance(&acc1);
                 }
