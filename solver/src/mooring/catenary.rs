@@ -1,1 +1,0 @@
-//! Placeholder (local only) until the catenary module lands.
