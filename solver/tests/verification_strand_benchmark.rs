@@ -75,3 +75,77 @@ fn one_plus_six_strand_in_tension_matches_costello() {
     assert!(e_wire.abs() < 0.02);
     assert!(e_strand.abs() < 0.02);
 }
+
+/// Outer-helix forces of the 1+6+1 model at ε = 1e-3 and curvature `kappa`:
+/// (θ, arc length, FE force, stick solution), tension share T₀ taken from the straight case.
+fn outer_helix(
+    kappa: f64,
+) -> (
+    Vec<(f64, f64, f64, f64)>,
+    f64,
+    moorfret_solver::strand::driver::CaseResult,
+) {
+    let strand = benchmark(2);
+    let model = StrandModel::new(&strand, &vs_analytical()).unwrap();
+    let params = StrandRunParameters::default();
+    let outer = strand.first_wire_of_layer(1);
+    let straight = run_case(&model, 1e-3, 0.0, &params).unwrap();
+    let forces = |r: &moorfret_solver::strand::driver::CaseResult| -> Vec<_> {
+        r.element_forces
+            .iter()
+            .filter(|f| f.wire == outer)
+            .copied()
+            .collect()
+    };
+    let f0 = forces(&straight);
+    let t0 = f0.iter().map(|f| f.axial_force_n).sum::<f64>() / f0.len() as f64;
+    let bent = run_case(&model, 1e-3, kappa, &params).unwrap();
+    let layer = &strand.layers[1];
+    let ea = model.sections[outer.0].young_pa * model.sections[outer.0].area_m2;
+    let rows = forces(&bent)
+        .iter()
+        .map(|f| {
+            let stick = t0
+                + moorfret_solver::strand::analytical::stick_force_variation(
+                    ea,
+                    layer.lay_angle_rad,
+                    layer.helix_radius_m,
+                    kappa,
+                    f.theta_rad,
+                );
+            (f.theta_rad, f.arc_length_m, f.axial_force_n, stick)
+        })
+        .collect();
+    (rows, t0, bent)
+}
+
+/// Below the slip onset κ_b ≈ 1.2e-2 1/m (DESIGN §6) every contact sticks and the outer-helix
+/// force variation follows sin θ in phase with the stick solution ΔF = EA cos²β R κ sin θ.
+/// Measured: FE amplitude (least-squares fit) 0.49 of the analytical one, correlation 0.970 (max |FE − stick| ≈ 200 N for a 250 N
+/// amplitude) although every contact sticks; the analytical solution assumes the outer wire
+/// follows plane sections continuously, the model transfers the force through 18 trellis
+/// points on inner wires that can bend and roll on their core line contact. Not resolved.
+#[test]
+fn outer_helix_sticks_at_small_curvature_in_phase_with_the_stick_solution() {
+    let (rows, t0, bent) = outer_helix(1e-2);
+    assert!(bent
+        .contacts
+        .iter()
+        .all(|c| c.status == moorfret_solver::contact::ContactStatus::Stick));
+    let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
+    let fe_mean = rows.iter().map(|r| r.2).sum::<f64>() / rows.len() as f64;
+    for r in &rows {
+        let (x, y) = (r.3 - t0, r.2 - fe_mean);
+        sxy += x * y;
+        sxx += x * x;
+        syy += y * y;
+    }
+    let correlation = sxy / (sxx * syy).sqrt();
+    let ratio = sxy / sxx;
+    let worst = rows.iter().map(|r| (r.2 - r.3).abs()).fold(0.0, f64::max);
+    eprintln!(
+        "kappa 1e-2: T0 {t0:.1} N, correlation {correlation:.4}, amplitude ratio FE/stick {ratio:.3}, max |FE - stick| {worst:.1} N, steps {:?}",
+        bent.stats.step_iterations
+    );
+    assert!(correlation > 0.95, "correlation {correlation}");
+}
