@@ -3,17 +3,21 @@
 use clap::Subcommand;
 
 pub mod catenary;
+pub mod strand;
 
 /// Single-stage runs.
 #[derive(Debug, Subcommand)]
 pub enum RunCommand {
     /// Elastic catenary of one homogeneous line with seabed contact and friction.
     Catenary(catenary::CatenaryArgs),
+    /// Detailed strand FE model: tension, then each curvature of the profile's loading.
+    Strand(strand::StrandArgs),
 }
 
 /// Execute a `run` subcommand.
 pub fn execute(cmd: RunCommand) -> anyhow::Result<()> {
     match cmd {
         RunCommand::Catenary(args) => catenary::execute(args),
+        RunCommand::Strand(args) => strand::execute(args),
     }
 }
