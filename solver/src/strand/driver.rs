@@ -57,6 +57,7 @@ impl Default for StrandRunParameters {
         Self {
             newton: NewtonParams {
                 max_iterations: 30,
+                easy_iterations: 8,
                 relative_tolerance: 1e-6,
                 energy_tolerance: 1e-16,
                 max_load_increment: 1.0,

@@ -9,8 +9,8 @@
 //! - `summary.json`: per case the Newton statistics, stage timings, largest contact normal
 //!   force, largest slip and contact status counts, plus the model sizes;
 //! - `outer_helix_axial_force.svg`: FE force against θ per case with the stick solution
-//!   T₀ + EA cos²β R κ sin θ and the friction-limited solution F_end − μ q d (q = T₀ sin²β/R,
-//!   d the arc length to the nearer end, F_end the stick value at the ends), as the seed's Fig. 4.
+//!   T₀ + EA cos²β R κ sin θ and the friction-limited (full slip) solution T₀ + μ T₀ sin β sin θ
+//!   (|dF/ds| = μ q with q = T₀ sin²β/R and dθ/ds = sin β/R), as the seed's Fig. 4.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -155,10 +155,7 @@ pub fn execute(args: StrandArgs) -> anyhow::Result<()> {
     };
     let f0 = outer_forces(&straight);
     let t0 = f0.iter().map(|f| f.axial_force_n).sum::<f64>() / f0.len().max(1) as f64;
-    let wire_length =
-        f0.last().map_or(0.0, |f| f.arc_length_m) + f0.first().map_or(0.0, |f| f.arc_length_m);
     let beta = layer.lay_angle_rad;
-    let q = t0 * beta.sin().powi(2) / layer.helix_radius_m;
     let mu = strand.friction_coefficient;
 
     let mut csv = csv::Writer::from_path(args.out.join("outer_helix_axial_force.csv"))?;
@@ -175,7 +172,7 @@ pub fn execute(args: StrandArgs) -> anyhow::Result<()> {
         let forces = outer_forces(&r);
         let stick =
             |theta: f64| t0 + stick_force_variation(ea, beta, layer.helix_radius_m, kappa, theta);
-        let f_end = forces.first().map_or(t0, |f| stick(f.theta_rad));
+        let slip = |theta: f64| t0 + mu * t0 * beta.sin() * theta.sin();
         let mut rows = Vec::with_capacity(forces.len());
         for f in &forces {
             csv.write_record([
@@ -184,12 +181,11 @@ pub fn execute(args: StrandArgs) -> anyhow::Result<()> {
                 f.theta_rad.to_string(),
                 f.axial_force_n.to_string(),
             ])?;
-            let d = f.arc_length_m.min(wire_length - f.arc_length_m);
             rows.push((
                 f.theta_rad,
                 f.axial_force_n,
                 stick(f.theta_rad),
-                f_end - mu * q * d,
+                slip(f.theta_rad),
             ));
         }
         tracing::info!(kappa, steps = r.stats.steps, "strand case solved");
