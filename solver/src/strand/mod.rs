@@ -7,7 +7,12 @@
 //! - [`wires`]: wire numbering ([`wires::WireId`]);
 //! - [`contacts`]: trellis crossings between adjacent layers and the core line contact;
 //! - [`mesh`]: nodes at contact points, wire elements, contact elements, counts;
-//! - [`analytical`]: Costello's simple straight strand and the bent-helix stick/slip references.
+//! - [`analytical`]: Costello's simple straight strand and the bent-helix stick/slip references;
+//! - [`loading`]: imposed section motion from (ε, κ) and the two-stage load path;
+//! - [`ends`]: penalty ties of the helical wire ends to the core end sections;
+//! - [`model`]: the FE model (beams, contacts, ties, DOFs, pattern);
+//! - [`problem`]: its equilibrium as a Newton problem;
+//! - [`driver`]: one loading case solved and its monitors extracted.
 //!
 //! Strand frame: axis along z, angular position θ in the x-y plane (θ = +π/2 outer arc for
 //! bending about y with κ > 0 towards +x is the DESIGN convention). Units: m, rad, N, Pa.
@@ -15,7 +20,12 @@
 pub mod analytical;
 pub mod clearance;
 pub mod contacts;
+pub mod driver;
+pub mod ends;
 pub mod helix;
+pub mod loading;
 pub mod mesh;
+pub mod model;
+pub mod problem;
 pub mod profile;
 pub mod wires;

@@ -4,6 +4,7 @@ use clap::Subcommand;
 
 pub mod catenary;
 pub mod global;
+pub mod strand;
 
 /// Single-stage runs.
 #[derive(Debug, Subcommand)]
@@ -13,6 +14,8 @@ pub enum RunCommand {
     /// Coupled floater + mooring lines in one irregular sea state: writes hot-spot T(t), κ(t),
     /// fairlead tensions, envelopes, floater motions, a summary and plots.
     Global(global::GlobalArgs),
+    /// Detailed strand FE model: tension, then each curvature of the profile's loading.
+    Strand(strand::StrandArgs),
 }
 
 /// Execute a `run` subcommand.
@@ -20,5 +23,6 @@ pub fn execute(cmd: RunCommand) -> anyhow::Result<()> {
     match cmd {
         RunCommand::Catenary(args) => catenary::execute(args),
         RunCommand::Global(args) => global::execute(&args),
+        RunCommand::Strand(args) => strand::execute(args),
     }
 }

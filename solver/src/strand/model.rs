@@ -1,0 +1,296 @@
+//! The strand finite-element model (DESIGN §4.4, seed Sec. 2.2): every wire a chain of
+//! corotational beams on the mesh nodes ([`super::mesh`]), a small-sliding frictional contact
+//! element (seed Eqs. 1-11, [`crate::contact`]) at every detected contact, the core wire's
+//! nodes fully imposed from (ε, κ) ([`super::loading`]) and the helical wires' end nodes tied to
+//! the core end sections by penalty ([`super::ends`]).
+//!
+//! Frame nodes are the mesh nodes (same indices), frame elements the mesh elements. The global
+//! pattern (full storage: the frictional contact tangent is not symmetric) holds, in order, the
+//! frame elements, the contact elements and the end ties. Core DOFs are eliminated (prescribed).
+//!
+//! Contact radii: the outer wire of each pair is given an initial interference
+//! `initial_interference_m` (a few nm) so that every contact is closed, with a normal
+//! stiffness, in the reference configuration where the exact helices just touch (g_N = 0).
+//! Units: m, N, rad.
+
+use nalgebra::Vector3;
+
+use super::contacts::{find_contacts, ContactSearchParameters, GeometryError};
+use super::ends::EndTie;
+use super::mesh::{build_mesh, MeshParameters, StrandMesh};
+use super::profile::Strand;
+use crate::beam::frame::{BeamFrame, DofMap, FrameError, NodeId, NODE_DOFS};
+use crate::beam::section::{BeamSection, SectionError};
+use crate::contact::{
+    ContactError, ContactHistory, ContactPair, ContactParameters, NodeKinematics,
+};
+use crate::linalg::{Equation, PatternError, SparsePattern, Storage};
+
+/// Errors while building or solving a strand model.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StrandModelError {
+    /// Contact detection or meshing failed.
+    #[error(transparent)]
+    Geometry(#[from] GeometryError),
+    /// A wire section is invalid.
+    #[error("wire {wire}: {source}")]
+    Section {
+        /// Wire index.
+        wire: usize,
+        /// Cause.
+        source: SectionError,
+    },
+    /// Frame construction failed.
+    #[error(transparent)]
+    Frame(#[from] FrameError),
+    /// A contact element cannot be built.
+    #[error("contact {contact} (nodes {node1}, {node2}): {source}")]
+    Contact {
+        /// Contact index.
+        contact: usize,
+        /// Inner node.
+        node1: usize,
+        /// Outer node.
+        node2: usize,
+        /// Cause.
+        source: ContactError,
+    },
+    /// Equation numbering failed.
+    #[error(transparent)]
+    Pattern(#[from] PatternError),
+    /// A model parameter is out of range.
+    #[error("strand model parameter {field} = {value}: {reason}")]
+    InvalidParameter {
+        /// Field.
+        field: &'static str,
+        /// Value.
+        value: f64,
+        /// Why.
+        reason: &'static str,
+    },
+}
+
+/// Model-building parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrandModelParameters {
+    /// Meshing.
+    pub mesh: MeshParameters,
+    /// Contact detection.
+    pub search: ContactSearchParameters,
+    /// Contact laws (the friction coefficient and elastic constants are taken from the strand).
+    pub contact: ContactParameters,
+    /// End-tie translational penalty as a multiple of the wire's EA / (shortest element).
+    pub end_penalty_factor: f64,
+    /// Initial interference given to every contact (m).
+    pub initial_interference_m: f64,
+}
+
+impl Default for StrandModelParameters {
+    fn default() -> Self {
+        Self {
+            mesh: MeshParameters::default(),
+            search: ContactSearchParameters::default(),
+            contact: ContactParameters::default(),
+            end_penalty_factor: 1e3,
+            initial_interference_m: 1e-9,
+        }
+    }
+}
+
+impl StrandModelParameters {
+    /// Checks the model's own fields (mesh, search and contact are checked where used).
+    pub fn validated(self) -> Result<Self, StrandModelError> {
+        if !(self.end_penalty_factor > 0.0 && self.end_penalty_factor.is_finite()) {
+            return Err(StrandModelError::InvalidParameter {
+                field: "end_penalty_factor",
+                value: self.end_penalty_factor,
+                reason: "must be finite and > 0",
+            });
+        }
+        if !(self.initial_interference_m >= 0.0 && self.initial_interference_m.is_finite()) {
+            return Err(StrandModelError::InvalidParameter {
+                field: "initial_interference_m",
+                value: self.initial_interference_m,
+                reason: "must be finite and >= 0",
+            });
+        }
+        Ok(self)
+    }
+}
+
+/// Immutable strand model.
+#[derive(Debug, Clone)]
+pub struct StrandModel {
+    /// Resolved geometry.
+    pub strand: Strand,
+    /// Mesh (nodes, wire elements, contact elements).
+    pub mesh: StrandMesh,
+    /// Beam frame on the mesh nodes.
+    pub frame: BeamFrame,
+    /// DOF numbering (core nodes prescribed).
+    pub dofs: DofMap,
+    /// Global pattern: frame elements, contacts, ties.
+    pub pattern: SparsePattern,
+    /// Contact elements, in mesh contact order.
+    pub contacts: Vec<ContactPair>,
+    /// Their initial histories.
+    pub initial_histories: Vec<ContactHistory>,
+    /// End ties.
+    pub ties: Vec<EndTie>,
+    /// Wire sections, by wire index.
+    pub sections: Vec<BeamSection>,
+    /// Whether each node is prescribed (core).
+    pub prescribed: Vec<bool>,
+}
+
+impl StrandModel {
+    /// Builds the model of `strand`.
+    pub fn new(strand: &Strand, params: &StrandModelParameters) -> Result<Self, StrandModelError> {
+        let params = params.validated()?;
+        let contacts_found = find_contacts(strand, &params.search)?;
+        let mesh = build_mesh(strand, &contacts_found, &params.mesh)?;
+        let wires = strand.wires();
+        let (e, nu) = (strand.young_modulus_pa, strand.poisson_ratio);
+        let sections = wires
+            .iter()
+            .map(|w| {
+                BeamSection::circle(w.radius_m, e, nu).map_err(|source| StrandModelError::Section {
+                    wire: w.id.0,
+                    source,
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let mut frame = BeamFrame::new(mesh.nodes.iter().map(|n| n.position).collect());
+        for el in &mesh.elements {
+            let a = &mesh.nodes[el.nodes[0].0];
+            let w = &wires[el.wire.0];
+            // local y: radial direction of a helical wire, x for the straight core
+            let hint = if w.layer.is_some() {
+                Vector3::new(a.position.x, a.position.y, 0.0)
+            } else {
+                Vector3::x()
+            };
+            frame.add_element(
+                [NodeId(el.nodes[0].0), NodeId(el.nodes[1].0)],
+                &hint,
+                &sections[el.wire.0],
+            )?;
+        }
+        let prescribed: Vec<bool> = mesh.nodes.iter().map(|n| n.wire.0 == 0).collect();
+        let constraints: Vec<(NodeId, [bool; NODE_DOFS])> = prescribed
+            .iter()
+            .enumerate()
+            .filter(|(_, &p)| p)
+            .map(|(i, _)| (NodeId(i), [true; NODE_DOFS]))
+            .collect();
+        let dofs = DofMap::new(frame.node_count(), &constraints)?;
+
+        let mut contact_params = params.contact;
+        contact_params.friction_coefficient = strand.friction_coefficient;
+        contact_params.young_modulus_pa = e;
+        contact_params.poisson_ratio = nu;
+        contact_params
+            .validate()
+            .map_err(|source| StrandModelError::Contact {
+                contact: 0,
+                node1: 0,
+                node2: 0,
+                source,
+            })?;
+        let mut contacts = Vec::with_capacity(mesh.contacts.len());
+        let mut initial_histories = Vec::with_capacity(mesh.contacts.len());
+        for (c, mc) in mesh.contacts.iter().enumerate() {
+            let [a, b] = mc.nodes;
+            let (na, nb) = (&mesh.nodes[a.0], &mesh.nodes[b.0]);
+            let (ra, rb) = (wires[na.wire.0].radius_m, wires[nb.wire.0].radius_m);
+            let (pair, history) = ContactPair::new(
+                &contact_params,
+                ra,
+                rb + params.initial_interference_m,
+                &NodeKinematics::at(na.position),
+                &na.tangent,
+                &NodeKinematics::at(nb.position),
+                &nb.tangent,
+            )
+            .map_err(|source| StrandModelError::Contact {
+                contact: c,
+                node1: a.0,
+                node2: b.0,
+                source,
+            })?;
+            contacts.push(pair);
+            initial_histories.push(history);
+        }
+
+        let h_min = mesh.stats.min_element_length_m.max(1e-12);
+        let mut ties = Vec::new();
+        for (w, range) in wires.iter().zip(mesh.wire_nodes.iter()) {
+            if w.layer.is_none() || range.is_empty() {
+                continue;
+            }
+            let s = &sections[w.id.0];
+            let ku = params.end_penalty_factor * s.young_pa * s.area_m2 / h_min;
+            let kr = params.end_penalty_factor * s.young_pa * s.inertia_y_m4 / h_min;
+            for node in [range.start, range.end - 1] {
+                let p = mesh.nodes[node].position;
+                let radial = Vector3::new(p.x, p.y, 0.0);
+                let norm = radial.norm();
+                if norm <= 0.0 {
+                    return Err(StrandModelError::InvalidParameter {
+                        field: "helix_radius_m",
+                        value: norm,
+                        reason: "a helical wire node lies on the strand axis",
+                    });
+                }
+                ties.push(EndTie {
+                    node,
+                    reference: p,
+                    radial: radial / norm,
+                    translation_penalty_n_per_m: ku,
+                    rotation_penalty_nm_per_rad: kr,
+                });
+            }
+        }
+
+        let mut element_eqs: Vec<Vec<Equation>> = dofs
+            .element_equations(&frame)
+            .into_iter()
+            .map(|e| e.to_vec())
+            .collect();
+        let dofs_ref = &dofs;
+        let node_eqs = |n: usize| (0..NODE_DOFS).map(move |k| dofs_ref.equation(NodeId(n), k));
+        for mc in &mesh.contacts {
+            element_eqs.push(
+                node_eqs(mc.nodes[0].0)
+                    .chain(node_eqs(mc.nodes[1].0))
+                    .collect(),
+            );
+        }
+        for t in &ties {
+            element_eqs.push(node_eqs(t.node).collect());
+        }
+        let pattern = SparsePattern::new(dofs.free_count(), Storage::Full, &element_eqs)?;
+        Ok(Self {
+            strand: strand.clone(),
+            mesh,
+            frame,
+            dofs,
+            pattern,
+            contacts,
+            initial_histories,
+            ties,
+            sections,
+            prescribed,
+        })
+    }
+
+    /// Pattern element index of contact `c`.
+    pub fn contact_pattern_element(&self, c: usize) -> usize {
+        self.frame.elements().len() + c
+    }
+
+    /// Pattern element index of tie `t`.
+    pub fn tie_pattern_element(&self, t: usize) -> usize {
+        self.frame.elements().len() + self.contacts.len() + t
+    }
+}

@@ -1,0 +1,181 @@
+//! The strand FE model on the 1+6+1 benchmark of the seed's Sec. 2.2 (DESIGN §6): the 1+6
+//! strand in tension against Costello's simple straight strand, and the outer helix of the
+//! 1+6+1 strand in bending against the stick and friction-limited slip solutions.
+
+use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
+use moorfret_solver::strand::analytical::SimpleStrand;
+use moorfret_solver::strand::driver::{run_case, StrandRunParameters};
+use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
+use moorfret_solver::strand::profile::{profile_from_json, Strand};
+
+const BENCHMARK: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../campaigns/benchmarks/strand_1_6_1.json"
+));
+
+fn benchmark(layers: usize) -> Strand {
+    let mut profile = profile_from_json(BENCHMARK).expect("benchmark profile parses");
+    if let Some(l) = profile.layers.as_mut() {
+        l.truncate(layers);
+    }
+    profile.validate().expect("benchmark profile is valid")
+}
+
+/// The seed's 'vs_analytical' regularisation: ε_N = 2e5 N/mm, γ_e = 1e-4 mm.
+fn vs_analytical() -> StrandModelParameters {
+    StrandModelParameters {
+        contact: ContactParameters {
+            normal: NormalLaw::Penalty {
+                stiffness_n_per_m: 2e8,
+            },
+            tangential: TangentialLaw::ElasticSlip {
+                elastic_slip_m: 1e-7,
+            },
+            ..ContactParameters::default()
+        },
+        ..StrandModelParameters::default()
+    }
+}
+
+#[test]
+fn one_plus_six_strand_in_tension_matches_costello() {
+    let strand = benchmark(1);
+    let model = StrandModel::new(&strand, &vs_analytical()).unwrap();
+    let result = run_case(&model, 1e-3, 0.0, &StrandRunParameters::default()).unwrap();
+    let layer = &strand.layers[0];
+    let costello = SimpleStrand {
+        core_radius_m: strand.core_wire_radius_m,
+        wire_radius_m: layer.wire_radius_m,
+        wires: layer.wires,
+        lay_angle_rad: layer.lay_angle_rad,
+        young_modulus_pa: strand.young_modulus_pa,
+        poisson_ratio: strand.poisson_ratio,
+    }
+    .axial_response(1e-3);
+    // mean helical wire tension at mid-length
+    let mid = 0.5 * strand.model_length_m;
+    let helical: Vec<f64> = result
+        .element_forces
+        .iter()
+        .filter(|f| f.wire.0 > 0 && (f.z_m - mid).abs() < 0.02)
+        .map(|f| f.axial_force_n)
+        .collect();
+    let wire_tension = helical.iter().sum::<f64>() / helical.len() as f64;
+    let e_wire = (wire_tension - costello.wire_tension_n) / costello.wire_tension_n;
+    let e_strand = (result.strand_force_n - costello.strand_force_n) / costello.strand_force_n;
+    eprintln!(
+        "1+6 tension: wire {wire_tension:.1} N vs {:.1} N ({:+.3} %), strand {:.1} N vs {:.1} N ({:+.3} %), {:?}",
+        costello.wire_tension_n,
+        100.0 * e_wire,
+        result.strand_force_n,
+        costello.strand_force_n,
+        100.0 * e_strand,
+        result.stats.step_iterations
+    );
+    assert!(e_wire.abs() < 0.02);
+    assert!(e_strand.abs() < 0.02);
+}
+
+/// (θ, arc length, FE force, stick solution) per outer-helix element, T₀, the case result.
+type OuterHelix = (
+    Vec<(f64, f64, f64, f64)>,
+    f64,
+    moorfret_solver::strand::driver::CaseResult,
+);
+
+/// Outer-helix forces of the 1+6+1 model at ε = 1e-3 and curvature `kappa`:
+/// (θ, arc length, FE force, stick solution), tension share T₀ taken from the straight case.
+fn outer_helix(kappa: f64) -> OuterHelix {
+    let strand = benchmark(2);
+    let model = StrandModel::new(&strand, &vs_analytical()).unwrap();
+    let params = StrandRunParameters::default();
+    let outer = strand.first_wire_of_layer(1);
+    let straight = run_case(&model, 1e-3, 0.0, &params).unwrap();
+    let forces = |r: &moorfret_solver::strand::driver::CaseResult| -> Vec<_> {
+        r.element_forces
+            .iter()
+            .filter(|f| f.wire == outer)
+            .copied()
+            .collect()
+    };
+    let f0 = forces(&straight);
+    let t0 = f0.iter().map(|f| f.axial_force_n).sum::<f64>() / f0.len() as f64;
+    let bent = run_case(&model, 1e-3, kappa, &params).unwrap();
+    let layer = &strand.layers[1];
+    let ea = model.sections[outer.0].young_pa * model.sections[outer.0].area_m2;
+    let rows = forces(&bent)
+        .iter()
+        .map(|f| {
+            let stick = t0
+                + moorfret_solver::strand::analytical::stick_force_variation(
+                    ea,
+                    layer.lay_angle_rad,
+                    layer.helix_radius_m,
+                    kappa,
+                    f.theta_rad,
+                );
+            (f.theta_rad, f.arc_length_m, f.axial_force_n, stick)
+        })
+        .collect();
+    (rows, t0, bent)
+}
+
+/// Below the slip onset κ_b ≈ 1.2e-2 1/m (DESIGN §6) every contact sticks and the outer-helix
+/// force variation follows sin θ in phase with the stick solution ΔF = EA cos²β R κ sin θ.
+/// Measured: FE amplitude (least-squares fit) 0.49 of the analytical one, correlation 0.970 (max |FE − stick| ≈ 200 N for a 250 N
+/// amplitude) although every contact sticks; the analytical solution assumes the outer wire
+/// follows plane sections continuously, the model transfers the force through 18 trellis
+/// points on inner wires that can bend and roll on their core line contact. Not resolved.
+#[test]
+fn outer_helix_sticks_at_small_curvature_in_phase_with_the_stick_solution() {
+    let (rows, t0, bent) = outer_helix(1e-2);
+    assert!(bent
+        .contacts
+        .iter()
+        .all(|c| c.status == moorfret_solver::contact::ContactStatus::Stick));
+    let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
+    let fe_mean = rows.iter().map(|r| r.2).sum::<f64>() / rows.len() as f64;
+    for r in &rows {
+        let (x, y) = (r.3 - t0, r.2 - fe_mean);
+        sxy += x * y;
+        sxx += x * x;
+        syy += y * y;
+    }
+    let correlation = sxy / (sxx * syy).sqrt();
+    let ratio = sxy / sxx;
+    let worst = rows.iter().map(|r| (r.2 - r.3).abs()).fold(0.0, f64::max);
+    eprintln!(
+        "kappa 1e-2: T0 {t0:.1} N, correlation {correlation:.4}, amplitude ratio FE/stick {ratio:.3}, max |FE - stick| {worst:.1} N, steps {:?}",
+        bent.stats.step_iterations
+    );
+    assert!(correlation > 0.95, "correlation {correlation}");
+}
+
+/// Above the slip onset (κ = 5e-2 1/m ≈ 4 κ_b) the outer-helix force variation is friction
+/// limited: the full-slip solution integrates |dF/ds| = μ q, q = T₀ sin²β/R, with
+/// dθ/ds = sin β/R, to ΔF = μ T₀ sin β sin θ (298 N here) instead of the stick amplitude
+/// EA cos²β R κ (1255 N). Measured: fitted FE amplitude 363 N (+22 % on the slip solution, the
+/// trellis points carry more than T₀ sin²β/R where the wire is locally more tensioned),
+/// 237 of 330 contacts slipping.
+#[test]
+fn outer_helix_force_is_friction_limited_above_slip_onset() {
+    let kappa = 5e-2;
+    let (rows, t0, bent) = outer_helix(kappa);
+    let strand = benchmark(2);
+    let beta = strand.layers[1].lay_angle_rad;
+    let slip_amplitude = strand.friction_coefficient * t0 * beta.sin();
+    let stick_amplitude = rows.iter().map(|r| (r.3 - t0).abs()).fold(0.0, f64::max);
+    let fit = rows.iter().map(|r| (r.2 - t0) * r.0.sin()).sum::<f64>()
+        / rows.iter().map(|r| r.0.sin().powi(2)).sum::<f64>();
+    let slipping = bent
+        .contacts
+        .iter()
+        .filter(|c| c.status == moorfret_solver::contact::ContactStatus::Slip)
+        .count();
+    eprintln!(
+        "kappa 5e-2: fitted amplitude {fit:.1} N, slip solution {slip_amplitude:.1} N, stick {stick_amplitude:.1} N, {slipping} slipping"
+    );
+    assert!(fit < 0.35 * stick_amplitude);
+    assert!((fit - slip_amplitude).abs() < 0.3 * slip_amplitude);
+    assert!(2 * slipping > bent.contacts.len());
+}
