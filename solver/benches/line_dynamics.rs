@@ -19,7 +19,7 @@ use moorfret_solver::mooring::statics::{solve_statics, StaticParams, StaticStart
 use moorfret_solver::mooring::trajectory::HarmonicMotion;
 use moorfret_solver::mooring::workspace::LineWorkspace;
 use moorfret_solver::mooring::LineError;
-use moorfret_solver::waves::{FluidKinematics, SeaKinematics};
+use moorfret_solver::waves::RegularWave;
 use nalgebra::Vector3;
 
 const PAPER_CASE: &str = include_str!(concat!(
@@ -106,58 +106,6 @@ fn paper_line(rope_element_m: f64) -> LineModel {
     .unwrap()
 }
 
-/// Airy regular wave along +x.
-struct RegularWave {
-    amplitude_m: f64,
-    omega: f64,
-    k: f64,
-    depth_m: f64,
-}
-
-impl RegularWave {
-    fn new(amplitude_m: f64, period_s: f64, depth_m: f64) -> Self {
-        let omega = 2.0 * std::f64::consts::PI / period_s;
-        let g = 9.80665;
-        let mut k = omega * omega / g;
-        for _ in 0..50 {
-            let th = (k * depth_m).tanh();
-            k -= (g * k * th - omega * omega) / (g * th + g * k * depth_m * (1.0 - th * th));
-        }
-        RegularWave {
-            amplitude_m,
-            omega,
-            k,
-            depth_m,
-        }
-    }
-}
-
-impl SeaKinematics for RegularWave {
-    fn kinematics(&self, x: &Vector3<f64>, t: f64) -> FluidKinematics {
-        let theta = self.k * x.x - self.omega * t;
-        if x.z > self.amplitude_m * theta.cos() {
-            return FluidKinematics::default();
-        }
-        let sh = (self.k * self.depth_m).sinh();
-        let ch_z = (self.k * (x.z + self.depth_m)).cosh() / sh;
-        let sh_z = (self.k * (x.z + self.depth_m)).sinh() / sh;
-        let (s, c) = theta.sin_cos();
-        let aw = self.amplitude_m * self.omega;
-        FluidKinematics {
-            velocity: Vector3::new(aw * ch_z * c, 0.0, aw * sh_z * s),
-            acceleration: Vector3::new(
-                aw * self.omega * ch_z * s,
-                0.0,
-                -aw * self.omega * sh_z * c,
-            ),
-            dynamic_pressure_pa: 0.0,
-        }
-    }
-    fn elevation(&self, x: f64, _y: f64, t: f64) -> f64 {
-        self.amplitude_m * (self.k * x - self.omega * t).cos()
-    }
-}
-
 /// Statics and `duration_s` of dynamics; outputs recorded every 0.1 s after a 100 s transient.
 fn simulate(
     model: &LineModel,
@@ -179,7 +127,15 @@ fn simulate(
         phase_rad: 0.0,
         ramp_s: 24.0,
     };
-    let wave = RegularWave::new(3.0, 12.0, model.environment().water_depth_m);
+    let wave = RegularWave::new(
+        6.0,
+        12.0,
+        0.0,
+        0.0,
+        model.environment().water_depth_m,
+        model.environment().water_density_kg_m3,
+    )
+    .unwrap();
     let params = DynamicParams {
         condense_fairlead: false,
         spectral_radius: SPECTRAL_RADIUS,

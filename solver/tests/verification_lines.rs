@@ -11,7 +11,7 @@ use moorfret_solver::mooring::statics::{solve_statics, StaticParams, StaticSolut
 use moorfret_solver::mooring::trajectory::{SmoothMove, Stationary};
 use moorfret_solver::mooring::workspace::LineWorkspace;
 use moorfret_solver::mooring::LineError;
-use moorfret_solver::waves::{FluidKinematics, SeaKinematics, StillWater};
+use moorfret_solver::waves::{RegularWave, StillWater};
 use nalgebra::Vector3;
 
 const PAPER_CASE: &str = include_str!(concat!(
@@ -137,59 +137,6 @@ fn suspended_rope_follows_the_elastic_catenary() {
     println!("catenary check at {checked} points: tension error {worst_t:.2e}, curvature error {worst_k:.2e}; H = {h:.1} N, V = {v_fairlead:.1} N, {} iterations", sol.stats.iterations);
     assert!(worst_t < 0.005, "tension error {worst_t}");
     assert!(worst_k < 0.01, "curvature error {worst_k}");
-}
-
-/// Airy regular wave of amplitude `a`, period `t` in depth `d`, travelling along +x.
-struct RegularWave {
-    amplitude_m: f64,
-    omega: f64,
-    k: f64,
-    depth_m: f64,
-}
-
-impl RegularWave {
-    fn new(amplitude_m: f64, period_s: f64, depth_m: f64) -> Self {
-        let omega = 2.0 * std::f64::consts::PI / period_s;
-        let g = 9.80665;
-        // Newton on ω² = g k tanh(k d).
-        let mut k = omega * omega / g;
-        for _ in 0..50 {
-            let th = (k * depth_m).tanh();
-            let f = g * k * th - omega * omega;
-            let df = g * th + g * k * depth_m * (1.0 - th * th);
-            k -= f / df;
-        }
-        RegularWave {
-            amplitude_m,
-            omega,
-            k,
-            depth_m,
-        }
-    }
-}
-
-impl SeaKinematics for RegularWave {
-    fn kinematics(&self, x: &Vector3<f64>, t: f64) -> FluidKinematics {
-        let theta = self.k * x.x - self.omega * t;
-        if x.z > self.amplitude_m * theta.cos() {
-            return FluidKinematics::default();
-        }
-        let sh = (self.k * self.depth_m).sinh();
-        let ch_z = (self.k * (x.z + self.depth_m)).cosh() / sh;
-        let sh_z = (self.k * (x.z + self.depth_m)).sinh() / sh;
-        let (s, c) = theta.sin_cos();
-        let aw = self.amplitude_m * self.omega;
-        let aw2 = aw * self.omega;
-        FluidKinematics {
-            velocity: Vector3::new(aw * ch_z * c, 0.0, aw * sh_z * s),
-            acceleration: Vector3::new(aw2 * ch_z * s, 0.0, -aw2 * sh_z * c),
-            dynamic_pressure_pa: 1025.0 * 9.80665 * self.amplitude_m * ch_z * sh * c
-                / (self.k * self.depth_m).cosh(),
-        }
-    }
-    fn elevation(&self, x: f64, _y: f64, t: f64) -> f64 {
-        self.amplitude_m * (self.k * x - self.omega * t).cos()
-    }
 }
 
 #[test]
@@ -410,7 +357,15 @@ fn regular_wave_run_records_finite_hot_spot_histories_and_envelopes() {
     let (spec, env, ends) = paper_case(Some(4.0));
     let model = LineModel::new("line-1", &spec, ends, &env).unwrap();
     let sol = statics(&model);
-    let wave = RegularWave::new(2.0, 10.0, env.water_depth_m);
+    let wave = RegularWave::new(
+        4.0,
+        10.0,
+        0.0,
+        0.0,
+        env.water_depth_m,
+        env.water_density_kg_m3,
+    )
+    .unwrap();
     let motion = moorfret_solver::mooring::trajectory::HarmonicMotion {
         mean_m: ends.fairlead_m,
         amplitude_m: Vector3::new(2.0, 0.0, 0.0),
