@@ -8,6 +8,7 @@
 //! - [`histogram`]: 2D histograms of cycles (slip amplitude × normal force);
 //! - [`hertz`]: Hertz contact of crossed cylinders (ellipse semi-axes, peak pressure);
 //! - [`indicators`]: fretting regime (Mindlin), Ruiz products, fretting S-N damage;
+//! - [`record`]: the per-contact record the strand stage produces, and contact classes;
 //! - [`runin`]: where the mean slip stops drifting (run-in to exclude from the statistics).
 //!
 //! Units follow the counted history (slip in m, forces in N); indices are zero-based samples.
@@ -18,6 +19,7 @@ pub mod hertz;
 pub mod histogram;
 pub mod indicators;
 pub mod rainflow;
+pub mod record;
 pub mod reversals;
 pub mod runin;
 pub mod streaming;
@@ -31,6 +33,7 @@ pub use indicators::{
     RegimeCriterion, WireStress,
 };
 pub use rainflow::{count_cycles, Cycle, RainflowCounter, RainflowOptions};
+pub use record::{AngularPosition, ContactClass, ContactRecord};
 pub use reversals::{extract_reversals, Reversal, ReversalDetector};
 pub use runin::{detect_run_in, RunIn, RunInParams};
 pub use streaming::{SegmentSummary, StreamingRainflow};
