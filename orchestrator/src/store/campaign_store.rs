@@ -23,7 +23,7 @@ use super::model::{
     SweepReport, WorkerInfo,
 };
 use super::policy::QueuePolicy;
-use super::types::{CampaignId, JobId, SeaStateId, WorkerId};
+use super::types::{AttemptId, AttemptOutcome, CampaignId, JobId, SeaStateId, WorkerId};
 use super::{postgres, sqlite};
 
 /// How to open a store.
@@ -292,6 +292,14 @@ impl Store {
         campaign: CampaignId,
     ) -> Result<Vec<AttemptRecord>, StoreError> {
         dispatch!(self, q => q.attempts_of_campaign(campaign).await)
+    }
+
+    /// How an attempt ended (`None` while it runs).
+    pub async fn attempt_outcome(
+        &self,
+        attempt: AttemptId,
+    ) -> Result<Option<AttemptOutcome>, StoreError> {
+        dispatch!(self, q => q.attempt_outcome(attempt).await)
     }
 
     /// The results stored for a job (empty lists before it is done).

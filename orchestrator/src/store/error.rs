@@ -181,6 +181,7 @@ impl StoreError {
                         | sqlx::Error::PoolClosed
                         | sqlx::Error::WorkerCrashed
                 ) || is_busy(source)
+                    || is_server_unavailable(source)
             }
             StoreError::ArtifactIo { .. } | StoreError::Io { .. } => true,
             _ => false,
@@ -190,6 +191,23 @@ impl StoreError {
     /// Whether this is SQLite's "database is locked" / "database is busy".
     pub fn is_database_locked(&self) -> bool {
         matches!(self, StoreError::Database { source, .. } if is_busy(source))
+    }
+}
+
+/// Whether PostgreSQL reports that the connection or the server went away, or that the
+/// transaction lost a race it may win on a second try (SQLSTATE class 08 connection
+/// exceptions; 57P01-57P03 shutdown, crash and start-up; 40001 serialization failure; 40P01
+/// deadlock). SQLite's codes are numeric, so they never match.
+fn is_server_unavailable(source: &sqlx::Error) -> bool {
+    match source {
+        sqlx::Error::Database(db) => db.code().is_some_and(|code| {
+            code.starts_with("08")
+                || matches!(
+                    code.as_ref(),
+                    "57P01" | "57P02" | "57P03" | "40001" | "40P01"
+                )
+        }),
+        _ => false,
     }
 }
 

@@ -8,6 +8,8 @@
 //!   checkpoints.
 //! - [`Clock`], [`QueuePolicy`]: time source and queue settings.
 //! - [`TestPayload`] ([`test_kind`]): payload of the test-only job kind.
+//! - [`RetryPolicy`] ([`retry`]): capped exponential backoff while the database is away.
+//! - [`WallTimeBudget`] ([`wall_time`]): which jobs fit in a worker's remaining wall time.
 //!
 //! The schema lives in `migrations/sqlite` and `migrations/postgres`, embedded in the binary.
 //! Times are integer ms since the Unix epoch; JSON columns hold text.
@@ -21,9 +23,11 @@ pub mod filesystem;
 pub mod model;
 pub mod policy;
 mod postgres;
+pub mod retry;
 mod sqlite;
 pub mod test_kind;
 pub mod types;
+pub mod wall_time;
 
 pub use artifacts::ArtifactStore;
 pub use campaign_store::{Store, StoreLocation, StoreOptions};
@@ -31,5 +35,7 @@ pub use clock::{Clock, ManualClock};
 pub use error::StoreError;
 pub use model::*;
 pub use policy::QueuePolicy;
+pub use retry::{complete_with_retry, RetryPolicy};
 pub use test_kind::TestPayload;
 pub use types::*;
+pub use wall_time::WallTimeBudget;

@@ -8,6 +8,13 @@ impl Queue {
         filter: &ClaimFilter,
     ) -> Result<Option<Lease>> {
         const OP: &str = "claim job";
+        if filter.max_expected_cost_s.is_some_and(f64::is_nan) {
+            return Err(StoreError::InvalidParameter {
+                field: "max_expected_cost_s",
+                value: "NaN".into(),
+                reason: "must be a number of seconds",
+            });
+        }
         // Kinds come from a closed enum, so inlining their text is safe.
         let kind_filter = if filter.kinds.is_empty() {
             String::new()

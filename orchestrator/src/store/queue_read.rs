@@ -25,6 +25,26 @@ impl Queue {
         rows.iter().map(job_from_row).collect()
     }
 
+    pub(crate) async fn attempt_outcome(
+        &self,
+        attempt: AttemptId,
+    ) -> Result<Option<AttemptOutcome>> {
+        let outcome: Option<Option<String>> =
+            sqlx::query_scalar("SELECT outcome FROM attempts WHERE id = $1")
+                .bind(attempt.0)
+                .fetch_optional(&self.pool)
+                .await
+                .map_err(StoreError::db("read attempt"))?;
+        match outcome {
+            Some(text) => text.map(|t| t.parse()).transpose(),
+            None => Err(StoreError::InvalidParameter {
+                field: "attempt",
+                value: attempt.0.to_string(),
+                reason: "is not recorded in this store",
+            }),
+        }
+    }
+
     pub(crate) async fn attempts_of_campaign(
         &self,
         campaign: CampaignId,
