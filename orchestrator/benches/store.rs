@@ -1,5 +1,7 @@
-//! Queue overhead: claim + complete per job with 8 concurrent workers (separate pools, as
-//! separate processes would have), and inserting a 10 000-job plan with dependencies.
+//! Queue overhead: claim + complete per job with 8 and 16 concurrent workers (separate pools,
+//! as separate processes would have), and inserting a 10 000-job plan with dependencies.
+//! Criterion's throughput of the `claim_complete_16_workers` group is the claim rate of a
+//! 16-worker cluster: claims (each followed by its completion) per second.
 //!
 //! SQLite always; PostgreSQL too when `MOORFRET_BENCH_POSTGRES_URL` is set (each run in a
 //! schema of its own, dropped afterwards). Targets (DESIGN §7 and the store's acceptance):
@@ -18,8 +20,8 @@ use moorfret_orchestrator::store::{
 use serde_json::json;
 use tokio::runtime::Runtime;
 
-const WORKERS: i64 = 8;
 const JOBS_PER_RUN: usize = 400;
+const JOBS_PER_RUN_16: usize = 1_600;
 const PLAN_JOBS: usize = 10_000;
 
 /// A fresh store: an SQLite file in `dir`, or a new schema on the PostgreSQL server.
@@ -70,11 +72,11 @@ async fn new_campaign(store: &Store, name: &str) -> moorfret_orchestrator::store
         .expect("create campaign")
 }
 
-/// Runs 8 workers until the queue is empty; returns the time they took.
-async fn drain(location: &str, options: &StoreOptions) -> Duration {
+/// Runs `workers` workers until the queue is empty; returns the time they took.
+async fn drain(location: &str, options: &StoreOptions, workers: usize) -> Duration {
     let mut handles = Vec::new();
     let mut stores = Vec::new();
-    for _ in 0..WORKERS {
+    for _ in 0..workers {
         let options = StoreOptions {
             max_connections: 2,
             ..options.clone()
@@ -115,12 +117,18 @@ async fn drain(location: &str, options: &StoreOptions) -> Duration {
 }
 
 fn claim_and_complete(c: &mut Criterion) {
+    claim_and_complete_with(c, 8, JOBS_PER_RUN);
+    claim_and_complete_with(c, 16, JOBS_PER_RUN_16);
+}
+
+/// `workers` workers drain `jobs` test jobs; throughput = claims per second.
+fn claim_and_complete_with(c: &mut Criterion, workers: usize, jobs: usize) {
     let runtime = Runtime::new().expect("tokio runtime");
     let dir = tempfile::tempdir().expect("temp dir");
-    let mut group = c.benchmark_group("claim_complete_8_workers");
+    let mut group = c.benchmark_group(format!("claim_complete_{workers}_workers"));
     group
         .sample_size(10)
-        .throughput(Throughput::Elements(JOBS_PER_RUN as u64));
+        .throughput(Throughput::Elements(jobs as u64));
     for backend in ["sqlite", "postgres"] {
         let mut run = 0;
         if backend == "postgres" && std::env::var("MOORFRET_BENCH_POSTGRES_URL").is_err() {
@@ -131,18 +139,18 @@ fn claim_and_complete(c: &mut Criterion) {
                 let mut total = Duration::ZERO;
                 for _ in 0..iters {
                     run += 1;
-                    let (_, location, options) = locations(dir.path(), run)
+                    let (_, location, options) = locations(dir.path(), workers * 100_000 + run)
                         .into_iter()
                         .find(|(name, ..)| *name == backend)
                         .expect("backend location");
                     total += runtime.block_on(async {
                         let store = Store::open(&location, options.clone()).await.expect("open");
                         let campaign = new_campaign(&store, "bench").await;
-                        let jobs: Vec<PlannedJob> = (0..JOBS_PER_RUN)
+                        let plan: Vec<PlannedJob> = (0..jobs)
                             .map(|i| PlannedJob::new(JobKind::Test, json!({ "i": i })))
                             .collect();
-                        store.insert_plan(campaign, &jobs).await.expect("plan");
-                        let elapsed = drain(&location, &options).await;
+                        store.insert_plan(campaign, &plan).await.expect("plan");
+                        let elapsed = drain(&location, &options, workers).await;
                         store.drop_postgres_schema().await.expect("clean up");
                         elapsed
                     });
