@@ -3,8 +3,11 @@
 
 use clap::{Parser, Subcommand};
 
+pub mod campaign;
+pub mod drive;
 pub mod rainflow;
 pub mod run;
+pub mod worker;
 
 /// moorfret: fretting fatigue of spiral-strand mooring ropes over a site's long-term sea climate.
 #[derive(Debug, Parser)]
@@ -23,6 +26,11 @@ pub enum Command {
     Run(run::RunCommand),
     /// Rainflow-count one column of a CSV file (ASTM E1049-85), cycles as JSON or CSV.
     Rainflow(rainflow::RainflowArgs),
+    /// Campaigns: launch, resume, status, cancel.
+    #[command(subcommand)]
+    Campaign(campaign::CampaignCommand),
+    /// A worker process serving a store's campaigns.
+    Worker(worker::WorkerArgs),
 }
 
 /// Execute a parsed command line.
@@ -30,5 +38,7 @@ pub fn execute(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Run(cmd) => run::execute(cmd),
         Command::Rainflow(args) => rainflow::execute(args),
+        Command::Campaign(cmd) => campaign::execute(cmd),
+        Command::Worker(args) => worker::execute(args),
     }
 }

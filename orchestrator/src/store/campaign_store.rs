@@ -18,8 +18,8 @@ use std::path::PathBuf;
 use super::clock::Clock;
 use super::error::StoreError;
 use super::model::{
-    AttemptRecord, CampaignProgress, CancelReport, ClaimFilter, FailureDisposition, JobFailure,
-    JobRecord, JobResults, Lease, LifetimeDamage, NewCampaign, NewSeaState, PlannedJob,
+    AttemptRecord, CampaignProgress, CampaignRecord, CancelReport, ClaimFilter, FailureDisposition,
+    JobFailure, JobRecord, JobResults, Lease, LifetimeDamage, NewCampaign, NewSeaState, PlannedJob,
     SweepReport, WorkerInfo,
 };
 use super::policy::QueuePolicy;
@@ -186,6 +186,22 @@ impl Store {
         dispatch!(self, q => q.create_campaign(campaign).await)
     }
 
+    /// Creates a campaign with its sea states and jobs in one transaction: an interrupted
+    /// launch leaves nothing or the whole plan. `make_jobs` gets the sea-state ids in order.
+    pub async fn create_planned_campaign(
+        &self,
+        campaign: &NewCampaign,
+        sea_states: &[NewSeaState],
+        make_jobs: impl FnOnce(&[SeaStateId]) -> Vec<PlannedJob>,
+    ) -> Result<(CampaignId, Vec<JobId>), StoreError> {
+        dispatch!(self, q => q.create_planned_campaign(campaign, sea_states, make_jobs).await)
+    }
+
+    /// Every campaign, by id.
+    pub async fn campaigns(&self) -> Result<Vec<CampaignRecord>, StoreError> {
+        dispatch!(self, q => q.campaigns().await)
+    }
+
     /// Finds a campaign by name.
     pub async fn campaign_by_name(&self, name: &str) -> Result<Option<CampaignId>, StoreError> {
         dispatch!(self, q => q.campaign_by_name(name).await)
@@ -260,6 +276,12 @@ impl Store {
         failure: &JobFailure,
     ) -> Result<FailureDisposition, StoreError> {
         dispatch!(self, q => q.fail(lease, failure).await)
+    }
+
+    /// Gives a running job back to the queue without counting the attempt (a worker stopping
+    /// on a signal); the attempt is recorded as `cancelled` with `reason`.
+    pub async fn release(&self, lease: &Lease, reason: &str) -> Result<(), StoreError> {
+        dispatch!(self, q => q.release(lease, reason).await)
     }
 
     /// Returns running jobs whose lease expired to ready (counting them lost, not failed);

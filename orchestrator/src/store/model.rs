@@ -8,8 +8,8 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
 use super::types::{
-    AttemptId, AttemptOutcome, CampaignId, JobId, JobKind, JobState, LeaseToken, SeaStateId,
-    WorkerId,
+    AttemptId, AttemptOutcome, CampaignId, CampaignState, JobId, JobKind, JobState, LeaseToken,
+    SeaStateId, WorkerId,
 };
 
 /// A campaign to create: its name and resolved specification.
@@ -342,4 +342,21 @@ pub struct LifetimeDamage {
     pub occurrence_covered: f64,
     /// Number of contributing sea states.
     pub sea_states: i64,
+}
+
+/// A `campaigns` row.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CampaignRecord {
+    /// Id.
+    pub id: CampaignId,
+    /// Unique name.
+    pub name: String,
+    /// Resolved specification.
+    pub spec: Value,
+    /// sha256 (hex) of the resolved specification.
+    pub spec_sha256: String,
+    /// Active or cancelled.
+    pub state: CampaignState,
+    /// Creation time, ms since the epoch.
+    pub created_at_ms: i64,
 }

@@ -14,7 +14,7 @@ use sqlx::{Pool, Row, Transaction};
 use super::clock::{system_now_ms, Clock};
 use super::error::StoreError;
 use super::model::{
-    AttemptRecord, CampaignProgress, CancelReport, ClaimFilter, ContactStatistics, DamageInput,
+    AttemptRecord, CampaignProgress, CampaignRecord, CancelReport, ClaimFilter, ContactStatistics, DamageInput,
     FailureDisposition, FailureKind, HotSpotSummary, JobArtifact, JobFailure, JobRecord,
     JobResults, Lease, LifetimeDamage, NewCampaign, NewSeaState, PlannedJob, SweepReport,
     WorkerInfo,
@@ -215,6 +215,7 @@ async fn fail_dependents(tx: &mut Tx, job: JobId, now: i64) -> Result<u64> {
 }
 
 include!("queue_plan.rs");
+include!("queue_campaign.rs");
 include!("queue_lease.rs");
 include!("queue_recovery.rs");
 include!("queue_read.rs");

@@ -1,7 +1,7 @@
 //! Payload of the test-only job kind ([`super::JobKind::Test`]), used to exercise the queue.
 //!
 //! The payload tells the executing worker what to do: succeed, sleep then succeed, fail
-//! transiently on its first attempts, or fail permanently. Such jobs may store only a job-level
+//! transiently on its first attempts, fail permanently, or crash the worker process. Such jobs may store only a job-level
 //! result; the store refuses result rows from them and the users' views exclude them.
 
 use serde::{Deserialize, Serialize};
@@ -26,14 +26,16 @@ pub enum TestPayload {
     },
     /// Fails permanently.
     FailPermanent,
+    /// Aborts the worker process while running (a crash; the lease then expires).
+    Crash,
 }
 
 impl TestPayload {
     /// The failure this payload reports on `attempt` (1-based), or `None` if it succeeds.
-    /// Sleeping is left to the caller, which owns the runtime.
+    /// Sleeping and crashing are left to the caller, which owns the runtime and the process.
     pub fn failure_on_attempt(&self, attempt: i64) -> Option<JobFailure> {
         match self {
-            TestPayload::Succeed | TestPayload::Sleep { .. } => None,
+            TestPayload::Succeed | TestPayload::Sleep { .. } | TestPayload::Crash => None,
             TestPayload::FailTransient { failing_attempts } if attempt <= *failing_attempts => {
                 Some(JobFailure {
                     kind: FailureKind::Transient,

@@ -1,0 +1,125 @@
+//! What a worker needs to run a campaign's jobs: the campaign's resolved inputs (stored with
+//! the campaign, so a worker needs the store and nothing else: no campaign file, no data files
+//! on its machine) and the small per-job payloads.
+//!
+//! Cache keys: sha256 of the job kind, the solver version, the sha256 of the campaign inputs
+//! that decide results (everything but the campaign name) and the job payload, which for a
+//! strand job holds its global job's cache key. Identical inputs are computed once, also across
+//! campaigns in one database.
+
+use moorfret_solver::floater::FloaterSpec;
+use moorfret_solver::global::case::SeaStateSpec;
+use moorfret_solver::global::CaseSpec;
+use moorfret_solver::strand::profile::StrandProfile;
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+
+use super::spec::CampaignSpec;
+
+/// Version of the solver whose results the cache keys vouch for.
+pub const SOLVER_VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// Floater content of the base case.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum FloaterContent {
+    /// A rigid-body floater description.
+    RigidBody(Box<FloaterSpec>),
+    /// The text of a prescribed-motion table.
+    PrescribedMotionCsv(String),
+}
+
+/// The campaign's inputs with every referenced file's content, as stored with the campaign.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CampaignInputs {
+    /// The campaign file.
+    pub spec: CampaignSpec,
+    /// The global base case, hot spots of the campaign.
+    pub base_case: CaseSpec,
+    /// Its floater.
+    pub floater: FloaterContent,
+    /// The strand profile, friction override applied.
+    pub profile: StrandProfile,
+    /// Axial stiffness EA of the rope at each hot spot (N): ε(t) = T(t) / EA.
+    pub hot_spot_axial_stiffness_n: Vec<f64>,
+}
+
+/// Input of a `global` job.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GlobalPayload {
+    /// Sea state index in the campaign.
+    pub sea_state_index: usize,
+    /// Significant wave height (m).
+    pub hs_m: f64,
+    /// Peak period (s).
+    pub tp_s: f64,
+    /// Seed index within the sea state.
+    pub seed_index: usize,
+    /// Seed of the wave realisation.
+    pub seed: u64,
+}
+
+/// Input of a `strand` job: one hot spot of one global realisation.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StrandPayload {
+    /// The realisation.
+    pub global: GlobalPayload,
+    /// Hot spot index in the campaign.
+    pub hot_spot_index: usize,
+    /// Cache key of the global job whose hot-spot series this job loads.
+    pub global_cache_key: String,
+}
+
+impl CampaignInputs {
+    /// The base case with one sea state, seed and the campaign's timing, wind and hot spots.
+    pub fn case_for(&self, hs_m: f64, tp_s: f64, seed: u64) -> CaseSpec {
+        let sim = &self.spec.simulation;
+        let mut case = self.base_case.clone();
+        case.name = format!("{}_hs{hs_m}_tp{tp_s}_seed{seed}", self.spec.name);
+        case.sea_state = SeaStateSpec {
+            hs_m,
+            tp_s,
+            gamma: sim.gamma.clone(),
+            seed,
+            heading_deg: sim.heading_deg,
+        };
+        case.timing.transient_s = sim.transient_s;
+        case.timing.duration_s = sim.duration_s;
+        case.timing.time_step_s = sim.time_step_s;
+        case.timing.output_interval_s = sim.output_interval_s;
+        case.timing.wave_ramp_s = sim
+            .wave_ramp_s
+            .unwrap_or(case.timing.wave_ramp_s)
+            .min(sim.transient_s);
+        if let Some(wind) = &sim.wind {
+            case.wind = wind.clone();
+        }
+        case.hot_spots = self.spec.hot_spots.clone();
+        case
+    }
+
+    /// sha256 (hex) of every input that decides results: all but names and free text.
+    pub fn results_sha256(&self) -> String {
+        let mut copy = self.clone();
+        copy.spec.name.clear();
+        copy.spec.about = None;
+        copy.spec.design_life_years = 0.0;
+        copy.base_case.name.clear();
+        copy.base_case.about = None;
+        let text = serde_json::to_string(&copy).unwrap_or_default();
+        hex::encode(Sha256::digest(text.as_bytes()))
+    }
+}
+
+/// Cache key of a job: sha256 of kind, solver version, campaign inputs hash and payload.
+pub fn cache_key(kind: &str, inputs_sha256: &str, payload_json: &str) -> String {
+    let mut h = Sha256::new();
+    for part in [kind, SOLVER_VERSION, inputs_sha256, payload_json] {
+        h.update(part.as_bytes());
+        h.update([0]);
+    }
+    hex::encode(h.finalize())
+}

@@ -1,0 +1,186 @@
+//! Planning (DESIGN §3.2): scatter diagram → sea states → jobs.
+//!
+//! Every non-zero cell becomes a sea state with Hs at the centre of its bin and Tp of its
+//! column; its occurrence fraction of the year is `cell / 100` for joint-percent tables and
+//! `cell / 100 × share / 100` for a sector table. Realisation seeds are drawn once, here, from
+//! the campaign seed (SplitMix64, Steele, Lea & Flood 2014) and stored with the sea state, so a
+//! resume never changes them.
+//!
+//! Jobs: one `global` per (sea state, seed), then one `strand` per (sea state, seed, hot spot)
+//! depending on it. Strand jobs have the higher priority so that started sea states finish (and
+//! count as covered) before new ones start.
+//!
+//! Expected costs (s, on one core of a 2-core machine) are rough, for the scheduler only:
+//! global 0.03 s per time step (`cargo bench --bench global`: 27 ms per 0.1 s step of the
+//! paper case); strand 5 ms per wire per load sample, which is the DESIGN §7 target of a
+//! 1000 s six-layer history in 10 min at 0.1 s sampling.
+
+use moorfret_solver::waves::scatter::ScatterTable;
+
+use super::payload::{cache_key, CampaignInputs, GlobalPayload, StrandPayload};
+use super::spec::ScatterReading;
+use crate::store::{JobKind, NewSeaState, PlannedJob, SeaStateId};
+
+/// Cost of one global time step (s).
+const GLOBAL_STEP_COST_S: f64 = 0.03;
+/// Cost of one strand load sample per wire (s).
+const STRAND_SAMPLE_WIRE_COST_S: f64 = 5e-3;
+
+/// Occurrence fraction of the year of a cell value.
+pub fn occurrence_fraction(value: f64, reading: ScatterReading) -> f64 {
+    match reading {
+        ScatterReading::JointPercent => value / 100.0,
+        ScatterReading::Sector { share_percent } => value / 100.0 * share_percent / 100.0,
+    }
+}
+
+/// SplitMix64 step: the next state and its output.
+fn splitmix64(state: &mut u64) -> u64 {
+    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    let mut z = *state;
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+/// The sea states of a scatter diagram: non-zero cells in table order, seeds drawn from
+/// `campaign_seed`.
+pub fn sea_states(
+    table: &ScatterTable,
+    reading: ScatterReading,
+    seeds_per_sea_state: u32,
+    campaign_seed: u64,
+) -> Vec<NewSeaState> {
+    let mut rng = campaign_seed;
+    table
+        .cells()
+        .into_iter()
+        .filter(|c| c.value > 0.0)
+        .enumerate()
+        .map(|(index, c)| NewSeaState {
+            index: index as i64,
+            hs_m: 0.5 * (c.hs_lower_m + c.hs_upper_m),
+            tp_s: c.tp_s,
+            occurrence_fraction: occurrence_fraction(c.value, reading),
+            // Seeds stay below 2^63 so they survive databases with signed 64-bit integers.
+            seeds: (0..seeds_per_sea_state)
+                .map(|_| splitmix64(&mut rng) >> 1)
+                .collect(),
+        })
+        .collect()
+}
+
+/// Expected cost of a global job (s).
+pub fn global_cost_s(inputs: &CampaignInputs) -> f64 {
+    let sim = &inputs.spec.simulation;
+    (sim.transient_s + sim.duration_s) / sim.time_step_s * GLOBAL_STEP_COST_S
+}
+
+/// Expected cost of a strand job (s).
+pub fn strand_cost_s(inputs: &CampaignInputs) -> f64 {
+    let wires = 1 + inputs
+        .profile
+        .layers
+        .as_ref()
+        .map_or(0, |l| l.iter().map(|l| l.wires.unwrap_or(0)).sum::<usize>());
+    let samples = inputs.spec.simulation.duration_s / inputs.spec.strand.load_interval_s;
+    samples * wires as f64 * STRAND_SAMPLE_WIRE_COST_S
+}
+
+/// The jobs of a campaign; `ids` are the stored ids of `sea_states`, in order.
+pub fn jobs(
+    inputs: &CampaignInputs,
+    inputs_sha256: &str,
+    sea_states: &[NewSeaState],
+    ids: &[SeaStateId],
+) -> Vec<PlannedJob> {
+    let hot_spots = inputs.spec.hot_spots.len();
+    let seeds: usize = sea_states.iter().map(|s| s.seeds.len()).sum();
+    let mut out = Vec::with_capacity(seeds * (1 + hot_spots));
+    let (global_cost, strand_cost) = (global_cost_s(inputs), strand_cost_s(inputs));
+    let max_attempts = inputs.spec.jobs.max_attempts;
+    for (sea_state, &id) in sea_states.iter().zip(ids) {
+        for (seed_index, &seed) in sea_state.seeds.iter().enumerate() {
+            let global = GlobalPayload {
+                sea_state_index: sea_state.index as usize,
+                hs_m: sea_state.hs_m,
+                tp_s: sea_state.tp_s,
+                seed_index,
+                seed,
+            };
+            let global_json = serde_json::to_value(&global).unwrap_or_default();
+            let global_key = cache_key("global", inputs_sha256, &global_json.to_string());
+            let global_index = out.len();
+            out.push(PlannedJob {
+                sea_state: Some(id),
+                priority: 0,
+                expected_cost_s: global_cost,
+                max_attempts,
+                cache_key: Some(global_key.clone()),
+                ..PlannedJob::new(JobKind::Global, global_json)
+            });
+            for hot_spot_index in 0..hot_spots {
+                let strand = StrandPayload {
+                    global: global.clone(),
+                    hot_spot_index,
+                    global_cache_key: global_key.clone(),
+                };
+                let json = serde_json::to_value(&strand).unwrap_or_default();
+                out.push(PlannedJob {
+                    sea_state: Some(id),
+                    priority: 1,
+                    expected_cost_s: strand_cost,
+                    max_attempts,
+                    cache_key: Some(cache_key("strand", inputs_sha256, &json.to_string())),
+                    depends_on: vec![global_index],
+                    ..PlannedJob::new(JobKind::Strand, json)
+                });
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TABLE: &str = "lower\tupper\t5\t7\ttotal\n0\t1\t0\t2,5\t2,5\n1\t2\t1,5\t0\t1,5\n";
+
+    #[test]
+    fn non_zero_cells_become_sea_states_at_bin_centres() {
+        let table = ScatterTable::parse(TABLE).unwrap();
+        let states = sea_states(&table, ScatterReading::JointPercent, 2, 7);
+        assert_eq!(states.len(), 2);
+        assert_eq!((states[0].hs_m, states[0].tp_s), (0.5, 7.0));
+        assert_eq!((states[1].hs_m, states[1].tp_s), (1.5, 5.0));
+        assert!((states[0].occurrence_fraction - 0.025).abs() < 1e-15);
+        assert_eq!(states[0].seeds.len(), 2);
+        assert_ne!(states[0].seeds[0], states[0].seeds[1]);
+        assert_ne!(states[0].seeds[0], states[1].seeds[0]);
+        // drawn once from the campaign seed: the same seed gives the same plan
+        assert_eq!(
+            states,
+            sea_states(&table, ScatterReading::JointPercent, 2, 7)
+        );
+    }
+
+    #[test]
+    fn sector_cells_are_scaled_by_the_sector_share() {
+        let f = occurrence_fraction(
+            10.0,
+            ScatterReading::Sector {
+                share_percent: 43.758,
+            },
+        );
+        assert!((f - 0.043758).abs() < 1e-15);
+    }
+
+    #[test]
+    fn splitmix_matches_the_reference_sequence() {
+        // First outputs for state 0 of the reference implementation (Vigna, splitmix64.c).
+        let mut s = 0;
+        assert_eq!(splitmix64(&mut s), 0xE220_A839_7B1D_CDAF);
+        assert_eq!(splitmix64(&mut s), 0x6E78_9E6A_A1B9_65F4);
+    }
+}

@@ -1,0 +1,241 @@
+//! Resolution of a campaign file: read it, read and hash every file it references (relative to
+//! the campaign file), parse them, and check everything that can be checked before anything
+//! runs. Nothing here touches a store, so a bad campaign leaves every database untouched.
+//!
+//! The stored form ([`ResolvedCampaign::stored_spec`]) is the spec itself plus the sha256 of
+//! the campaign file and of every referenced file; its own sha256 identifies the campaign's
+//! inputs.
+
+use std::path::{Path, PathBuf};
+
+use moorfret_solver::floater::FloaterSpec;
+use moorfret_solver::global::case::FloaterSource;
+use moorfret_solver::global::CaseSpec;
+use moorfret_solver::strand::profile::profiles_from_json;
+use moorfret_solver::waves::scatter::{ScatterTable, TotalMismatch};
+use serde::Serialize;
+use serde_json::Value;
+use sha2::{Digest, Sha256};
+
+use super::error::CampaignError;
+use super::payload::{CampaignInputs, FloaterContent, SOLVER_VERSION};
+use super::spec::CampaignSpec;
+
+/// A referenced file as read.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct ResolvedFile {
+    /// Field of the campaign file naming it (`campaign`, `scatter.path`, …).
+    pub field: String,
+    /// Path as written (relative to the campaign file), or the campaign file's own path.
+    pub path: String,
+    /// sha256 (hex) of the content.
+    pub sha256: String,
+}
+
+/// A campaign with every referenced file read, parsed and checked.
+#[derive(Debug, Clone)]
+pub struct ResolvedCampaign {
+    /// Spec and file contents, as workers use them.
+    pub inputs: CampaignInputs,
+    /// Every file read, the campaign file first.
+    pub files: Vec<ResolvedFile>,
+    /// The scatter diagram.
+    pub scatter: ScatterTable,
+    /// Printed totals of the scatter diagram that differ from their cells.
+    pub scatter_mismatches: Vec<TotalMismatch>,
+}
+
+fn read_file(
+    base: &Path,
+    field: &str,
+    relative: &str,
+) -> Result<(PathBuf, String, ResolvedFile), CampaignError> {
+    let path = base.join(relative);
+    let bytes = std::fs::read(&path).map_err(|source| CampaignError::Io {
+        field: field.to_owned(),
+        path: path.clone(),
+        source,
+    })?;
+    let text = String::from_utf8(bytes).map_err(|e| CampaignError::File {
+        field: field.to_owned(),
+        path: path.clone(),
+        message: format!("not UTF-8 text: {e}"),
+    })?;
+    let file = ResolvedFile {
+        field: field.to_owned(),
+        path: relative.to_owned(),
+        sha256: hex::encode(Sha256::digest(text.as_bytes())),
+    };
+    Ok((path, text, file))
+}
+
+fn file_error(field: &str, path: &Path, message: impl ToString) -> CampaignError {
+    CampaignError::File {
+        field: field.to_owned(),
+        path: path.to_owned(),
+        message: message.to_string(),
+    }
+}
+
+/// Reads, hashes and checks the campaign file at `path` and everything it references.
+pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
+    let base = path.parent().unwrap_or(Path::new(""));
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let (_, text, campaign_file) = read_file(base, "campaign file", &name)?;
+    let spec = CampaignSpec::from_json_str(&text)?;
+    spec.validate()?;
+    let mut files = vec![campaign_file];
+
+    let (scatter_path, text, file) = read_file(base, "scatter.path", &spec.scatter.path)?;
+    files.push(file);
+    let scatter =
+        ScatterTable::parse(&text).map_err(|e| file_error("scatter.path", &scatter_path, e))?;
+    let scatter_mismatches = scatter.total_mismatches();
+    if scatter.cell_sum() <= 0.0 {
+        return Err(file_error(
+            "scatter.path",
+            &scatter_path,
+            "every cell is zero",
+        ));
+    }
+
+    let (case_path, text, file) = read_file(base, "global.case_path", &spec.global.case_path)?;
+    files.push(file);
+    let mut base_case = CaseSpec::from_json_str(&text)
+        .map_err(|e| file_error("global.case_path", &case_path, e))?;
+    let relative_to_campaign = |p: &str| -> String {
+        Path::new(&spec.global.case_path)
+            .parent()
+            .unwrap_or(Path::new(""))
+            .join(p)
+            .to_string_lossy()
+            .into_owned()
+    };
+    let floater = match &base_case.floater {
+        FloaterSource::RigidBody { spec_path } => {
+            let field = "global.case_path: floater.rigid_body.spec_path";
+            let (p, text, file) = read_file(base, field, &relative_to_campaign(spec_path))?;
+            files.push(file);
+            let f = FloaterSpec::from_json_str(&text).map_err(|e| file_error(field, &p, e))?;
+            FloaterContent::RigidBody(Box::new(f))
+        }
+        FloaterSource::PrescribedMotion { csv_path } => {
+            let field = "global.case_path: floater.prescribed_motion.csv_path";
+            let (p, text, file) = read_file(base, field, &relative_to_campaign(csv_path))?;
+            files.push(file);
+            moorfret_solver::floater::prescribed::PrescribedMotion::from_csv_str(&text)
+                .map_err(|e| file_error(field, &p, e))?;
+            FloaterContent::PrescribedMotionCsv(text)
+        }
+    };
+    base_case.hot_spots = spec.hot_spots.clone();
+    let hot_spot_axial_stiffness_n = hot_spot_stiffness(&spec, &base_case)?;
+
+    let (profiles_path, text, file) =
+        read_file(base, "strand.profiles_path", &spec.strand.profiles_path)?;
+    files.push(file);
+    let mut profiles = profiles_from_json(&text)
+        .map_err(|e| file_error("strand.profiles_path", &profiles_path, e))?;
+    let mut profile = profiles.remove(&spec.strand.profile).ok_or_else(|| {
+        let known: Vec<_> = profiles.keys().cloned().collect();
+        CampaignError::Invalid {
+            field: "strand.profile".into(),
+            value: spec.strand.profile.clone(),
+            reason: format!(
+                "is not in {} (it has: {})",
+                spec.strand.profiles_path,
+                known.join(", ")
+            ),
+        }
+    })?;
+    if let Some(mu) = spec.strand.friction_coefficient {
+        profile.friction_coefficient = Some(mu);
+    }
+    profile
+        .validate()
+        .map_err(|e| file_error("strand.profile", &profiles_path, e))?;
+
+    let resolved = ResolvedCampaign {
+        inputs: CampaignInputs {
+            spec,
+            base_case,
+            floater,
+            profile,
+            hot_spot_axial_stiffness_n,
+        },
+        files,
+        scatter,
+        scatter_mismatches,
+    };
+    // The base case with the first planned sea state must be a valid case.
+    let first = resolved
+        .scatter
+        .cells()
+        .into_iter()
+        .find(|c| c.value > 0.0)
+        .map(|c| (0.5 * (c.hs_lower_m + c.hs_upper_m), c.tp_s))
+        .unwrap_or((1.0, 10.0));
+    resolved
+        .inputs
+        .case_for(first.0, first.1, 1)
+        .validate()
+        .map_err(|e| file_error("global.case_path", &case_path, e))?;
+    Ok(resolved)
+}
+
+/// EA of the segment holding each hot spot; checks the line id and the arc length.
+fn hot_spot_stiffness(spec: &CampaignSpec, case: &CaseSpec) -> Result<Vec<f64>, CampaignError> {
+    let total: f64 = case.mooring.segments.iter().map(|s| s.length_m).sum();
+    let mut out = Vec::with_capacity(spec.hot_spots.len());
+    for (i, h) in spec.hot_spots.iter().enumerate() {
+        if !case.mooring.lines.iter().any(|l| l.id == h.line) {
+            return Err(CampaignError::Invalid {
+                field: format!("hot_spots[{i}].line"),
+                value: h.line.to_string(),
+                reason: "is not a line of the global case".into(),
+            });
+        }
+        if h.arc_length_m > total {
+            return Err(CampaignError::Invalid {
+                field: format!("hot_spots[{i}].arc_length_m"),
+                value: h.arc_length_m.to_string(),
+                reason: format!("must not exceed the line length {total} m"),
+            });
+        }
+        let mut start = 0.0;
+        let mut ea = None;
+        for seg in &case.mooring.segments {
+            if h.arc_length_m <= start + seg.length_m {
+                ea = case
+                    .mooring
+                    .line_types
+                    .get(&seg.line_type)
+                    .map(|t| t.axial_stiffness_n);
+                break;
+            }
+            start += seg.length_m;
+        }
+        out.push(ea.ok_or_else(|| CampaignError::Invalid {
+            field: format!("hot_spots[{i}].arc_length_m"),
+            value: h.arc_length_m.to_string(),
+            reason: "lies on a segment whose line type is not defined".into(),
+        })?);
+    }
+    Ok(out)
+}
+
+impl ResolvedCampaign {
+    /// The resolved spec as stored with the campaign, and its sha256.
+    pub fn stored_spec(&self) -> (Value, String) {
+        let value = serde_json::json!({
+            "inputs": self.inputs,
+            "files": self.files,
+            "solver_version": SOLVER_VERSION,
+        });
+        let text = value.to_string();
+        (value, hex::encode(Sha256::digest(text.as_bytes())))
+    }
+}

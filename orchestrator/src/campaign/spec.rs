@@ -1,0 +1,277 @@
+//! The campaign file (DESIGN §3.1): one JSON document that fully defines a campaign.
+//!
+//! serde with `deny_unknown_fields` everywhere and units in the field names. Referenced files
+//! (scatter diagram, global base case, strand profiles) are paths relative to the campaign
+//! file; [`super::resolve`] reads and hashes them. [`CampaignSpec::validate`] checks every value
+//! and names the first offending one by its path (`simulation.duration_s must be > 0 (got -1)`).
+//!
+//! Shape:
+//! ```json
+//! { "name": "demo", "design_life_years": 25, "seed": 7,
+//!   "scatter": {"path": "data/wsd.tsv", "reading": "joint_percent"},
+//!   "global": {"case_path": "paper_case.json"},
+//!   "simulation": {"transient_s": 50, "duration_s": 1000, "time_step_s": 0.1,
+//!                  "output_interval_s": 0.1, "seeds_per_sea_state": 1, "gamma": 1.3},
+//!   "hot_spots": [{"line": 1, "arc_length_m": 79}],
+//!   "strand": {"profiles_path": "data/strand_profiles.json", "profile": "paper_six_layer"} }
+//! ```
+
+use moorfret_solver::global::case::{GammaSpec, HotSpotSpec, WindSpec};
+use serde::{Deserialize, Serialize};
+
+use super::error::CampaignError;
+
+/// A whole campaign.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CampaignSpec {
+    /// Free-text provenance.
+    #[serde(rename = "_about", default, skip_serializing_if = "Option::is_none")]
+    pub about: Option<String>,
+    /// Unique campaign name in its database.
+    pub name: String,
+    /// Design life (years) the lifetime damage is reported for.
+    pub design_life_years: f64,
+    /// Campaign seed: every realisation seed is drawn from it once, at planning.
+    pub seed: u64,
+    /// Scatter diagram and how its cells are read.
+    pub scatter: ScatterSpec,
+    /// Global base case whose sea state and timing are replaced per job.
+    pub global: GlobalBaseSpec,
+    /// Per-sea-state simulation settings.
+    pub simulation: SimulationSpec,
+    /// Hot spots (line id, arc length from the fairlead).
+    pub hot_spots: Vec<HotSpotSpec>,
+    /// Detailed strand model settings.
+    pub strand: StrandSpec,
+    /// Job settings.
+    #[serde(default)]
+    pub jobs: JobSettings,
+}
+
+/// Scatter diagram file and reading.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScatterSpec {
+    /// Path of the table (TSV/CSV, see `moorfret_solver::waves::scatter`), relative to the
+    /// campaign file.
+    pub path: String,
+    /// How the cells are read.
+    pub reading: ScatterReading,
+}
+
+/// How scatter-diagram cells become occurrence fractions of the year.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum ScatterReading {
+    /// Each cell is percent of the whole year (cells of all sectors sum to 100).
+    JointPercent,
+    /// Each cell is percent within one directional sector (the sector's cells sum to 100),
+    /// and the sector occurs `share_percent` of the year.
+    Sector {
+        /// Share of the year of the sector (%).
+        share_percent: f64,
+    },
+}
+
+/// The global base case.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GlobalBaseSpec {
+    /// Path of a global case file (as for `moorfret run global`), relative to the campaign file.
+    pub case_path: String,
+}
+
+/// Simulation settings applied to every sea state.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimulationSpec {
+    /// Start-up time discarded from the outputs (s).
+    pub transient_s: f64,
+    /// Recorded duration after the transient (s).
+    pub duration_s: f64,
+    /// Time step of the global integration (s).
+    pub time_step_s: f64,
+    /// Sampling interval of the hot-spot series (s).
+    pub output_interval_s: f64,
+    /// Wave-load ramp within the transient (s); the base case's value (capped to the
+    /// transient) when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wave_ramp_s: Option<f64>,
+    /// Random realisations per sea state.
+    pub seeds_per_sea_state: u32,
+    /// JONSWAP peak enhancement γ, or `"dnv"` for the DNV-RP-C205 default.
+    pub gamma: GammaSpec,
+    /// Wave heading (deg, from +x towards +y).
+    #[serde(default)]
+    pub heading_deg: f64,
+    /// Wind (hub speed law and thrust); the base case's when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wind: Option<WindSpec>,
+    /// Threads of one global job (lines in parallel).
+    #[serde(default = "one_thread")]
+    pub global_threads: usize,
+}
+
+fn one_thread() -> usize {
+    1
+}
+
+/// Detailed strand model settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StrandSpec {
+    /// Path of a strand profile file (a map name → profile), relative to the campaign file.
+    pub profiles_path: String,
+    /// Name of the profile in that file.
+    pub profile: String,
+    /// Inter-wire Coulomb friction coefficient, overriding the profile's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction_coefficient: Option<f64>,
+    /// Contact normal penalty (N/m).
+    pub normal_penalty_n_per_m: f64,
+    /// Elastic slip of the regularised friction law (m).
+    pub elastic_slip_m: f64,
+    /// Sampling interval of the load history fed to the strand (s); a multiple of the
+    /// global output interval.
+    pub load_interval_s: f64,
+    /// Wall time between checkpoints of a running strand job (s).
+    #[serde(default = "default_checkpoint_interval")]
+    pub checkpoint_interval_s: f64,
+}
+
+fn default_checkpoint_interval() -> f64 {
+    120.0
+}
+
+/// Job settings.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JobSettings {
+    /// Attempts before a transiently failing job is failed.
+    #[serde(default = "default_attempts")]
+    pub max_attempts: i64,
+}
+
+fn default_attempts() -> i64 {
+    3
+}
+
+impl Default for JobSettings {
+    fn default() -> Self {
+        Self {
+            max_attempts: default_attempts(),
+        }
+    }
+}
+
+fn invalid(field: impl Into<String>, value: impl std::fmt::Display, reason: &str) -> CampaignError {
+    CampaignError::Invalid {
+        field: field.into(),
+        value: value.to_string(),
+        reason: reason.to_owned(),
+    }
+}
+
+fn positive(field: &str, v: f64) -> Result<(), CampaignError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(field, v, "must be > 0"))
+    }
+}
+
+fn non_negative(field: &str, v: f64) -> Result<(), CampaignError> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(field, v, "must be >= 0"))
+    }
+}
+
+impl CampaignSpec {
+    /// Parses a campaign file's text; unknown fields and wrong types are errors that give the
+    /// line, column and field.
+    pub fn from_json_str(text: &str) -> Result<Self, CampaignError> {
+        serde_json::from_str(text).map_err(|e| CampaignError::Json {
+            message: e.to_string(),
+        })
+    }
+
+    /// Checks every value that does not need the referenced files.
+    pub fn validate(&self) -> Result<(), CampaignError> {
+        let name_ok = !self.name.is_empty()
+            && self
+                .name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c));
+        if !name_ok {
+            return Err(invalid(
+                "name",
+                &self.name,
+                "must be non-empty ASCII letters, digits, '-', '_' or '.'",
+            ));
+        }
+        positive("design_life_years", self.design_life_years)?;
+        if let ScatterReading::Sector { share_percent } = self.scatter.reading {
+            if !(share_percent.is_finite() && share_percent > 0.0 && share_percent <= 100.0) {
+                return Err(invalid(
+                    "scatter.reading.sector.share_percent",
+                    share_percent,
+                    "must be in (0, 100]",
+                ));
+            }
+        }
+        let s = &self.simulation;
+        non_negative("simulation.transient_s", s.transient_s)?;
+        positive("simulation.duration_s", s.duration_s)?;
+        positive("simulation.time_step_s", s.time_step_s)?;
+        positive("simulation.output_interval_s", s.output_interval_s)?;
+        if s.output_interval_s < s.time_step_s * (1.0 - 1e-9) {
+            return Err(invalid(
+                "simulation.output_interval_s",
+                s.output_interval_s,
+                "must be >= simulation.time_step_s",
+            ));
+        }
+        if let Some(ramp) = s.wave_ramp_s {
+            non_negative("simulation.wave_ramp_s", ramp)?;
+        }
+        if s.seeds_per_sea_state == 0 {
+            return Err(invalid("simulation.seeds_per_sea_state", 0, "must be >= 1"));
+        }
+        if s.global_threads == 0 {
+            return Err(invalid("simulation.global_threads", 0, "must be >= 1"));
+        }
+        if self.hot_spots.is_empty() {
+            return Err(invalid("hot_spots", "[]", "needs at least one hot spot"));
+        }
+        for (i, h) in self.hot_spots.iter().enumerate() {
+            non_negative(&format!("hot_spots[{i}].arc_length_m"), h.arc_length_m)?;
+        }
+        let st = &self.strand;
+        if let Some(mu) = st.friction_coefficient {
+            non_negative("strand.friction_coefficient", mu)?;
+        }
+        positive("strand.normal_penalty_n_per_m", st.normal_penalty_n_per_m)?;
+        positive("strand.elastic_slip_m", st.elastic_slip_m)?;
+        positive("strand.load_interval_s", st.load_interval_s)?;
+        let ratio = st.load_interval_s / s.output_interval_s;
+        if ratio < 1.0 - 1e-9 || (ratio - ratio.round()).abs() > 1e-6 {
+            return Err(invalid(
+                "strand.load_interval_s",
+                st.load_interval_s,
+                "must be a whole multiple of simulation.output_interval_s",
+            ));
+        }
+        positive("strand.checkpoint_interval_s", st.checkpoint_interval_s)?;
+        if self.jobs.max_attempts < 1 {
+            return Err(invalid(
+                "jobs.max_attempts",
+                self.jobs.max_attempts,
+                "must be >= 1",
+            ));
+        }
+        Ok(())
+    }
+}

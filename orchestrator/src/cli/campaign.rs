@@ -1,0 +1,260 @@
+//! `moorfret campaign launch|resume|status|cancel`.
+//!
+//! - `launch FILE [--db URL] [--workers N]`: resolve the campaign file (every referenced file
+//!   read, hashed and checked; a bad campaign writes nothing), store it with its whole plan in
+//!   one transaction, then drive it ([`super::drive`]).
+//! - `resume NAME [--workers N]`: drive an interrupted campaign again (its plan is stored).
+//! - `status [NAME] [--json]`: jobs per state and occurrence covered.
+//! - `cancel NAME`: cancel every unfinished job; running workers lose their leases.
+//!
+//! Exit codes: 0 when the campaign ended with every job done (or for status/cancel), 1 on any
+//! error or when jobs failed (their diagnostics are printed).
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Context};
+use clap::{Args, Subcommand};
+use serde_json::json;
+
+use super::drive::{drive, DriveOptions};
+use super::worker::StoreArgs;
+use crate::campaign::{self, resolve};
+use crate::store::{CampaignProgress, CampaignRecord, JobState, Store};
+use moorfret_solver::waves::scatter::TotalKind;
+
+/// `campaign` subcommands.
+#[derive(Debug, Subcommand)]
+pub enum CampaignCommand {
+    /// Plan a campaign file into the store and run it with local workers.
+    Launch {
+        /// Campaign file (JSON).
+        file: PathBuf,
+        /// Store, artifacts.
+        #[command(flatten)]
+        store: StoreArgs,
+        /// Local worker processes (default: the number of cores).
+        #[arg(long)]
+        workers: Option<usize>,
+    },
+    /// Run an interrupted campaign to its end with local workers.
+    Resume {
+        /// Campaign name.
+        name: String,
+        /// Store, artifacts.
+        #[command(flatten)]
+        store: StoreArgs,
+        /// Local worker processes (default: the number of cores).
+        #[arg(long)]
+        workers: Option<usize>,
+    },
+    /// Jobs per state and occurrence covered, of one campaign or all.
+    Status {
+        /// Campaign name (all campaigns when absent).
+        name: Option<String>,
+        /// Store.
+        #[command(flatten)]
+        store: StoreArgs,
+        /// Machine-readable output.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Cancel every unfinished job of a campaign.
+    Cancel {
+        /// Campaign name.
+        name: String,
+        /// Store.
+        #[command(flatten)]
+        store: StoreArgs,
+    },
+}
+
+/// Runs a `campaign` subcommand.
+pub fn execute(cmd: CampaignCommand) -> anyhow::Result<()> {
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .context("starting the async runtime")?;
+    runtime.block_on(async move {
+        match cmd {
+            CampaignCommand::Launch {
+                file,
+                store,
+                workers,
+            } => launch(&file, &store, workers).await,
+            CampaignCommand::Resume {
+                name,
+                store,
+                workers,
+            } => {
+                let db = store.open().await?;
+                let record = find(&db, &name).await?;
+                if record.state == crate::store::CampaignState::Cancelled {
+                    bail!("campaign {name} was cancelled; it cannot be resumed");
+                }
+                run_to_end(&db, &store, &record, workers).await
+            }
+            CampaignCommand::Status { name, store, json } => status(&store, name, json).await,
+            CampaignCommand::Cancel { name, store } => {
+                let db = store.open().await?;
+                let record = find(&db, &name).await?;
+                let report = db.cancel_campaign(record.id).await?;
+                println!("campaign {name}: {} jobs cancelled", report.jobs_cancelled);
+                Ok(())
+            }
+        }
+    })
+}
+
+async fn launch(
+    file: &std::path::Path,
+    args: &StoreArgs,
+    workers: Option<usize>,
+) -> anyhow::Result<()> {
+    let resolved = resolve(file).with_context(|| format!("in campaign file {}", file.display()))?;
+    for m in &resolved.scatter_mismatches {
+        let which = match m.kind {
+            TotalKind::Row {
+                hs_lower_m,
+                hs_upper_m,
+            } => format!("row total of Hs {hs_lower_m}-{hs_upper_m} m"),
+            TotalKind::Column { tp_s } => format!("column total of Tp {tp_s} s"),
+            TotalKind::Grand => "grand total".to_owned(),
+        };
+        tracing::warn!(
+            "scatter diagram {} line {}: printed {which} {} differs from the sum of its cells {:.4}; the cells are used",
+            resolved.inputs.spec.scatter.path,
+            m.line,
+            m.printed,
+            m.computed
+        );
+    }
+    let store = args.open().await?;
+    let started = std::time::Instant::now();
+    let (id, jobs) = campaign::create(&store, &resolved)
+        .await
+        .with_context(|| format!("storing campaign {}", resolved.inputs.spec.name))?;
+    tracing::info!(
+        campaign = %resolved.inputs.spec.name,
+        id = %id,
+        jobs = jobs.len(),
+        seconds = started.elapsed().as_secs_f64(),
+        "campaign planned"
+    );
+    let record = find(&store, &resolved.inputs.spec.name).await?;
+    run_to_end(&store, args, &record, workers).await
+}
+
+async fn find(store: &Store, name: &str) -> anyhow::Result<CampaignRecord> {
+    let all = store.campaigns().await?;
+    let known: Vec<String> = all.iter().map(|c| c.name.clone()).collect();
+    all.into_iter().find(|c| c.name == name).with_context(|| {
+        format!(
+            "no campaign named {name} in this store (it has: {})",
+            known.join(", ")
+        )
+    })
+}
+
+async fn run_to_end(
+    store: &Store,
+    args: &StoreArgs,
+    record: &CampaignRecord,
+    workers: Option<usize>,
+) -> anyhow::Result<()> {
+    let workers = workers
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+        .max(1);
+    let progress = drive(
+        store,
+        record,
+        &DriveOptions {
+            workers,
+            child_args: args.child_args(),
+        },
+    )
+    .await?;
+    let failed = count(&progress, JobState::Failed);
+    if failed > 0 {
+        let jobs = store.jobs_of_campaign(record.id).await?;
+        for job in jobs.iter().filter(|j| j.state == JobState::Failed) {
+            eprintln!(
+                "job {} ({}) failed: {}: {}",
+                job.id,
+                job.kind,
+                job.error_class.as_deref().unwrap_or("?"),
+                job.error_message.as_deref().unwrap_or("")
+            );
+        }
+        bail!(
+            "campaign {}: {failed} of {} jobs failed; the others are done",
+            record.name,
+            progress.jobs_total
+        );
+    }
+    Ok(())
+}
+
+/// Jobs of `progress` in `state`.
+pub fn count(progress: &CampaignProgress, state: JobState) -> i64 {
+    progress
+        .jobs_by_state
+        .iter()
+        .find(|(s, _)| *s == state)
+        .map_or(0, |(_, n)| *n)
+}
+
+/// The `--json` form of a campaign's status.
+pub fn status_json(record: &CampaignRecord, p: &CampaignProgress) -> serde_json::Value {
+    let jobs: serde_json::Map<String, serde_json::Value> = JobState::ALL
+        .iter()
+        .map(|s| (s.as_str().to_owned(), json!(count(p, *s))))
+        .collect();
+    json!({
+        "campaign": record.name,
+        "state": record.state.as_str(),
+        "jobs": jobs,
+        "jobs_total": p.jobs_total,
+        "occurrence_planned": p.occurrence_planned,
+        "occurrence_covered": p.occurrence_covered,
+    })
+}
+
+async fn status(args: &StoreArgs, name: Option<String>, as_json: bool) -> anyhow::Result<()> {
+    let store = args.open().await?;
+    let records = match &name {
+        Some(n) => vec![find(&store, n).await?],
+        None => store.campaigns().await?,
+    };
+    let mut out = Vec::new();
+    for record in &records {
+        let p = store.progress(record.id).await?;
+        if as_json {
+            out.push(status_json(record, &p));
+        } else {
+            println!(
+                "{} ({}): {} jobs: {} done, {} running, {} ready, {} blocked, {} failed, {} cancelled; occurrence covered {:.3} % of the year ({:.3} % planned)",
+                record.name,
+                record.state.as_str(),
+                p.jobs_total,
+                count(&p, JobState::Done),
+                count(&p, JobState::Running),
+                count(&p, JobState::Ready),
+                count(&p, JobState::Blocked),
+                count(&p, JobState::Failed),
+                count(&p, JobState::Cancelled),
+                100.0 * p.occurrence_covered,
+                100.0 * p.occurrence_planned
+            );
+        }
+    }
+    if as_json {
+        let value = if name.is_some() {
+            out.pop().unwrap_or_default()
+        } else {
+            serde_json::Value::Array(out)
+        };
+        println!("{value}");
+    }
+    Ok(())
+}

@@ -1,0 +1,153 @@
+//! Driving a stored campaign with local worker processes: start `workers` children
+//! (`moorfret worker --exit-when-idle` on the same store), restart any that dies while work
+//! remains, show progress (an indicatif bar with jobs, occurrence covered and ETA on a
+//! terminal, plain log lines otherwise) and stop the children with SIGTERM once the campaign
+//! has no ready, running or blocked job left.
+//!
+//! Killing the driver does not lose work: the children finish what they hold and exit when
+//! idle, and `campaign resume` drives the rest.
+
+use std::io::IsTerminal;
+use std::process::Stdio;
+use std::time::{Duration, Instant};
+
+use anyhow::Context;
+use tokio::process::{Child, Command};
+
+use super::campaign::count;
+use crate::store::{CampaignProgress, CampaignRecord, JobState, Store};
+
+/// Restarts of dead workers allowed per worker slot before the driver gives up.
+const MAX_RESTARTS_PER_WORKER: usize = 50;
+
+/// How to drive.
+#[derive(Debug, Clone)]
+pub struct DriveOptions {
+    /// Worker processes.
+    pub workers: usize,
+    /// Store arguments handed to each worker.
+    pub child_args: Vec<String>,
+}
+
+fn spawn_worker(options: &DriveOptions) -> anyhow::Result<Child> {
+    let exe = std::env::current_exe().context("locating the moorfret executable")?;
+    let mut cmd = Command::new(exe);
+    cmd.arg("worker")
+        .args(&options.child_args)
+        .arg("--exit-when-idle")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null());
+    if std::env::var_os("RUST_LOG").is_none() {
+        cmd.env("RUST_LOG", "warn");
+    }
+    cmd.spawn().context("starting a worker process")
+}
+
+/// Asks a worker to stop (SIGTERM: it releases its lease) and waits for it.
+async fn stop(mut child: Child) {
+    if let Some(pid) = child.id() {
+        let _ = Command::new("kill")
+            .arg("-TERM")
+            .arg(pid.to_string())
+            .status()
+            .await;
+    }
+    if tokio::time::timeout(Duration::from_secs(15), child.wait())
+        .await
+        .is_err()
+    {
+        let _ = child.kill().await;
+    }
+}
+
+fn open_jobs(p: &CampaignProgress) -> i64 {
+    count(p, JobState::Ready) + count(p, JobState::Running) + count(p, JobState::Blocked)
+}
+
+fn finished_jobs(p: &CampaignProgress) -> u64 {
+    (p.jobs_total - open_jobs(p)).max(0).unsigned_abs()
+}
+
+/// Runs the campaign to its end; returns its final progress.
+pub async fn drive(
+    store: &Store,
+    record: &CampaignRecord,
+    options: &DriveOptions,
+) -> anyhow::Result<CampaignProgress> {
+    let mut progress = store.progress(record.id).await?;
+    let bar = std::io::stderr().is_terminal().then(|| {
+        let b = indicatif::ProgressBar::new(progress.jobs_total.max(0).unsigned_abs());
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{elapsed_precise} [{bar:30}] {pos}/{len} jobs, {msg}, ETA {eta}",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    });
+    let mut children = Vec::with_capacity(options.workers);
+    if open_jobs(&progress) > 0 {
+        for _ in 0..options.workers {
+            children.push(spawn_worker(options)?);
+        }
+    }
+    let mut restarts = 0;
+    let mut last_log = Instant::now();
+    let mut last_finished = u64::MAX;
+    loop {
+        progress = store.progress(record.id).await?;
+        let finished = finished_jobs(&progress);
+        let message = format!(
+            "{} running, {} failed, occurrence covered {:.3} % of {:.3} % planned",
+            count(&progress, JobState::Running),
+            count(&progress, JobState::Failed),
+            100.0 * progress.occurrence_covered,
+            100.0 * progress.occurrence_planned
+        );
+        if let Some(b) = &bar {
+            b.set_position(finished);
+            b.set_message(message);
+        } else if finished != last_finished || last_log.elapsed() > Duration::from_secs(30) {
+            tracing::info!(
+                "campaign {}: {finished}/{} jobs finished, {message}",
+                record.name,
+                progress.jobs_total
+            );
+            last_finished = finished;
+            last_log = Instant::now();
+        }
+        if open_jobs(&progress) == 0 {
+            break;
+        }
+        for child in &mut children {
+            if let Ok(Some(status)) = child.try_wait() {
+                restarts += 1;
+                if restarts > MAX_RESTARTS_PER_WORKER * options.workers {
+                    anyhow::bail!(
+                        "worker processes keep dying ({restarts} restarts); last exit {status}"
+                    );
+                }
+                tracing::warn!(%status, "worker exited while work remains; starting another");
+                *child = spawn_worker(options)?;
+            }
+        }
+        store.sweep_expired().await?;
+        tokio::time::sleep(Duration::from_millis(500)).await;
+    }
+    if let Some(b) = &bar {
+        b.finish();
+    }
+    for child in children {
+        stop(child).await;
+    }
+    tracing::info!(
+        "campaign {}: {} done, {} failed, {} cancelled of {} jobs; occurrence covered {:.3} % of the year",
+        record.name,
+        count(&progress, JobState::Done),
+        count(&progress, JobState::Failed),
+        count(&progress, JobState::Cancelled),
+        progress.jobs_total,
+        100.0 * progress.occurrence_covered
+    );
+    Ok(progress)
+}

@@ -1,0 +1,63 @@
+//! Runs one claimed job on the calling (blocking) thread: decodes its payload and calls its
+//! stage. Store reads a stage needs (the upstream series of a strand job) go through `rt`.
+
+use serde_json::json;
+use tokio::runtime::Handle;
+
+use super::{global_stage, permanent, strand_stage};
+use crate::campaign::{CampaignInputs, GlobalPayload, StrandPayload};
+use crate::store::{ArtifactStore, JobFailure, JobKind, JobResults, Lease, Store, TestPayload};
+
+fn decode<T: serde::de::DeserializeOwned>(lease: &Lease) -> Result<T, JobFailure> {
+    serde_json::from_value(lease.payload.clone()).map_err(|e| {
+        permanent(
+            "bad_payload",
+            format!("job {} ({}): payload: {e}", lease.job, lease.kind),
+        )
+    })
+}
+
+/// Runs the job of `lease`. `inputs` are its campaign's (absent for test jobs).
+pub fn execute(
+    lease: &Lease,
+    inputs: Option<&CampaignInputs>,
+    store: &Store,
+    artifacts: &ArtifactStore,
+    rt: &Handle,
+) -> Result<JobResults, JobFailure> {
+    let need_inputs =
+        || inputs.ok_or_else(|| permanent("bad_campaign", "campaign inputs are missing"));
+    match lease.kind {
+        JobKind::Test => run_test(lease),
+        JobKind::Global => {
+            let payload: GlobalPayload = decode(lease)?;
+            global_stage::run_global(need_inputs()?, &payload, artifacts)
+        }
+        JobKind::Strand => {
+            let payload: StrandPayload = decode(lease)?;
+            strand_stage::run_strand(need_inputs()?, &payload, lease, store, artifacts, rt)
+        }
+    }
+}
+
+/// The test job kind: sleep, fail or crash as its payload says.
+fn run_test(lease: &Lease) -> Result<JobResults, JobFailure> {
+    let payload: TestPayload = decode(lease)?;
+    match payload {
+        TestPayload::Sleep { duration_ms } => {
+            std::thread::sleep(std::time::Duration::from_millis(duration_ms));
+        }
+        TestPayload::Crash => {
+            tracing::error!(job = %lease.job, "test job: aborting the worker process");
+            std::process::abort();
+        }
+        _ => {}
+    }
+    if let Some(failure) = payload.failure_on_attempt(lease.attempt) {
+        return Err(failure);
+    }
+    Ok(JobResults {
+        result: json!({ "test": payload }),
+        ..JobResults::default()
+    })
+}

@@ -1,0 +1,285 @@
+//! The worker loop (DESIGN §3.2, §3.5): claim a job, run it, heartbeat, complete.
+//!
+//! [`run`] takes its store, artifact store, settings and a shutdown signal as arguments (the
+//! `moorfret worker` / `moorfret-worker` binaries wire SIGTERM/SIGINT to it). Per job:
+//!
+//! 1. a job whose cache key matches a done job (any campaign) is completed from it;
+//! 2. otherwise the stage runs on a blocking thread ([`execute`]) while a tokio task renews
+//!    the lease every `heartbeat_interval_ms`;
+//! 3. results are stored by [`Store::complete`] in one transaction guarded by the lease token
+//!    (a worker whose lease was swept away discards its results); failures are reported as
+//!    transient (retried with backoff) or permanent (failed at once with the diagnostic);
+//! 4. on a shutdown signal the running job's lease is released without consuming an attempt
+//!    and the loop returns.
+//!
+//! Between claims the worker sweeps expired leases back to the queue, so crashed workers' jobs
+//! are picked up by the survivors without any coordinator.
+
+pub mod execute;
+pub mod global_stage;
+pub mod series;
+pub mod strand_stage;
+
+use std::collections::HashMap;
+use std::sync::Arc;
+use std::time::Duration;
+
+use tokio::sync::watch;
+
+use crate::campaign::{stored_inputs, CampaignInputs};
+use crate::store::{
+    ArtifactStore, CampaignId, ClaimFilter, FailureDisposition, FailureKind, JobFailure, JobKind,
+    JobState, Lease, Store, StoreError, WorkerInfo,
+};
+
+/// Settings of a worker.
+#[derive(Debug, Clone)]
+pub struct WorkerConfig {
+    /// Job kinds this worker takes (all if empty).
+    pub kinds: Vec<JobKind>,
+    /// Pause between claims when nothing is ready.
+    pub idle_poll: Duration,
+    /// Return once no campaign has ready, running or blocked jobs left.
+    pub exit_when_idle: bool,
+}
+
+impl Default for WorkerConfig {
+    fn default() -> Self {
+        Self {
+            kinds: Vec::new(),
+            idle_poll: Duration::from_millis(500),
+            exit_when_idle: false,
+        }
+    }
+}
+
+/// What a worker did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct WorkerSummary {
+    /// Jobs completed with fresh results.
+    pub completed: u64,
+    /// Jobs completed from the cache.
+    pub cached: u64,
+    /// Failure reports (transient and permanent).
+    pub failed: u64,
+    /// Results discarded because the lease was lost.
+    pub lost: u64,
+    /// Whether it stopped on the shutdown signal.
+    pub stopped_by_signal: bool,
+}
+
+/// A failure report for an error of class `class` that will not go away by retrying.
+pub(crate) fn permanent(class: &str, e: impl std::fmt::Display) -> JobFailure {
+    JobFailure {
+        kind: FailureKind::Permanent,
+        error_class: class.to_owned(),
+        message: e.to_string(),
+    }
+}
+
+/// A failure report for an error of class `class` worth retrying.
+pub(crate) fn transient(class: &str, e: impl std::fmt::Display) -> JobFailure {
+    JobFailure {
+        kind: FailureKind::Transient,
+        error_class: class.to_owned(),
+        message: e.to_string(),
+    }
+}
+
+/// Identity of this process for the `workers` and `attempts` tables.
+pub fn this_process() -> WorkerInfo {
+    let host = std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .map(|h| h.trim().to_owned())
+        .unwrap_or_else(|_| "unknown".into());
+    WorkerInfo {
+        host,
+        pid: i64::from(std::process::id()),
+        version: env!("CARGO_PKG_VERSION").to_owned(),
+    }
+}
+
+/// Whether any campaign still has work that may become claimable.
+async fn work_remains(store: &Store) -> Result<bool, StoreError> {
+    for campaign in store.campaigns().await? {
+        let progress = store.progress(campaign.id).await?;
+        let open = progress
+            .jobs_by_state
+            .iter()
+            .filter(|(s, _)| matches!(s, JobState::Ready | JobState::Running | JobState::Blocked))
+            .map(|(_, n)| n)
+            .sum::<i64>();
+        if open > 0 {
+            return Ok(true);
+        }
+    }
+    Ok(false)
+}
+
+/// Runs the worker loop until `shutdown` turns true (or, with `exit_when_idle`, until no work
+/// remains).
+pub async fn run(
+    store: Store,
+    artifacts: ArtifactStore,
+    config: WorkerConfig,
+    mut shutdown: watch::Receiver<bool>,
+) -> Result<WorkerSummary, StoreError> {
+    let worker = store.register_worker(&this_process()).await?;
+    tracing::info!(worker = %worker, "worker registered");
+    let filter = ClaimFilter {
+        kinds: config.kinds.clone(),
+        max_expected_cost_s: None,
+    };
+    let artifacts = Arc::new(artifacts);
+    let mut inputs: HashMap<CampaignId, Arc<CampaignInputs>> = HashMap::new();
+    let mut summary = WorkerSummary::default();
+    loop {
+        if *shutdown.borrow() {
+            summary.stopped_by_signal = true;
+            return Ok(summary);
+        }
+        let swept = store.sweep_expired().await?;
+        if !swept.requeued.is_empty() || !swept.failed.is_empty() {
+            tracing::warn!(requeued = ?swept.requeued, failed = ?swept.failed, "expired leases swept");
+        }
+        let Some(lease) = store.claim(&worker, &filter).await? else {
+            if config.exit_when_idle && !work_remains(&store).await? {
+                return Ok(summary);
+            }
+            tokio::select! {
+                _ = tokio::time::sleep(config.idle_poll) => {}
+                _ = shutdown.changed() => {}
+            }
+            continue;
+        };
+        tracing::info!(job = %lease.job, kind = %lease.kind, attempt = lease.attempt, "claimed");
+        if let Some(key) = &lease.cache_key {
+            if let Some(source) = store.lookup_cache(key).await? {
+                match store.complete_from_cache(&lease, source).await {
+                    Ok(()) => {
+                        summary.cached += 1;
+                        tracing::info!(job = %lease.job, source = %source, "completed from cache");
+                        continue;
+                    }
+                    Err(StoreError::LeaseLost { .. }) => {
+                        summary.lost += 1;
+                        continue;
+                    }
+                    Err(e) => return Err(e),
+                }
+            }
+        }
+        let campaign_inputs = match inputs_of(&store, &mut inputs, &lease).await {
+            Ok(i) => i,
+            Err(failure) => {
+                report_failure(&store, &lease, &failure, &mut summary).await?;
+                continue;
+            }
+        };
+        let heartbeat = spawn_heartbeat(store.clone(), lease.clone());
+        let job = tokio::task::spawn_blocking({
+            let lease = lease.clone();
+            let store = store.clone();
+            let artifacts = Arc::clone(&artifacts);
+            let handle = tokio::runtime::Handle::current();
+            move || {
+                execute::execute(
+                    &lease,
+                    campaign_inputs.as_deref(),
+                    &store,
+                    &artifacts,
+                    &handle,
+                )
+            }
+        });
+        let outcome = tokio::select! {
+            joined = job => joined.unwrap_or_else(|e| Err(transient("worker_panic", e))),
+            _ = shutdown.changed() => {
+                heartbeat.abort();
+                match store.release(&lease, "worker stopped by signal").await {
+                    Ok(()) => tracing::info!(job = %lease.job, "lease released on shutdown"),
+                    Err(e) => tracing::warn!(job = %lease.job, error = %e, "release failed"),
+                }
+                summary.stopped_by_signal = true;
+                return Ok(summary);
+            }
+        };
+        heartbeat.abort();
+        match outcome {
+            Ok(results) => match store.complete(&lease, &results).await {
+                Ok(()) => {
+                    summary.completed += 1;
+                    tracing::info!(job = %lease.job, "completed");
+                }
+                Err(StoreError::LeaseLost { .. }) => {
+                    summary.lost += 1;
+                    tracing::warn!(job = %lease.job, "lease lost: results discarded");
+                }
+                Err(e) => return Err(e),
+            },
+            Err(failure) => report_failure(&store, &lease, &failure, &mut summary).await?,
+        }
+    }
+}
+
+async fn report_failure(
+    store: &Store,
+    lease: &Lease,
+    failure: &JobFailure,
+    summary: &mut WorkerSummary,
+) -> Result<(), StoreError> {
+    summary.failed += 1;
+    match store.fail(lease, failure).await {
+        Ok(FailureDisposition::Retry { not_before_ms }) => {
+            tracing::warn!(job = %lease.job, class = %failure.error_class,
+                message = %failure.message, not_before_ms, "transient failure, will retry");
+            Ok(())
+        }
+        Ok(FailureDisposition::Failed { dependents_failed }) => {
+            tracing::error!(job = %lease.job, class = %failure.error_class,
+                message = %failure.message, dependents_failed, "job failed");
+            Ok(())
+        }
+        Err(StoreError::LeaseLost { .. }) => Ok(()),
+        Err(e) => Err(e),
+    }
+}
+
+/// The stored inputs of the lease's campaign (cached per campaign); `None` for test jobs.
+async fn inputs_of(
+    store: &Store,
+    cache: &mut HashMap<CampaignId, Arc<CampaignInputs>>,
+    lease: &Lease,
+) -> Result<Option<Arc<CampaignInputs>>, JobFailure> {
+    if lease.kind == JobKind::Test {
+        return Ok(None);
+    }
+    if let Some(i) = cache.get(&lease.campaign) {
+        return Ok(Some(Arc::clone(i)));
+    }
+    let campaigns = store.campaigns().await.map_err(|e| transient("store", e))?;
+    let record = campaigns
+        .into_iter()
+        .find(|c| c.id == lease.campaign)
+        .ok_or_else(|| permanent("unknown_campaign", format!("campaign {}", lease.campaign)))?;
+    let inputs = Arc::new(stored_inputs(&record.spec).map_err(|e| permanent("bad_campaign", e))?);
+    cache.insert(lease.campaign, Arc::clone(&inputs));
+    Ok(Some(inputs))
+}
+
+/// Renews the lease every heartbeat interval until aborted or the lease is lost.
+fn spawn_heartbeat(store: Store, lease: Lease) -> tokio::task::JoinHandle<()> {
+    let every = Duration::from_millis(store.policy().heartbeat_interval_ms.unsigned_abs());
+    tokio::spawn(async move {
+        loop {
+            tokio::time::sleep(every).await;
+            match store.heartbeat(&lease).await {
+                Ok(_) => {}
+                Err(StoreError::LeaseLost { .. }) => {
+                    tracing::warn!(job = %lease.job, "lease lost during the run");
+                    return;
+                }
+                Err(e) => tracing::warn!(job = %lease.job, error = %e, "heartbeat failed"),
+            }
+        }
+    })
+}

@@ -1,0 +1,266 @@
+//! Crash safety of the worker loop and the campaign driver with real processes
+//! (`moorfret worker`, `moorfret campaign resume`) on an SQLite store, using the test job kind
+//! (sleeps, crashes) for the queue mechanics and a short lease so that expiry is quick.
+
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use moorfret_orchestrator::store::{
+    AttemptOutcome, CampaignId, JobKind, JobState, NewCampaign, PlannedJob, Store, StoreOptions,
+    TestPayload,
+};
+
+/// Lease of the processes under test, ms: long enough for a heartbeat every 100 ms.
+const LEASE_MS: &str = "1000";
+
+fn rt() -> tokio::runtime::Runtime {
+    tokio::runtime::Runtime::new().unwrap()
+}
+
+/// A store with one campaign of test jobs.
+fn store_with(dir: &Path, name: &str, payloads: &[TestPayload]) -> (String, CampaignId) {
+    let db = dir.join("store.sqlite").to_string_lossy().into_owned();
+    let id = rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let id = store
+            .create_campaign(&NewCampaign {
+                name: name.into(),
+                spec: serde_json::json!({}),
+                spec_sha256: "0".into(),
+            })
+            .await
+            .unwrap();
+        let plan: Vec<PlannedJob> = payloads
+            .iter()
+            .map(|p| PlannedJob::new(JobKind::Test, serde_json::to_value(p).unwrap()))
+            .collect();
+        store.insert_plan(id, &plan).await.unwrap();
+        store.close().await;
+        id
+    });
+    (db, id)
+}
+
+fn moorfret(args: &[&str]) -> Command {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_moorfret"));
+    cmd.args(args).stdout(Stdio::null()).stderr(Stdio::piped());
+    cmd
+}
+
+fn worker(db: &str) -> Child {
+    moorfret(&[
+        "worker",
+        "--db",
+        db,
+        "--lease-ms",
+        LEASE_MS,
+        "--exit-when-idle",
+        "--poll-ms",
+        "50",
+    ])
+    .stderr(Stdio::null())
+    .spawn()
+    .unwrap()
+}
+
+/// Waits until `f` holds, polling the store.
+fn wait_until(db: &str, what: &str, f: impl Fn(&[JobState]) -> bool, id: CampaignId) {
+    let deadline = Instant::now() + Duration::from_secs(30);
+    loop {
+        let states = job_states(db, id);
+        if f(&states) {
+            return;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "timed out waiting for {what}: {states:?}"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+fn job_states(db: &str, id: CampaignId) -> Vec<JobState> {
+    rt().block_on(async {
+        let store = Store::open(db, StoreOptions::default()).await.unwrap();
+        let jobs = store.jobs_of_campaign(id).await.unwrap();
+        store.close().await;
+        jobs.iter().map(|j| j.state).collect()
+    })
+}
+
+/// Every job of the campaign is done and has exactly one `done` attempt.
+fn assert_each_done_once(db: &str, id: CampaignId) {
+    rt().block_on(async {
+        let store = Store::open(db, StoreOptions::default()).await.unwrap();
+        let jobs = store.jobs_of_campaign(id).await.unwrap();
+        let attempts = store.attempts_of_campaign(id).await.unwrap();
+        for job in &jobs {
+            assert_eq!(job.state, JobState::Done, "job {}", job.id);
+            let done = attempts
+                .iter()
+                .filter(|a| a.job == job.id && a.outcome == Some(AttemptOutcome::Done))
+                .count();
+            assert_eq!(done, 1, "job {} completed {done} times", job.id);
+        }
+        store.close().await;
+    });
+}
+
+#[test]
+fn killed_worker_job_is_reclaimed_after_lease_expiry_and_completed_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut payloads = vec![TestPayload::Sleep { duration_ms: 1500 }];
+    payloads.extend((0..4).map(|_| TestPayload::Succeed));
+    let (db, id) = store_with(dir.path(), "kill9", &payloads);
+    let mut first = worker(&db);
+    wait_until(
+        &db,
+        "the sleeping job to run",
+        |s| s[0] == JobState::Running,
+        id,
+    );
+    first.kill().unwrap(); // SIGKILL: no chance to release the lease
+    first.wait().unwrap();
+    assert_eq!(job_states(&db, id)[0], JobState::Running);
+    let status = worker(&db).wait().unwrap();
+    assert!(status.success());
+    assert_each_done_once(&db, id);
+    rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let jobs = store.jobs_of_campaign(id).await.unwrap();
+        assert_eq!(jobs[0].lost_count, 1);
+        // a lost lease is not a failed attempt
+        assert_eq!(jobs[0].attempt, 1);
+        let attempts = store.attempts_of_campaign(id).await.unwrap();
+        let lost = attempts
+            .iter()
+            .filter(|a| a.outcome == Some(AttemptOutcome::Lost))
+            .count();
+        assert_eq!(lost, 1);
+        store.close().await;
+    });
+}
+
+#[test]
+fn stopped_worker_releases_its_lease_without_consuming_an_attempt() {
+    let dir = tempfile::tempdir().unwrap();
+    let (db, id) = store_with(
+        dir.path(),
+        "sigterm",
+        &[TestPayload::Sleep {
+            duration_ms: 60_000,
+        }],
+    );
+    let mut w = worker(&db);
+    wait_until(&db, "the job to run", |s| s[0] == JobState::Running, id);
+    let pid = w.id().to_string();
+    assert!(Command::new("kill")
+        .args(["-TERM", &pid])
+        .status()
+        .unwrap()
+        .success());
+    let status = w.wait().unwrap();
+    assert!(status.success());
+    rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let job = &store.jobs_of_campaign(id).await.unwrap()[0];
+        assert_eq!(job.state, JobState::Ready);
+        assert_eq!((job.attempt, job.lost_count), (0, 0));
+        store.close().await;
+    });
+}
+
+#[test]
+fn killed_driver_then_resume_completes_every_job_once() {
+    use std::os::unix::process::CommandExt;
+    let dir = tempfile::tempdir().unwrap();
+    let payloads: Vec<_> = (0..12)
+        .map(|_| TestPayload::Sleep { duration_ms: 300 })
+        .collect();
+    let (db, id) = store_with(dir.path(), "resume", &payloads);
+    // The driver and its workers in their own process group, killed together (as a reboot).
+    let mut driver = moorfret(&[
+        "campaign",
+        "resume",
+        "resume",
+        "--db",
+        &db,
+        "--workers",
+        "2",
+        "--lease-ms",
+        LEASE_MS,
+    ])
+    .stderr(Stdio::null())
+    .process_group(0)
+    .spawn()
+    .unwrap();
+    wait_until(
+        &db,
+        "some jobs done",
+        |s| s.iter().filter(|&&x| x == JobState::Done).count() >= 3,
+        id,
+    );
+    let group = format!("-{}", driver.id());
+    assert!(Command::new("kill")
+        .args(["-KILL", "--", &group])
+        .status()
+        .unwrap()
+        .success());
+    driver.wait().unwrap();
+    let states = job_states(&db, id);
+    assert!(states.iter().any(|&s| s != JobState::Done), "{states:?}");
+    let out = moorfret(&[
+        "campaign",
+        "resume",
+        "resume",
+        "--db",
+        &db,
+        "--workers",
+        "2",
+        "--lease-ms",
+        LEASE_MS,
+    ])
+    .output()
+    .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_each_done_once(&db, id);
+}
+
+#[test]
+fn always_crashing_job_fails_after_the_allowed_losses_and_the_rest_completes() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut payloads = vec![TestPayload::Crash];
+    payloads.extend((0..5).map(|_| TestPayload::Succeed));
+    let (db, id) = store_with(dir.path(), "crashing", &payloads);
+    let out = moorfret(&[
+        "campaign",
+        "resume",
+        "crashing",
+        "--db",
+        &db,
+        "--workers",
+        "2",
+        "--lease-ms",
+        LEASE_MS,
+    ])
+    .output()
+    .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("lease expired 3 times"), "{stderr}");
+    assert!(stderr.contains("1 of 6 jobs failed"), "{stderr}");
+    rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let jobs = store.jobs_of_campaign(id).await.unwrap();
+        assert_eq!(jobs[0].state, JobState::Failed);
+        assert_eq!(jobs[0].error_class.as_deref(), Some("lost"));
+        assert_eq!(jobs[0].lost_count, 3);
+        assert!(jobs[1..].iter().all(|j| j.state == JobState::Done));
+        store.close().await;
+    });
+}

@@ -1,0 +1,235 @@
+//! Bad campaign inputs through the real `moorfret campaign launch` process: each gives a clear
+//! error naming the file or field and the reason, exits with code 1, and leaves an existing
+//! store untouched. The good campaign files of `campaigns/` resolve and plan.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use moorfret_orchestrator::campaign::{self, resolve};
+use moorfret_orchestrator::store::{NewCampaign, Store, StoreOptions};
+
+fn campaigns_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns")
+}
+
+/// A copy of `campaigns/` (demo and paper files with their data) in a temporary directory.
+fn campaign_copy() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    let src = campaigns_dir();
+    std::fs::create_dir(dir.path().join("data")).unwrap();
+    for name in ["demo.json", "paper.json", "paper_case.json"] {
+        std::fs::copy(src.join(name), dir.path().join(name)).unwrap();
+    }
+    for entry in std::fs::read_dir(src.join("data")).unwrap() {
+        let entry = entry.unwrap();
+        std::fs::copy(
+            entry.path(),
+            dir.path().join("data").join(entry.file_name()),
+        )
+        .unwrap();
+    }
+    dir
+}
+
+fn edit_json(path: &Path, edit: impl FnOnce(&mut serde_json::Value)) {
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    edit(&mut v);
+    std::fs::write(path, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+}
+
+/// A store with one existing campaign; returns its location.
+fn existing_store(dir: &Path) -> String {
+    let db = dir.join("store.sqlite").to_string_lossy().into_owned();
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    rt.block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        store
+            .create_campaign(&NewCampaign {
+                name: "existing".into(),
+                spec: serde_json::json!({}),
+                spec_sha256: "0".into(),
+            })
+            .await
+            .unwrap();
+        store.close().await;
+    });
+    db
+}
+
+fn campaign_names(db: &str) -> Vec<String> {
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    rt.block_on(async {
+        let store = Store::open(db, StoreOptions::default()).await.unwrap();
+        let names = store
+            .campaigns()
+            .await
+            .unwrap()
+            .into_iter()
+            .map(|c| c.name)
+            .collect();
+        store.close().await;
+        names
+    })
+}
+
+/// Runs `campaign launch FILE --db DB`; returns (exit code, stderr).
+fn launch(file: &Path, db: &str) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_moorfret"))
+        .args(["campaign", "launch"])
+        .arg(file)
+        .args(["--db", db, "--workers", "1"])
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn assert_refused(dir: &Path, db: &str, expected: &[&str]) {
+    let (code, stderr) = launch(&dir.join("demo.json"), db);
+    assert_eq!(code, 1, "{stderr}");
+    for e in expected {
+        assert!(stderr.contains(e), "expected '{e}' in: {stderr}");
+    }
+    assert_eq!(campaign_names(db), vec!["existing".to_owned()], "{stderr}");
+}
+
+#[test]
+fn malformed_json_is_refused_with_its_position() {
+    let dir = campaign_copy();
+    let db = existing_store(dir.path());
+    std::fs::write(dir.path().join("demo.json"), "{\"name\": \"demo\",,}").unwrap();
+    assert_refused(
+        dir.path(),
+        &db,
+        &["not a valid campaign description", "line 1"],
+    );
+}
+
+#[test]
+fn unknown_field_is_named() {
+    let dir = campaign_copy();
+    let db = existing_store(dir.path());
+    edit_json(&dir.path().join("demo.json"), |v| {
+        v["simulation"]["durations"] = serde_json::json!(3.0);
+    });
+    assert_refused(dir.path(), &db, &["unknown field `durations`"]);
+}
+
+#[test]
+fn out_of_range_value_is_named_by_its_path() {
+    let dir = campaign_copy();
+    let db = existing_store(dir.path());
+    edit_json(&dir.path().join("demo.json"), |v| {
+        v["simulation"]["duration_s"] = serde_json::json!(-30.0);
+    });
+    assert_refused(
+        dir.path(),
+        &db,
+        &["simulation.duration_s must be > 0 (got -30)"],
+    );
+}
+
+#[test]
+fn missing_data_file_is_named_with_its_field() {
+    let dir = campaign_copy();
+    let db = existing_store(dir.path());
+    std::fs::remove_file(dir.path().join("data/demo_scatter.tsv")).unwrap();
+    assert_refused(
+        dir.path(),
+        &db,
+        &["scatter.path: cannot read", "demo_scatter.tsv"],
+    );
+}
+
+#[test]
+fn negative_scatter_cell_is_refused_with_line_and_column() {
+    let dir = campaign_copy();
+    let db = existing_store(dir.path());
+    let path = dir.path().join("data/demo_scatter.tsv");
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("0,423", "-0,423");
+    std::fs::write(&path, text).unwrap();
+    assert_refused(
+        dir.path(),
+        &db,
+        &["scatter.path", "negative value -0.423", "line 5"],
+    );
+}
+
+#[test]
+fn non_numeric_scatter_cell_is_refused_with_line_and_column() {
+    let dir = campaign_copy();
+    let db = existing_store(dir.path());
+    let path = dir.path().join("data/demo_scatter.tsv");
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("1,354\t0", "x1\t0");
+    std::fs::write(&path, text).unwrap();
+    assert_refused(
+        dir.path(),
+        &db,
+        &["scatter.path", "'x1' is not a number", "line 4"],
+    );
+}
+
+#[test]
+fn store_of_a_newer_schema_is_refused_and_left_untouched() {
+    let dir = campaign_copy();
+    let db = existing_store(dir.path());
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    let url = format!("sqlite://{db}");
+    rt.block_on(async {
+        let pool = sqlx::SqlitePool::connect(&url).await.unwrap();
+        sqlx::query("UPDATE schema_info SET value = '99' WHERE key = 'schema_version'")
+            .execute(&pool)
+            .await
+            .unwrap();
+        pool.close().await;
+    });
+    let (code, stderr) = launch(&dir.path().join("demo.json"), &db);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("99"), "{stderr}");
+    rt.block_on(async {
+        let pool = sqlx::SqlitePool::connect(&url).await.unwrap();
+        let version: String =
+            sqlx::query_scalar("SELECT value FROM schema_info WHERE key = 'schema_version'")
+                .fetch_one(&pool)
+                .await
+                .unwrap();
+        let names: Vec<String> = sqlx::query_scalar("SELECT name FROM campaigns")
+            .fetch_all(&pool)
+            .await
+            .unwrap();
+        assert_eq!(version, "99");
+        assert_eq!(names, vec!["existing".to_owned()]);
+        pool.close().await;
+    });
+}
+
+#[test]
+fn paper_campaign_plans_every_non_zero_cell_of_the_scatter_diagram() {
+    let resolved = resolve(&campaigns_dir().join("paper.json")).unwrap();
+    let table = &resolved.scatter;
+    let non_zero = table.cells().iter().filter(|c| c.value > 0.0).count();
+    let states = campaign::plan::sea_states(
+        table,
+        resolved.inputs.spec.scatter.reading,
+        resolved.inputs.spec.simulation.seeds_per_sea_state,
+        resolved.inputs.spec.seed,
+    );
+    assert_eq!(states.len(), non_zero);
+    // cells are percent of the year: their sum, 43.517 %, is the year fraction covered
+    let covered: f64 = states.iter().map(|s| s.occurrence_fraction).sum();
+    assert!((covered - 0.43517).abs() < 1e-9, "{covered}");
+    // the printed totals that disagree with their cells are all found
+    assert!(!resolved.scatter_mismatches.is_empty());
+    // every referenced file is hashed
+    let fields: Vec<&str> = resolved.files.iter().map(|f| f.field.as_str()).collect();
+    assert!(fields.contains(&"scatter.path"));
+    assert!(fields.contains(&"strand.profiles_path"));
+    assert_eq!(resolved.inputs.hot_spot_axial_stiffness_n, vec![3.6e8]);
+}
