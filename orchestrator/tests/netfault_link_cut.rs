@@ -7,6 +7,9 @@
 //! has ended, tries to complete. Expected: A's completion is refused by its lease token, B's
 //! stands, the job is done once, A's claim is recorded as lost.
 //!
+//! The scenario runs twice: with `moorfret worker`, and with the store-protocol worker of
+//! `scale_support::process_worker` (which retries its store calls through the retry helper).
+//!
 //! Needs root, `ip netns` and a PostgreSQL server (`MOORFRET_TEST_POSTGRES_URL`); otherwise
 //! prints why it is skipped.
 
@@ -15,11 +18,11 @@ mod scale_support;
 use std::time::Duration;
 
 use moorfret_orchestrator::store::{
-    AttemptOutcome, CampaignId, Clock, JobState, Store, StoreOptions, TestPayload,
+    AttemptOutcome, Clock, JobState, Store, StoreOptions, TestPayload,
 };
 use scale_support::netns::{self, Forwarder, Host};
 use scale_support::pg_database::TempDatabase;
-use scale_support::process_worker::{self, fault_policy};
+use scale_support::process_worker::{self, fault_policy, WorkerProcess};
 use scale_support::{campaign, postgres_reachable, postgres_url, test_job, wait_until};
 
 fn main() {
@@ -37,12 +40,40 @@ fn main() {
         if !postgres_reachable(&postgres_url()).await {
             return;
         }
-        cut_worker_loses_its_job_and_its_late_completion_is_rejected().await;
-        println!("test cut_worker_loses_its_job_and_its_late_completion_is_rejected ... ok");
+        let artifacts = tempfile::tempdir().expect("artifact directory");
+        let moorfret_worker = |host: &Host, url: &str, _name: &str| {
+            let mut command = host.launcher();
+            command
+                .arg(env!("CARGO_BIN_EXE_moorfret"))
+                .args(["worker", "--db", url, "--artifacts"])
+                .arg(artifacts.path())
+                .args(["--exit-when-idle", "--poll-ms", "100", "--lease-ms"])
+                .arg(fault_policy().lease_ms.to_string())
+                .env("RUST_LOG", "info")
+                .env("NO_COLOR", "1");
+            WorkerProcess::start(command)
+        };
+        cut_worker_loses_its_job_and_its_late_completion_is_rejected(
+            moorfret_worker,
+            "lease lost: results discarded",
+        )
+        .await;
+        println!("test cut_worker_loses_its_job_and_its_late_completion_is_rejected (moorfret worker) ... ok");
+        let protocol_worker = |host: &Host, url: &str, name: &str| {
+            process_worker::spawn(Some(host.launcher()), url, name)
+        };
+        cut_worker_loses_its_job_and_its_late_completion_is_rejected(protocol_worker, "REJECTED job=")
+            .await;
+        println!("test cut_worker_loses_its_job_and_its_late_completion_is_rejected (store-protocol worker) ... ok");
     });
 }
 
-async fn cut_worker_loses_its_job_and_its_late_completion_is_rejected() {
+/// Runs the scenario with workers started by `start(host, url, name)`; `rejected` is the text
+/// of the line a worker prints when its completion is refused.
+async fn cut_worker_loses_its_job_and_its_late_completion_is_rejected<F>(start: F, rejected: &str)
+where
+    F: Fn(&Host, &str, &str) -> WorkerProcess,
+{
     let db = TempDatabase::create(&postgres_url()).await;
     let options = StoreOptions {
         clock: Clock::Database,
@@ -52,11 +83,6 @@ async fn cut_worker_loses_its_job_and_its_late_completion_is_rejected() {
     };
     let store = Store::open(&db.url(), options).await.expect("open store");
     let id = campaign(&store, "link-cut").await;
-    assert_eq!(
-        id,
-        CampaignId(1),
-        "the worker processes expect the first campaign"
-    );
     let job = store
         .insert_plan(id, &[test_job(TestPayload::Sleep { duration_ms: 6_000 })])
         .await
@@ -71,12 +97,9 @@ async fn cut_worker_loses_its_job_and_its_late_completion_is_rejected() {
         .await
         .unwrap();
 
-    let worker_a = process_worker::spawn(
-        Some(host_a.launcher()),
-        &db.url_via(&via_a.addr.to_string()),
-        "host-a",
-    );
-    let attempts_by = |host: &'static str| {
+    let worker_a = start(&host_a, &db.url_via(&via_a.addr.to_string()), "host-a");
+    let pid_a = worker_a.pid();
+    let claimed_by = |pid: i64| {
         let store = store.clone();
         move || {
             let store = store.clone();
@@ -86,62 +109,55 @@ async fn cut_worker_loses_its_job_and_its_late_completion_is_rejected() {
                     .await
                     .unwrap()
                     .iter()
-                    .any(|a| a.host == host)
+                    .any(|a| a.pid == pid)
             }
         }
     };
     wait_until(
         Duration::from_secs(30),
         "host A claims the job",
-        attempts_by("host-a"),
+        claimed_by(pid_a),
     )
     .await;
 
     // Mid-job: A's sleep has 6 s to go, its lease 2 s.
     host_a.cut();
-    let worker_b = process_worker::spawn(
-        Some(host_b.launcher()),
-        &db.url_via(&via_b.addr.to_string()),
-        "host-b",
-    );
+    let worker_b = start(&host_b, &db.url_via(&via_b.addr.to_string()), "host-b");
+    let pid_b = worker_b.pid();
     wait_until(
         Duration::from_secs(30),
         "host B takes the job over",
-        attempts_by("host-b"),
+        claimed_by(pid_b),
     )
     .await;
     host_a.restore();
 
-    let (a_ok, a_events) = worker_a.finish(Duration::from_secs(90)).await;
-    let (b_ok, b_events) = worker_b.finish(Duration::from_secs(90)).await;
-    eprintln!("host A: {a_events:?}\nhost B: {b_events:?}");
-    assert!(a_ok && b_ok, "both workers survive and exit cleanly");
-    let rejected = format!("REJECTED job={job}");
+    let (a_ok, a_lines) = worker_a.finish(Duration::from_secs(90)).await;
+    let (b_ok, b_lines) = worker_b.finish(Duration::from_secs(90)).await;
+    let show = |lines: &[String]| lines.join("\n");
+    assert!(a_ok, "worker A failed:\n{}", show(&a_lines));
+    assert!(b_ok, "worker B failed:\n{}", show(&b_lines));
     assert!(
-        a_events.iter().any(|e| e.starts_with(&rejected)),
-        "A's late completion must be refused"
+        a_lines.iter().any(|l| l.contains(rejected)),
+        "A's late completion must be refused:\n{}",
+        show(&a_lines)
     );
-    assert!(b_events.contains(&format!("COMPLETED job={job}")));
 
     let record = store.job(job).await.unwrap();
     assert_eq!(record.state, JobState::Done);
     assert_eq!((record.attempt, record.lost_count), (1, 1));
-    assert_eq!(
-        record.result.as_ref().and_then(|r| r["by"].as_str()),
-        Some("host-b")
-    );
-    let outcomes: Vec<(String, Option<AttemptOutcome>)> = store
+    let outcomes: Vec<(i64, Option<AttemptOutcome>)> = store
         .attempts_of_campaign(id)
         .await
         .unwrap()
         .into_iter()
-        .map(|a| (a.host, a.outcome))
+        .map(|a| (a.pid, a.outcome))
         .collect();
     assert_eq!(
         outcomes,
         vec![
-            ("host-a".to_owned(), Some(AttemptOutcome::Lost)),
-            ("host-b".to_owned(), Some(AttemptOutcome::Done)),
+            (pid_a, Some(AttemptOutcome::Lost)),
+            (pid_b, Some(AttemptOutcome::Done))
         ]
     );
     store.close().await;

@@ -52,6 +52,23 @@ pub struct WorkerProcess {
 }
 
 impl WorkerProcess {
+    /// Starts `command` with stdout and stderr captured (its output must stay below the pipe
+    /// buffer, a few tens of kB, until it is read after exit).
+    pub fn start(mut command: Command) -> Self {
+        let child = command
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start worker process");
+        Self { child: Some(child) }
+    }
+
+    /// Process id.
+    pub fn pid(&self) -> i64 {
+        i64::from(self.child.as_ref().expect("worker process").id())
+    }
+
     /// Waits (at most `limit`) for the process to exit; returns whether it succeeded and the
     /// event lines it printed.
     pub async fn finish(mut self, limit: Duration) -> (bool, Vec<String>) {
@@ -211,12 +228,15 @@ async fn work(url: &str, name: &str) -> Result<(), StoreError> {
     Ok(())
 }
 
-/// Lines a worker printed, read to the end (after it exited).
+/// Lines a worker printed on stdout, then on stderr if captured, read after it exited.
 fn read_events(child: &mut Child) -> Vec<String> {
     use std::io::Read;
     let mut text = String::new();
     if let Some(mut out) = child.stdout.take() {
         let _ = out.read_to_string(&mut text);
+    }
+    if let Some(mut err) = child.stderr.take() {
+        let _ = err.read_to_string(&mut text);
     }
     text.lines().map(str::to_owned).collect()
 }
