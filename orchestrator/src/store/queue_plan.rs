@@ -186,7 +186,7 @@ async fn insert_job_rows(
         .iter()
         .copied()
         .zip(jobs.iter())
-        .zip(&payloads)
+        .zip(payloads)
         .map(|((i, j), p)| (i, j, p))
         .collect();
     for batch in rows.chunks(PLAN_BATCH_ROWS) {
