@@ -66,7 +66,7 @@ fn worker(db: &str) -> Child {
 
 /// Waits until `f` holds, polling the store.
 fn wait_until(db: &str, what: &str, f: impl Fn(&[JobState]) -> bool, id: CampaignId) {
-    let deadline = Instant::now() + Duration::from_secs(30);
+    let deadline = Instant::now() + Duration::from_secs(90);
     loop {
         let states = job_states(db, id);
         if f(&states) {
@@ -261,6 +261,71 @@ fn always_crashing_job_fails_after_the_allowed_losses_and_the_rest_completes() {
         assert_eq!(jobs[0].error_class.as_deref(), Some("lost"));
         assert_eq!(jobs[0].lost_count, 3);
         assert!(jobs[1..].iter().all(|j| j.state == JobState::Done));
+        store.close().await;
+    });
+}
+
+/// The real stages end to end: one short sea state of the demo campaign through
+/// `campaign launch`, global then strand, then `campaign status --json`. Minutes in a debug
+/// build, hence ignored; run with `cargo test --release -p moorfret-orchestrator --test
+/// campaign_processes -- --ignored`.
+#[test]
+#[ignore = "runs the real global and strand stages: minutes in a debug build"]
+fn demo_sea_state_runs_through_both_real_stages() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns");
+    for sub in ["data", "benchmarks"] {
+        std::fs::create_dir(dir.path().join(sub)).unwrap();
+    }
+    for name in [
+        "demo.json",
+        "paper_case.json",
+        "data/oc4_semi_floater.json",
+        "benchmarks/strand_1_6_1.json",
+    ] {
+        std::fs::copy(src.join(name), dir.path().join(name)).unwrap();
+    }
+    std::fs::write(
+        dir.path().join("data/demo_scatter.tsv"),
+        "lower\tupper\t11\ttotal\n2\t2,5\t1,354\t1,354\n",
+    )
+    .unwrap();
+    let file = dir.path().join("demo.json");
+    let mut spec: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    spec["simulation"]["transient_s"] = serde_json::json!(10.0);
+    spec["simulation"]["wave_ramp_s"] = serde_json::json!(8.0);
+    spec["simulation"]["duration_s"] = serde_json::json!(10.0);
+    std::fs::write(&file, spec.to_string()).unwrap();
+    let db = dir.path().join("e2e.sqlite").to_string_lossy().into_owned();
+    let file = file.to_string_lossy().into_owned();
+    let out = moorfret(&["campaign", "launch", &file, "--db", &db, "--workers", "2"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = moorfret(&["campaign", "status", "demo", "--db", &db, "--json"])
+        .stdout(Stdio::piped())
+        .output()
+        .unwrap();
+    let status: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(status["jobs"]["done"], 2, "{status}");
+    assert!((status["occurrence_covered"].as_f64().unwrap() - 0.01354).abs() < 1e-12);
+    rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let id = store.campaign_by_name("demo").await.unwrap().unwrap();
+        let jobs = store.jobs_of_campaign(id).await.unwrap();
+        let strand = jobs.iter().find(|j| j.kind == JobKind::Strand).unwrap();
+        let results = store.results_of(strand.id).await.unwrap();
+        // 1+6+1: six core-layer-1 line contacts and the outer wire's crossings
+        assert!(!results.contacts.is_empty());
+        assert!(results
+            .artifacts
+            .iter()
+            .any(|a| a.role == "contact_records"));
         store.close().await;
     });
 }
