@@ -64,20 +64,27 @@ fn worker(db: &str) -> Child {
     .unwrap()
 }
 
-/// Waits until `f` holds, polling the store.
+/// Waits until `f` holds, polling the store through one connection pool (opening a store
+/// per poll would contend for the write lock with the workers under test).
 fn wait_until(db: &str, what: &str, f: impl Fn(&[JobState]) -> bool, id: CampaignId) {
-    let deadline = Instant::now() + Duration::from_secs(30);
-    loop {
-        let states = job_states(db, id);
-        if f(&states) {
-            return;
+    let rt = rt();
+    rt.block_on(async {
+        let store = Store::open(db, StoreOptions::default()).await.unwrap();
+        let deadline = Instant::now() + Duration::from_secs(90);
+        loop {
+            let jobs = store.jobs_of_campaign(id).await.unwrap();
+            let states: Vec<JobState> = jobs.iter().map(|j| j.state).collect();
+            if f(&states) {
+                break;
+            }
+            assert!(
+                Instant::now() < deadline,
+                "timed out waiting for {what}: {states:?}"
+            );
+            tokio::time::sleep(Duration::from_millis(100)).await;
         }
-        assert!(
-            Instant::now() < deadline,
-            "timed out waiting for {what}: {states:?}"
-        );
-        std::thread::sleep(Duration::from_millis(50));
-    }
+        store.close().await;
+    });
 }
 
 fn job_states(db: &str, id: CampaignId) -> Vec<JobState> {
@@ -261,6 +268,69 @@ fn always_crashing_job_fails_after_the_allowed_losses_and_the_rest_completes() {
         assert_eq!(jobs[0].error_class.as_deref(), Some("lost"));
         assert_eq!(jobs[0].lost_count, 3);
         assert!(jobs[1..].iter().all(|j| j.state == JobState::Done));
+        store.close().await;
+    });
+}
+
+/// The real stages end to end: one short sea state of the demo campaign (10 s transient, 10 s
+/// recorded, 20 strand load samples) through `campaign launch`, global then strand, then
+/// `campaign status --json` (about 25 s in a debug build).
+#[test]
+fn demo_sea_state_runs_through_both_real_stages() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns");
+    for sub in ["data", "benchmarks"] {
+        std::fs::create_dir(dir.path().join(sub)).unwrap();
+    }
+    for name in [
+        "demo.json",
+        "paper_case.json",
+        "data/oc4_semi_floater.json",
+        "benchmarks/strand_1_6_1.json",
+    ] {
+        std::fs::copy(src.join(name), dir.path().join(name)).unwrap();
+    }
+    std::fs::write(
+        dir.path().join("data/demo_scatter.tsv"),
+        "lower\tupper\t11\ttotal\n2\t2,5\t1,354\t1,354\n",
+    )
+    .unwrap();
+    let file = dir.path().join("demo.json");
+    let mut spec: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    spec["simulation"]["transient_s"] = serde_json::json!(10.0);
+    spec["simulation"]["wave_ramp_s"] = serde_json::json!(8.0);
+    spec["simulation"]["duration_s"] = serde_json::json!(10.0);
+    std::fs::write(&file, spec.to_string()).unwrap();
+    let db = dir.path().join("e2e.sqlite").to_string_lossy().into_owned();
+    let file = file.to_string_lossy().into_owned();
+    let out = moorfret(&["campaign", "launch", &file, "--db", &db, "--workers", "2"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = moorfret(&["campaign", "status", "demo", "--db", &db, "--json"])
+        .stdout(Stdio::piped())
+        .output()
+        .unwrap();
+    let status: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(status["jobs"]["done"], 2, "{status}");
+    assert!((status["occurrence_covered"].as_f64().unwrap() - 0.01354).abs() < 1e-12);
+    rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let id = store.campaign_by_name("demo").await.unwrap().unwrap();
+        let jobs = store.jobs_of_campaign(id).await.unwrap();
+        let strand = jobs.iter().find(|j| j.kind == JobKind::Strand).unwrap();
+        let results = store.results_of(strand.id).await.unwrap();
+        // 1+6+1: six core-layer-1 line contacts and the outer wire's crossings
+        assert!(!results.contacts.is_empty());
+        assert!(results
+            .artifacts
+            .iter()
+            .any(|a| a.role == "contact_records"));
         store.close().await;
     });
 }

@@ -17,6 +17,12 @@ fn campaign_copy() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     let src = campaigns_dir();
     std::fs::create_dir(dir.path().join("data")).unwrap();
+    std::fs::create_dir(dir.path().join("benchmarks")).unwrap();
+    std::fs::copy(
+        src.join("benchmarks/strand_1_6_1.json"),
+        dir.path().join("benchmarks/strand_1_6_1.json"),
+    )
+    .unwrap();
     for name in ["demo.json", "paper.json", "paper_case.json"] {
         std::fs::copy(src.join(name), dir.path().join(name)).unwrap();
     }

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use moorfret_solver::floater::FloaterSpec;
 use moorfret_solver::global::case::FloaterSource;
 use moorfret_solver::global::CaseSpec;
-use moorfret_solver::strand::profile::profiles_from_json;
+use moorfret_solver::strand::profile::{profile_from_json, profiles_from_json};
 use moorfret_solver::waves::scatter::{ScatterTable, TotalMismatch};
 use serde::Serialize;
 use serde_json::Value;
@@ -137,20 +137,26 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
     let (profiles_path, text, file) =
         read_file(base, "strand.profiles_path", &spec.strand.profiles_path)?;
     files.push(file);
-    let mut profiles = profiles_from_json(&text)
-        .map_err(|e| file_error("strand.profiles_path", &profiles_path, e))?;
-    let mut profile = profiles.remove(&spec.strand.profile).ok_or_else(|| {
-        let known: Vec<_> = profiles.keys().cloned().collect();
-        CampaignError::Invalid {
-            field: "strand.profile".into(),
-            value: spec.strand.profile.clone(),
-            reason: format!(
-                "is not in {} (it has: {})",
-                spec.strand.profiles_path,
-                known.join(", ")
-            ),
+    let mut profile = match &spec.strand.profile {
+        None => profile_from_json(&text)
+            .map_err(|e| file_error("strand.profiles_path", &profiles_path, e))?,
+        Some(name) => {
+            let mut profiles = profiles_from_json(&text)
+                .map_err(|e| file_error("strand.profiles_path", &profiles_path, e))?;
+            profiles.remove(name).ok_or_else(|| {
+                let known: Vec<_> = profiles.keys().cloned().collect();
+                CampaignError::Invalid {
+                    field: "strand.profile".into(),
+                    value: name.clone(),
+                    reason: format!(
+                        "is not in {} (it has: {})",
+                        spec.strand.profiles_path,
+                        known.join(", ")
+                    ),
+                }
+            })?
         }
-    })?;
+    };
     if let Some(mu) = spec.strand.friction_coefficient {
         profile.friction_coefficient = Some(mu);
     }

@@ -121,10 +121,15 @@ fn one_thread() -> usize {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StrandSpec {
-    /// Path of a strand profile file (a map name → profile), relative to the campaign file.
+    /// Path of a strand profile file, relative to the campaign file: a map name → profile
+    /// when `profile` is given, else a single profile.
     pub profiles_path: String,
     /// Name of the profile in that file.
-    pub profile: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub profile: Option<String>,
+    /// End conditions of the helical wires.
+    #[serde(default)]
+    pub ends: StrandEnds,
     /// Inter-wire Coulomb friction coefficient, overriding the profile's.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction_coefficient: Option<f64>,
@@ -138,6 +143,17 @@ pub struct StrandSpec {
     /// Wall time between checkpoints of a running strand job (s).
     #[serde(default = "default_checkpoint_interval")]
     pub checkpoint_interval_s: f64,
+}
+
+/// End conditions of the helical wires of the strand model.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StrandEnds {
+    /// Periodic constraints between the two ends (seed Sec. 2.3).
+    #[default]
+    Periodic,
+    /// Penalty ties of the helical wire ends to the core end sections (seed Sec. 2.2).
+    PenaltyTies,
 }
 
 fn default_checkpoint_interval() -> f64 {

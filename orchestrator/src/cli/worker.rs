@@ -94,10 +94,19 @@ pub struct WorkerArgs {
     /// Pause between claims when nothing is ready, ms.
     #[arg(long, default_value_t = 500)]
     pub poll_ms: u64,
+    /// Wall time this worker may run, s (batch allocations): it never starts a job expected
+    /// to take longer than what remains.
+    #[arg(long)]
+    pub wall_time_s: Option<f64>,
 }
 
 /// Runs the command: a worker until a signal (or idle, with `--exit-when-idle`).
 pub fn execute(args: WorkerArgs) -> anyhow::Result<()> {
+    if let Some(s) = args.wall_time_s {
+        if !(s.is_finite() && s > 0.0) {
+            anyhow::bail!("--wall-time-s must be a finite number > 0 (got {s})");
+        }
+    }
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -115,6 +124,9 @@ pub fn execute(args: WorkerArgs) -> anyhow::Result<()> {
         let config = WorkerConfig {
             exit_when_idle: args.exit_when_idle,
             idle_poll: Duration::from_millis(args.poll_ms),
+            deadline: args
+                .wall_time_s
+                .map(|s| std::time::Instant::now() + Duration::from_secs_f64(s)),
             ..WorkerConfig::default()
         };
         let summary = worker::run(store.clone(), artifacts, config, rx).await;

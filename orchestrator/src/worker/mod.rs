@@ -41,6 +41,9 @@ pub struct WorkerConfig {
     pub idle_poll: Duration,
     /// Return once no campaign has ready, running or blocked jobs left.
     pub exit_when_idle: bool,
+    /// End of this worker's allocation (batch schedulers): jobs expected to run past it are
+    /// not claimed (DESIGN §3.5).
+    pub deadline: Option<std::time::Instant>,
 }
 
 impl Default for WorkerConfig {
@@ -49,6 +52,7 @@ impl Default for WorkerConfig {
             kinds: Vec::new(),
             idle_poll: Duration::from_millis(500),
             exit_when_idle: false,
+            deadline: None,
         }
     }
 }
@@ -125,7 +129,7 @@ pub async fn run(
 ) -> Result<WorkerSummary, StoreError> {
     let worker = store.register_worker(&this_process()).await?;
     tracing::info!(worker = %worker, "worker registered");
-    let filter = ClaimFilter {
+    let mut filter = ClaimFilter {
         kinds: config.kinds.clone(),
         max_expected_cost_s: None,
     };
@@ -137,6 +141,10 @@ pub async fn run(
             summary.stopped_by_signal = true;
             return Ok(summary);
         }
+        filter.max_expected_cost_s = config.deadline.map(|d| {
+            d.saturating_duration_since(std::time::Instant::now())
+                .as_secs_f64()
+        });
         let swept = store.sweep_expired().await?;
         if !swept.requeued.is_empty() || !swept.failed.is_empty() {
             tracing::warn!(requeued = ?swept.requeued, failed = ?swept.failed, "expired leases swept");

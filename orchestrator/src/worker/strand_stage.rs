@@ -1,41 +1,67 @@
 //! The `strand` stage of a job: load the hot-spot series of its global job (found by that
 //! job's cache key, so a global result shared from another campaign serves as well), convert
-//! it to the strand load ε(t) = T(t) / EA, κ(t) (DESIGN §4.4), sampled every `load_stride`
-//! global output samples, and run the strand history on it.
+//! it to the strand load ε(t) = T(t) / EA with EA of the rope at the hot spot and κ(t)
+//! (DESIGN §4.4), sampled every `load_stride` global output samples, and drive the detailed
+//! strand model through it (`moorfret_solver::strand::history`).
+//!
+//! Results: the full per-contact records ([`ContactRecord`]: position, largest normal force,
+//! rainflow slip cycles with their forces) as one content-addressed JSON artifact
+//! (`contact_records`), and one small `contact_statistics` row per contact (class, cycle
+//! count, largest slip range, largest normal force).
+//!
+//! Checkpoints: the history run hands its full state over every few segments; at most every
+//! `checkpoint_interval_s` of wall time it is written to the artifact store and a pointer file
+//! `checkpoints/<job cache key>` (temp file + rename) names the newest one. A re-claimed job
+//! resumes from it; the solver guarantees the result is bit-identical to an uninterrupted run.
+//! Slack samples (T < 0) are loaded as ε = 0 and counted in the job result.
 
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
+use moorfret_solver::fretting::ContactRecord;
+use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
+use moorfret_solver::strand::history::{
+    run_history_from, HistoryObserver, HistoryOptions, LoadSample,
+};
+use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
+use serde_json::json;
 use tokio::runtime::Handle;
 
 use super::global_stage::series_role;
 use super::series::HotSpotSeries;
 use super::{permanent, transient};
+use crate::campaign::spec::StrandEnds;
 use crate::campaign::{CampaignInputs, StrandPayload};
-use crate::store::{ArtifactStore, JobFailure, JobResults, Lease, Store};
+use crate::store::{ArtifactStore, ContactStatistics, JobFailure, JobResults, Lease, Store};
 
-/// The strand load: axial strain and curvature at the sample times.
-#[derive(Debug, Clone, PartialEq, Default)]
-pub struct StrandLoad {
-    /// Times (s).
-    pub time_s: Vec<f64>,
-    /// Axial strain ε = T / EA.
-    pub axial_strain: Vec<f64>,
-    /// Curvature (1/m).
-    pub curvature_per_m: Vec<f64>,
-}
+/// Segments between two checkpoints handed over by the solver.
+const CHECKPOINT_SEGMENTS: usize = 8;
 
-/// ε(t) = T(t) / EA and κ(t), every `stride`-th sample of `series`.
-pub fn strand_load(series: &HotSpotSeries, axial_stiffness_n: f64, stride: usize) -> StrandLoad {
+/// The strand load samples: ε = max(T, 0) / EA, κ, every `stride`-th sample of `series`;
+/// also the number of slack samples.
+pub fn strand_load(
+    series: &HotSpotSeries,
+    axial_stiffness_n: f64,
+    stride: usize,
+) -> (Vec<LoadSample>, usize) {
     let stride = stride.max(1);
-    let pick = |x: &[f64]| x.iter().step_by(stride).copied().collect::<Vec<_>>();
-    StrandLoad {
-        time_s: pick(&series.time_s),
-        axial_strain: series
-            .tension_n
-            .iter()
-            .step_by(stride)
-            .map(|t| t / axial_stiffness_n)
-            .collect(),
-        curvature_per_m: pick(&series.curvature_per_m),
-    }
+    let mut slack = 0;
+    let samples = (0..series.time_s.len())
+        .step_by(stride)
+        .map(|i| {
+            let t = series.tension_n[i];
+            if t < 0.0 {
+                slack += 1;
+            }
+            LoadSample {
+                time_s: series.time_s[i],
+                strain: t.max(0.0) / axial_stiffness_n,
+                curvature_per_m: series.curvature_per_m[i],
+            }
+        })
+        .collect();
+    (samples, slack)
 }
 
 /// Loads the hot-spot series of the strand job's global job.
@@ -70,11 +96,104 @@ pub fn upstream_series(
     HotSpotSeries::from_csv(&text).map_err(|e| permanent("bad_artifact", e))
 }
 
+/// Writes checkpoints to the artifact store, at most every `interval` of wall time.
+struct CheckpointWriter<'a> {
+    artifacts: &'a ArtifactStore,
+    pointer: Option<PathBuf>,
+    interval: Duration,
+    last: Instant,
+    written: usize,
+}
+
+impl CheckpointWriter<'_> {
+    fn write(&mut self, checkpoint: &HistoryCheckpoint) -> Result<(), String> {
+        let Some(pointer) = &self.pointer else {
+            return Ok(());
+        };
+        let bytes = checkpoint.to_bytes().map_err(|e| e.to_string())?;
+        let artifact = self
+            .artifacts
+            .put("checkpoint", &bytes)
+            .map_err(|e| e.to_string())?;
+        let dir = pointer.parent().unwrap_or(self.artifacts.dir());
+        std::fs::create_dir_all(dir).map_err(|e| e.to_string())?;
+        let tmp = pointer.with_extension("tmp");
+        std::fs::write(&tmp, artifact.sha256.as_bytes()).map_err(|e| e.to_string())?;
+        std::fs::rename(&tmp, pointer).map_err(|e| e.to_string())?;
+        self.written += 1;
+        Ok(())
+    }
+}
+
+impl HistoryObserver for CheckpointWriter<'_> {
+    fn checkpoint(&mut self, checkpoint: &HistoryCheckpoint) {
+        if self.last.elapsed() < self.interval {
+            return;
+        }
+        self.last = Instant::now();
+        if let Err(e) = self.write(checkpoint) {
+            // A missed checkpoint costs only recomputation after a crash.
+            tracing::warn!(error = %e, "strand checkpoint not written");
+        }
+    }
+}
+
+/// The newest checkpoint named by `pointer`, if any and readable.
+fn read_checkpoint(artifacts: &ArtifactStore, pointer: &PathBuf) -> Option<HistoryCheckpoint> {
+    let sha = std::fs::read_to_string(pointer).ok()?;
+    let bytes = artifacts.get(sha.trim()).ok()?;
+    HistoryCheckpoint::from_bytes(&bytes).ok()
+}
+
+/// The model parameters of the campaign's strand settings.
+fn model_parameters(inputs: &CampaignInputs) -> StrandModelParameters {
+    let st = &inputs.spec.strand;
+    StrandModelParameters {
+        contact: ContactParameters {
+            normal: NormalLaw::Penalty {
+                stiffness_n_per_m: st.normal_penalty_n_per_m,
+            },
+            tangential: TangentialLaw::ElasticSlip {
+                elastic_slip_m: st.elastic_slip_m,
+            },
+            ..ContactParameters::default()
+        },
+        ends: match st.ends {
+            StrandEnds::Periodic => EndKind::Periodic,
+            StrandEnds::PenaltyTies => EndKind::PenaltyTies,
+        },
+        ..StrandModelParameters::default()
+    }
+}
+
+fn contact_row(hot_spot_index: usize, index: usize, c: &ContactRecord) -> ContactStatistics {
+    let class = c.class();
+    let max_slip_range_m = c
+        .cycles
+        .iter()
+        .map(|k| k.slip.range)
+        .fold(0.0_f64, f64::max);
+    let cycles: f64 = c.cycles.iter().map(|k| k.slip.count).sum();
+    ContactStatistics {
+        hot_spot_index: hot_spot_index as i64,
+        contact_index: index as i64,
+        layer_interface: c.interface as i64,
+        angular_position_rad: c.theta_rad,
+        statistics: json!({
+            "position_class": class.position.as_str(),
+            "z_m": c.z_m,
+            "max_normal_force_n": c.max_normal_force_n,
+            "slip_cycles": cycles,
+            "max_slip_range_m": max_slip_range_m,
+        }),
+    }
+}
+
 /// Runs one strand job.
 pub fn run_strand(
     inputs: &CampaignInputs,
     payload: &StrandPayload,
-    _lease: &Lease,
+    lease: &Lease,
     store: &Store,
     artifacts: &ArtifactStore,
     rt: &Handle,
@@ -87,14 +206,77 @@ pub fn run_strand(
         .ok_or_else(|| permanent("bad_payload", "hot spot index out of range"))?;
     let stride = (inputs.spec.strand.load_interval_s / inputs.spec.simulation.output_interval_s)
         .round() as usize;
-    let load = strand_load(&series, ea, stride);
-    Err(permanent(
-        "strand_history_unavailable",
-        format!(
-            "the strand history solver is not part of this build; load of {} samples prepared",
-            load.time_s.len()
-        ),
-    ))
+    let (samples, slack_samples) = strand_load(&series, ea, stride);
+    let strand = inputs
+        .profile
+        .validate()
+        .map_err(|e| permanent("invalid_strand", e))?;
+    let model = StrandModel::new(&strand, &model_parameters(inputs))
+        .map_err(|e| permanent("invalid_strand", e))?;
+    let options = HistoryOptions {
+        checkpoint_interval_segments: CHECKPOINT_SEGMENTS,
+        ..HistoryOptions::default()
+    };
+    let pointer = lease
+        .cache_key
+        .as_ref()
+        .map(|k| artifacts.dir().join("checkpoints").join(k));
+    let resume = pointer.as_ref().and_then(|p| read_checkpoint(artifacts, p));
+    let mut writer = CheckpointWriter {
+        artifacts,
+        pointer,
+        interval: Duration::from_secs_f64(inputs.spec.strand.checkpoint_interval_s),
+        last: Instant::now(),
+        written: 0,
+    };
+    if resume.is_some() {
+        tracing::info!(job = %lease.job, "strand job resumes from its checkpoint");
+    }
+    let result = match run_history_from(&model, &samples, &options, resume.as_ref(), &mut writer) {
+        Ok(r) => r,
+        // A checkpoint from another build or input is not used: start over.
+        Err(moorfret_solver::strand::history::HistoryError::Checkpoint { reason })
+            if resume.is_some() =>
+        {
+            tracing::warn!(job = %lease.job, %reason, "checkpoint refused; starting over");
+            run_history_from(&model, &samples, &options, None, &mut writer)
+                .map_err(|e| permanent("strand_history", e))?
+        }
+        Err(e) => return Err(permanent("strand_history", e)),
+    };
+    let records =
+        serde_json::to_vec(&result.contacts).map_err(|e| permanent("serialise_results", e))?;
+    let artifact = artifacts
+        .put("contact_records", &records)
+        .map_err(|e| transient("artifact_io", e))?;
+    let contacts = result
+        .contacts
+        .iter()
+        .enumerate()
+        .map(|(i, c)| contact_row(payload.hot_spot_index, i, c))
+        .collect();
+    let s = &result.stats;
+    Ok(JobResults {
+        result: json!({
+            "hot_spot_index": payload.hot_spot_index,
+            "seed_index": payload.global.seed_index,
+            "samples": samples.len(),
+            "slack_samples": slack_samples,
+            "contacts": result.contacts.len(),
+            "contact_records_sha256": artifact.sha256,
+            "resumed_from_checkpoint": resume.is_some(),
+            "work": {
+                "kept_samples": s.kept_samples,
+                "substeps": s.substeps,
+                "newton_steps": s.newton_steps,
+                "cutbacks": s.cutbacks,
+                "iterations": s.iterations,
+            },
+        }),
+        contacts,
+        artifacts: vec![artifact],
+        ..JobResults::default()
+    })
 }
 
 #[cfg(test)]
@@ -105,15 +287,22 @@ mod tests {
     fn strain_is_tension_over_axial_stiffness_at_every_stride_sample() {
         let series = HotSpotSeries {
             time_s: vec![0.0, 0.1, 0.2, 0.3, 0.4],
-            tension_n: vec![3.6e5, 7.2e5, 1.08e6, 0.0, 3.6e6],
+            tension_n: vec![3.6e5, 7.2e5, -1.0e3, 0.0, 3.6e6],
             curvature_per_m: vec![0.01, 0.02, 0.03, 0.04, 0.05],
         };
-        let load = strand_load(&series, 3.6e8, 2);
-        assert_eq!(load.time_s, vec![0.0, 0.2, 0.4]);
-        for (e, expected) in load.axial_strain.iter().zip([1e-3, 3e-3, 1e-2]) {
+        let (load, slack) = strand_load(&series, 3.6e8, 2);
+        let t: Vec<f64> = load.iter().map(|s| s.time_s).collect();
+        assert_eq!(t, vec![0.0, 0.2, 0.4]);
+        for (s, expected) in load.iter().zip([1e-3, 0.0, 1e-2]) {
             // one division: within an ulp of the quotient
-            assert!((e - expected).abs() <= f64::EPSILON * expected, "{e}");
+            assert!(
+                (s.strain - expected).abs() <= f64::EPSILON * expected,
+                "{}",
+                s.strain
+            );
         }
-        assert_eq!(load.curvature_per_m, vec![0.01, 0.03, 0.05]);
+        let k: Vec<f64> = load.iter().map(|s| s.curvature_per_m).collect();
+        assert_eq!(k, vec![0.01, 0.03, 0.05]);
+        assert_eq!(slack, 1);
     }
 }

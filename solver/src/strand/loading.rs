@@ -12,7 +12,8 @@
 //! sees ε + κ R sin θ to first order. Units: m, 1/m, rad.
 //!
 //! [`LoadPath`] maps a load factor λ to (ε, κ): λ ∈ [0, 1] raises ε at κ = 0, λ ∈ [1, 2]
-//! raises κ at the full ε.
+//! raises κ at the full ε. [`LoadSegment`] maps λ ∈ [0, 1] linearly from one (ε, κ) to another
+//! (one step of a load history, [`super::history`]).
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -79,6 +80,30 @@ impl LoadPath {
                 strain: self.strain,
                 curvature_per_m: (l - 1.0) * self.curvature_per_m,
             }
+        }
+    }
+}
+
+/// Straight segment in the (ε, κ) plane: λ ∈ [0, 1] from `from` to `to`.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct LoadSegment {
+    /// Section motion at λ = 0.
+    pub from: SectionMotion,
+    /// Section motion at λ = 1.
+    pub to: SectionMotion,
+}
+
+impl LoadSegment {
+    /// Section motion at load factor λ (clamped to [0, 1]); exactly `to` at λ = 1.
+    pub fn at(&self, load_factor: f64) -> SectionMotion {
+        let l = load_factor.clamp(0.0, 1.0);
+        if l == 1.0 {
+            return self.to;
+        }
+        SectionMotion {
+            strain: self.from.strain + l * (self.to.strain - self.from.strain),
+            curvature_per_m: self.from.curvature_per_m
+                + l * (self.to.curvature_per_m - self.from.curvature_per_m),
         }
     }
 }

@@ -8,24 +8,31 @@
 //! - [`contacts`]: trellis crossings between adjacent layers and the core line contact;
 //! - [`mesh`]: nodes at contact points, wire elements, contact elements, counts;
 //! - [`analytical`]: Costello's simple straight strand and the bent-helix stick/slip references;
+//! - [`bending`]: section force and moment from the wire forces, EI_min / EI_max bounds;
 //! - [`loading`]: imposed section motion from (ε, κ) and the two-stage load path;
 //! - [`ends`]: penalty ties of the helical wire ends to the core end sections;
+//! - [`periodic`]: periodic multi-point constraints of the wire ends (seed Eqs. 12-13);
 //! - [`model`]: the FE model (beams, contacts, ties, DOFs, pattern);
 //! - [`problem`]: its equilibrium as a Newton problem;
-//! - [`driver`]: one loading case solved and its monitors extracted.
+//! - [`driver`]: one loading case solved and its monitors extracted;
+//! - [`history`]: the model driven through a (t, ε, κ) load history, monitors and per-contact
+//!   rainflow records.
 //!
 //! Strand frame: axis along z, angular position θ in the x-y plane (θ = +π/2 outer arc for
 //! bending about y with κ > 0 towards +x is the DESIGN convention). Units: m, rad, N, Pa.
 
 pub mod analytical;
+pub mod bending;
 pub mod clearance;
 pub mod contacts;
 pub mod driver;
 pub mod ends;
 pub mod helix;
+pub mod history;
 pub mod loading;
 pub mod mesh;
 pub mod model;
+pub mod periodic;
 pub mod problem;
 pub mod profile;
 pub mod wires;

@@ -2,7 +2,8 @@
 //! corotational beams on the mesh nodes ([`super::mesh`]), a small-sliding frictional contact
 //! element (seed Eqs. 1-11, [`crate::contact`]) at every detected contact, the core wire's
 //! nodes fully imposed from (ε, κ) ([`super::loading`]) and the helical wires' end nodes tied to
-//! the core end sections by penalty ([`super::ends`]).
+//! the core end sections by penalty ([`super::ends`], [`EndKind::PenaltyTies`]) or to the
+//! reference wires by the periodic constraints of [`super::periodic`] ([`EndKind::Periodic`]).
 //!
 //! Frame nodes are the mesh nodes (same indices), frame elements the mesh elements. The global
 //! pattern (full storage: the frictional contact tangent is not symmetric) holds, in order, the
@@ -18,6 +19,7 @@ use nalgebra::Vector3;
 use super::contacts::{find_contacts, ContactSearchParameters, GeometryError};
 use super::ends::EndTie;
 use super::mesh::{build_mesh, MeshParameters, StrandMesh};
+use super::periodic::{end_layout, PeriodicEnds};
 use super::profile::Strand;
 use crate::beam::frame::{BeamFrame, DofMap, FrameError, NodeId, NODE_DOFS};
 use crate::beam::section::{BeamSection, SectionError};
@@ -70,6 +72,16 @@ pub enum StrandModelError {
     },
 }
 
+/// How the helical wire ends are held.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum EndKind {
+    /// Penalty ties to the core end sections (the 1+6+1 benchmark, seed Sec. 2.2).
+    #[default]
+    PenaltyTies,
+    /// Periodic multi-point constraints by elimination (seed Sec. 2.3, Eqs. 12-13).
+    Periodic,
+}
+
 /// Model-building parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StrandModelParameters {
@@ -83,6 +95,8 @@ pub struct StrandModelParameters {
     pub end_penalty_factor: f64,
     /// Initial interference given to every contact (m).
     pub initial_interference_m: f64,
+    /// End conditions of the helical wires.
+    pub ends: EndKind,
 }
 
 impl Default for StrandModelParameters {
@@ -93,6 +107,7 @@ impl Default for StrandModelParameters {
             contact: ContactParameters::default(),
             end_penalty_factor: 1e3,
             initial_interference_m: 1e-9,
+            ends: EndKind::PenaltyTies,
         }
     }
 }
@@ -129,8 +144,11 @@ pub struct StrandModel {
     pub frame: BeamFrame,
     /// DOF numbering (core nodes prescribed).
     pub dofs: DofMap,
-    /// Global pattern: frame elements, contacts, ties.
+    /// Global pattern of the solved system: frame elements, contacts, ties (reduced by the
+    /// periodic elimination when there is one).
     pub pattern: SparsePattern,
+    /// Periodic end constraints and their elimination, if the ends are periodic.
+    pub periodic: Option<PeriodicEnds>,
     /// Contact elements, in mesh contact order.
     pub contacts: Vec<ContactPair>,
     /// Their initial histories.
@@ -139,7 +157,7 @@ pub struct StrandModel {
     pub ties: Vec<EndTie>,
     /// Wire sections, by wire index.
     pub sections: Vec<BeamSection>,
-    /// Whether each node is prescribed (core).
+    /// Whether each node is fully prescribed (core, anchored periodic ends).
     pub prescribed: Vec<bool>,
 }
 
@@ -176,12 +194,24 @@ impl StrandModel {
                 &sections[el.wire.0],
             )?;
         }
-        let prescribed: Vec<bool> = mesh.nodes.iter().map(|n| n.wire.0 == 0).collect();
-        let constraints: Vec<(NodeId, [bool; NODE_DOFS])> = prescribed
+        let layout = match params.ends {
+            EndKind::PenaltyTies => None,
+            EndKind::Periodic => Some(end_layout(strand, &mesh)?),
+        };
+        let prescription: Vec<[bool; NODE_DOFS]> = match &layout {
+            Some(l) => l.prescription.clone(),
+            None => mesh
+                .nodes
+                .iter()
+                .map(|n| [n.wire.0 == 0; NODE_DOFS])
+                .collect(),
+        };
+        let prescribed: Vec<bool> = prescription.iter().map(|p| p.iter().all(|&b| b)).collect();
+        let constraints: Vec<(NodeId, [bool; NODE_DOFS])> = prescription
             .iter()
             .enumerate()
-            .filter(|(_, &p)| p)
-            .map(|(i, _)| (NodeId(i), [true; NODE_DOFS]))
+            .filter(|(_, p)| p.iter().any(|&b| b))
+            .map(|(i, p)| (NodeId(i), *p))
             .collect();
         let dofs = DofMap::new(frame.node_count(), &constraints)?;
 
@@ -225,7 +255,7 @@ impl StrandModel {
         let h_min = mesh.stats.min_element_length_m.max(1e-12);
         let mut ties = Vec::new();
         for (w, range) in wires.iter().zip(mesh.wire_nodes.iter()) {
-            if w.layer.is_none() || range.is_empty() {
+            if w.layer.is_none() || range.is_empty() || layout.is_some() {
                 continue;
             }
             let s = &sections[w.id.0];
@@ -269,19 +299,37 @@ impl StrandModel {
         for t in &ties {
             element_eqs.push(node_eqs(t.node).collect());
         }
-        let pattern = SparsePattern::new(dofs.free_count(), Storage::Full, &element_eqs)?;
+        let (pattern, periodic) = match layout {
+            None => (
+                SparsePattern::new(dofs.free_count(), Storage::Full, &element_eqs)?,
+                None,
+            ),
+            Some(l) => {
+                let (p, reduced) = PeriodicEnds::new(l, &dofs, &element_eqs)?;
+                (reduced, Some(p))
+            }
+        };
         Ok(Self {
             strand: strand.clone(),
             mesh,
             frame,
             dofs,
             pattern,
+            periodic,
             contacts,
             initial_histories,
             ties,
             sections,
             prescribed,
         })
+    }
+
+    /// Pattern the elements are assembled on: the extended one of the periodic elimination,
+    /// else [`Self::pattern`].
+    pub fn assembly_pattern(&self) -> &SparsePattern {
+        self.periodic
+            .as_ref()
+            .map_or(&self.pattern, |p| &p.extended)
     }
 
     /// Pattern element index of contact `c`.

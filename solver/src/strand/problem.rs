@@ -13,7 +13,7 @@
 use nalgebra::Vector3;
 
 use super::ends::{TieMatrix, TieVector};
-use super::loading::{LoadPath, SectionMotion};
+use super::loading::{LoadPath, LoadSegment, SectionMotion};
 use super::model::StrandModel;
 use crate::beam::frame::{assemble_frame, FrameError, FrameState};
 use crate::contact::{
@@ -21,17 +21,47 @@ use crate::contact::{
 };
 use crate::linalg::NonlinearProblem;
 
+/// How the load factor maps to the section motion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Program {
+    /// Tension then bending, λ ∈ [0, 2].
+    TwoStage(LoadPath),
+    /// One straight (ε, κ) segment, λ ∈ [0, 1].
+    Segment(LoadSegment),
+}
+
+impl Program {
+    fn at(&self, load_factor: f64) -> SectionMotion {
+        match self {
+            Self::TwoStage(p) => p.at(load_factor),
+            Self::Segment(s) => s.at(load_factor),
+        }
+    }
+}
+
 /// Trial and committed state of a strand run.
 #[derive(Debug, Clone)]
 pub struct StrandProblem<'a> {
     model: &'a StrandModel,
-    path: LoadPath,
+    path: Program,
     trial: FrameState,
     committed: FrameState,
     trial_load_factor: f64,
     committed_load_factor: f64,
     histories: Vec<ContactHistory>,
     responses: Vec<Option<ContactResponse>>,
+    /// Scratch of the periodic elimination: extended residual, tangent values, increment,
+    /// coefficients (empty without periodic ends).
+    extended: ExtendedScratch,
+}
+
+/// Buffers of the extended system assembled before the periodic elimination.
+#[derive(Debug, Clone, Default)]
+struct ExtendedScratch {
+    residual: Vec<f64>,
+    values: Vec<f64>,
+    increment: Vec<f64>,
+    coefficients: Vec<f64>,
 }
 
 impl<'a> StrandProblem<'a> {
@@ -40,13 +70,22 @@ impl<'a> StrandProblem<'a> {
         let state = FrameState::reference(&model.frame);
         Self {
             model,
-            path,
+            path: Program::TwoStage(path),
             trial: state.clone(),
             committed: state,
             trial_load_factor: 0.0,
             committed_load_factor: 0.0,
             histories: model.initial_histories.clone(),
             responses: vec![None; model.contacts.len()],
+            extended: model
+                .periodic
+                .as_ref()
+                .map_or_else(ExtendedScratch::default, |p| ExtendedScratch {
+                    residual: vec![0.0; p.extended.size()],
+                    values: vec![0.0; p.extended.nnz()],
+                    increment: vec![0.0; p.extended.size()],
+                    coefficients: Vec::new(),
+                }),
         }
     }
 
@@ -63,6 +102,42 @@ impl<'a> StrandProblem<'a> {
     /// Section motion of the committed state.
     pub fn motion(&self) -> SectionMotion {
         self.path.at(self.committed_load_factor)
+    }
+
+    /// Starts a straight load segment from the committed section motion to `to`: the load
+    /// factor restarts at 0 (the committed state) and reaches `to` at 1, so that the Newton
+    /// driver is called from 0 to 1 ([`crate::linalg::solve_load_path`]).
+    pub fn start_segment(&mut self, to: SectionMotion) {
+        let from = self.motion();
+        self.restore();
+        self.path = Program::Segment(LoadSegment { from, to });
+        self.committed_load_factor = 0.0;
+        self.trial_load_factor = 0.0;
+    }
+
+    /// Resumes at the saved committed `state`, contact `histories` and section `motion` (a
+    /// checkpoint); the next segment starts from there.
+    pub fn resume(
+        &mut self,
+        motion: SectionMotion,
+        state: FrameState,
+        histories: Vec<ContactHistory>,
+    ) {
+        self.path = Program::Segment(LoadSegment {
+            from: motion,
+            to: motion,
+        });
+        self.committed = state.clone();
+        self.trial = state;
+        self.histories = histories;
+        self.responses.iter_mut().for_each(|r| *r = None);
+        self.committed_load_factor = 0.0;
+        self.trial_load_factor = 0.0;
+    }
+
+    /// Committed configuration.
+    pub fn committed_state(&self) -> &FrameState {
+        &self.committed
     }
 
     /// Committed contact histories.
@@ -97,6 +172,9 @@ impl<'a> StrandProblem<'a> {
                     new.rotation(z) * old.rotation(z).transpose() * self.trial.rotations[i];
             }
         }
+        if let Some(p) = &self.model.periodic {
+            p.enforce(&new, &mut self.trial);
+        }
         self.trial_load_factor = load_factor;
     }
 }
@@ -108,13 +186,78 @@ impl NonlinearProblem for StrandProblem<'_> {
         &mut self,
         load_factor: f64,
         residual: &mut [f64],
-        mut tangent: Option<&mut [f64]>,
+        tangent: Option<&mut [f64]>,
     ) -> Result<f64, FrameError> {
         if load_factor != self.trial_load_factor {
             self.predict(load_factor);
         }
         let model = self.model;
-        let pattern = &model.pattern;
+        let Some(periodic) = &model.periodic else {
+            return self.assemble(load_factor, residual, tangent);
+        };
+        let mut ext = std::mem::take(&mut self.extended);
+        ext.residual.fill(0.0);
+        let with_tangent = tangent.is_some();
+        if with_tangent {
+            ext.values.fill(0.0);
+        }
+        let scale = self.assemble(
+            load_factor,
+            &mut ext.residual,
+            with_tangent.then_some(ext.values.as_mut_slice()),
+        );
+        if scale.is_ok() {
+            periodic.coefficients(&self.path.at(load_factor), &mut ext.coefficients);
+            periodic.reduce(
+                &ext.coefficients,
+                &ext.residual,
+                residual,
+                tangent.map(|t| (ext.values.as_slice(), t)),
+            );
+        }
+        self.extended = ext;
+        scale
+    }
+
+    fn apply_increment(&mut self, increment: &[f64]) {
+        match &self.model.periodic {
+            None => self.trial.apply_increment(&self.model.dofs, increment),
+            Some(p) => {
+                p.expand(increment, &mut self.extended.increment);
+                self.trial
+                    .apply_increment(&self.model.dofs, &self.extended.increment);
+                p.enforce(&self.path.at(self.trial_load_factor), &mut self.trial);
+            }
+        }
+    }
+
+    fn commit(&mut self, load_factor: f64) {
+        for (h, r) in self.histories.iter_mut().zip(&self.responses) {
+            if let Some(r) = r {
+                h.accept(r);
+            }
+        }
+        self.committed.clone_from(&self.trial);
+        self.committed_load_factor = load_factor;
+        self.trial_load_factor = load_factor;
+    }
+
+    fn restore(&mut self) {
+        self.trial.clone_from(&self.committed);
+        self.trial_load_factor = self.committed_load_factor;
+    }
+}
+
+impl StrandProblem<'_> {
+    /// Residual and tangent of every element on the model's assembly pattern; the force scale.
+    fn assemble(
+        &mut self,
+        load_factor: f64,
+        residual: &mut [f64],
+        mut tangent: Option<&mut [f64]>,
+    ) -> Result<f64, FrameError> {
+        let model = self.model;
+        let pattern = model.assembly_pattern();
         assemble_frame(
             &model.frame,
             &self.trial,
@@ -160,26 +303,6 @@ impl NonlinearProblem for StrandProblem<'_> {
             scale2 += ft.fixed_rows::<3>(0).norm_squared();
         }
         Ok(scale2.sqrt())
-    }
-
-    fn apply_increment(&mut self, increment: &[f64]) {
-        self.trial.apply_increment(&self.model.dofs, increment);
-    }
-
-    fn commit(&mut self, load_factor: f64) {
-        for (h, r) in self.histories.iter_mut().zip(&self.responses) {
-            if let Some(r) = r {
-                h.accept(r);
-            }
-        }
-        self.committed.clone_from(&self.trial);
-        self.committed_load_factor = load_factor;
-        self.trial_load_factor = load_factor;
-    }
-
-    fn restore(&mut self) {
-        self.trial.clone_from(&self.committed);
-        self.trial_load_factor = self.committed_load_factor;
     }
 }
 

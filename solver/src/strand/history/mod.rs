@@ -1,0 +1,420 @@
+//! A strand model driven through a load history (DESIGN §4.4, seed Sec. 3.3).
+//!
+//! [`run_history`] takes samples (t, ε, κ) of the hot spot's imposed axial strain and curvature
+//! and:
+//! 1. validates them ([`validate_samples`]: finite, increasing time, ε ≥ 0, and a fibre strain
+//!    ε + |κ| D/2 at the strand's outer surface within [`HistoryOptions::max_fibre_strain`]),
+//!    refusing the first bad sample with its index;
+//! 2. initialises as the seed's Sec. 3.3, in three steps that limit the initial contact forces:
+//!    a small tension ε_s = `initial_strain_fraction` · ε₀, then ε_s with the initial curvature
+//!    κ₀, then (ε₀, κ₀);
+//! 3. reduces the history to its turning points within `turning_point_tolerance` ([`reduce`])
+//!    and follows the straight (ε, κ) segments between them in sub-steps no larger than
+//!    `max_substep_strain` / `max_substep_curvature_per_m`, each solved by the Newton driver with
+//!    its own cut-back ([`crate::linalg::solve_load_path`]);
+//! 4. maps the results back onto the original time axis: every original sample gets its
+//!    position along its segment and the contact samples and monitors are interpolated linearly
+//!    between the sub-step results;
+//! 5. feeds every contact's (slip, f_N, f_T) sample by sample to its streaming rainflow counter
+//!    ([`crate::fretting::ContactCycleAccumulator`]), so no full-field time series is stored, and
+//!    returns one [`ContactRecord`] per contact (residue counted as half cycles) with the monitor
+//!    series ([`monitors`], slip convention there) and the work statistics.
+//!
+//! The tension history of a mooring line becomes a strain history through ε = T / EA with EA
+//! measured on the model itself ([`stiffness::measure_axial_stiffness_n`],
+//! [`stiffness::samples_from_tension`]). Units: s, m, 1/m, N.
+
+pub mod checkpoint;
+pub mod monitors;
+pub mod reduce;
+pub mod stiffness;
+pub mod timing;
+
+use serde::{Deserialize, Serialize};
+
+use self::monitors::MonitorSeries;
+use super::loading::{LoadPath, SectionMotion};
+use super::model::StrandModel;
+use super::problem::StrandProblem;
+use crate::beam::frame::FrameError;
+use crate::fretting::{ContactRecord, FrettingError};
+use crate::linalg::newton::NewtonParamError;
+use crate::linalg::{LinalgError, NewtonError, NewtonParams, NewtonStats};
+
+/// One sample of the imposed history.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LoadSample {
+    /// Time (s).
+    pub time_s: f64,
+    /// Axial strain ε of the strand axis.
+    pub strain: f64,
+    /// Curvature κ about the fixed bending axis (1/m).
+    pub curvature_per_m: f64,
+}
+
+/// Errors of a history run.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum HistoryError {
+    /// A history sample is refused.
+    #[error("load history sample {index} (t = {time_s} s): {field} = {value}: {reason}")]
+    InvalidSample {
+        /// Sample index.
+        index: usize,
+        /// Its time (s).
+        time_s: f64,
+        /// Offending field.
+        field: &'static str,
+        /// Its value.
+        value: f64,
+        /// Why.
+        reason: String,
+    },
+    /// An option is out of range.
+    #[error("history option {field} = {value}: {reason}")]
+    InvalidOption {
+        /// Field.
+        field: &'static str,
+        /// Value.
+        value: f64,
+        /// Why.
+        reason: String,
+    },
+    /// Invalid Newton settings.
+    #[error(transparent)]
+    Newton(#[from] NewtonParamError),
+    /// Symbolic analysis of the pattern failed.
+    #[error(transparent)]
+    Linear(#[from] LinalgError),
+    /// A load step failed after all cut-backs.
+    #[error(
+        "{stage}: step towards sample {sample} (t = {time_s} s), sub-step {substep}/{substeps} \
+         from (ε = {from_strain:e}, κ = {from_curvature:e} 1/m) to (ε = {to_strain:e}, \
+         κ = {to_curvature:e} 1/m): {source}"
+    )]
+    Step {
+        /// "initialisation 1/3" … or "history".
+        stage: &'static str,
+        /// Sample the segment leads to.
+        sample: usize,
+        /// Its time (s).
+        time_s: f64,
+        /// Sub-step (1-based) and their number.
+        substep: usize,
+        /// Number of sub-steps of the segment.
+        substeps: usize,
+        /// Start of the sub-step.
+        from_strain: f64,
+        /// Start of the sub-step (1/m).
+        from_curvature: f64,
+        /// Target of the sub-step.
+        to_strain: f64,
+        /// Target of the sub-step (1/m).
+        to_curvature: f64,
+        /// Driver error (step, iteration, residual, load factor).
+        source: NewtonError<FrameError>,
+    },
+    /// An element could not be evaluated while extracting results.
+    #[error(transparent)]
+    Frame(#[from] FrameError),
+    /// A checkpoint cannot be written, read or used.
+    #[error("history checkpoint: {reason}")]
+    Checkpoint {
+        /// Why.
+        reason: String,
+    },
+    /// The observer asked to stop; the last checkpoint resumes the run.
+    #[error("history run stopped on request after segment {segment} (t = {time_s} s)")]
+    Stopped {
+        /// Segments done.
+        segment: usize,
+        /// Time reached (s).
+        time_s: f64,
+    },
+    /// The rainflow counter of a contact refused a sample.
+    #[error("contact {contact}: {source}")]
+    Fretting {
+        /// Contact index.
+        contact: usize,
+        /// Cause.
+        source: FrettingError,
+    },
+}
+
+/// Settings of a history run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HistoryOptions {
+    /// Turning-point tolerance as a fraction of each channel's range ([`reduce`]); 0 keeps
+    /// every sample off the chords.
+    pub turning_point_tolerance: f64,
+    /// Largest strain change of one sub-step.
+    pub max_substep_strain: f64,
+    /// Largest curvature change of one sub-step (1/m).
+    pub max_substep_curvature_per_m: f64,
+    /// Newton settings of each sub-step (Δλ as a fraction of the sub-step).
+    pub newton: NewtonParams,
+    /// Hysteresis gate of the slip rainflow counters (m).
+    pub slip_gate_m: f64,
+    /// Small tension of the initialisation as a fraction of the first sample's strain, (0, 1].
+    pub initial_strain_fraction: f64,
+    /// Largest admissible fibre strain ε + |κ| D/2 at the strand's outer surface.
+    pub max_fibre_strain: f64,
+    /// Record the default monitors ([`monitors`]).
+    pub default_monitors: bool,
+    /// Hand a checkpoint to the observer every this many segments (0: never).
+    pub checkpoint_interval_segments: usize,
+}
+
+impl Default for HistoryOptions {
+    fn default() -> Self {
+        Self {
+            turning_point_tolerance: 0.005,
+            max_substep_strain: 5e-4,
+            max_substep_curvature_per_m: 5e-3,
+            newton: NewtonParams {
+                max_iterations: 30,
+                easy_iterations: 8,
+                relative_tolerance: 1e-6,
+                energy_tolerance: 1e-16,
+                max_load_increment: 1.0,
+                initial_load_increment: 1.0,
+                min_load_increment: 1e-4,
+                ..NewtonParams::default()
+            },
+            // two orders of magnitude below the micrometre slips of interest (seed Fig. 22)
+            slip_gate_m: 1e-8,
+            initial_strain_fraction: 0.1,
+            // 0.8 × 1770 MPa / 200 GPa: proportional limit of grade-1770 rope wire (EN 10264-2)
+            max_fibre_strain: 7e-3,
+            default_monitors: true,
+            checkpoint_interval_segments: 0,
+        }
+    }
+}
+
+impl HistoryOptions {
+    /// Checks every field.
+    pub fn validated(self) -> Result<Self, HistoryError> {
+        let check = |ok: bool, field: &'static str, value: f64, reason: &str| {
+            if ok {
+                Ok(())
+            } else {
+                Err(HistoryError::InvalidOption {
+                    field,
+                    value,
+                    reason: reason.to_string(),
+                })
+            }
+        };
+        let t = self.turning_point_tolerance;
+        check(
+            t >= 0.0 && t < 1.0,
+            "turning_point_tolerance",
+            t,
+            "must lie in [0, 1)",
+        )?;
+        let (de, dk) = (self.max_substep_strain, self.max_substep_curvature_per_m);
+        check(
+            de > 0.0 && de.is_finite(),
+            "max_substep_strain",
+            de,
+            "must be finite and > 0",
+        )?;
+        check(
+            dk > 0.0 && dk.is_finite(),
+            "max_substep_curvature_per_m",
+            dk,
+            "must be finite and > 0",
+        )?;
+        let g = self.slip_gate_m;
+        check(
+            g >= 0.0 && g.is_finite(),
+            "slip_gate_m",
+            g,
+            "must be finite and ≥ 0",
+        )?;
+        let f = self.initial_strain_fraction;
+        check(
+            f > 0.0 && f <= 1.0,
+            "initial_strain_fraction",
+            f,
+            "must lie in (0, 1]",
+        )?;
+        let m = self.max_fibre_strain;
+        check(
+            m > 0.0 && m.is_finite(),
+            "max_fibre_strain",
+            m,
+            "must be finite and > 0",
+        )?;
+        self.newton.validated()?;
+        Ok(self)
+    }
+}
+
+/// Progress of a run, reported after every segment.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HistoryProgress {
+    /// Segments done.
+    pub segment: usize,
+    /// Segments in all.
+    pub segments: usize,
+    /// Last original sample covered.
+    pub sample: usize,
+    /// Its time (s).
+    pub time_s: f64,
+    /// Wall time since the start (s).
+    pub elapsed_s: f64,
+}
+
+/// Receives progress reports and checkpoints of a run, and may stop it.
+pub trait HistoryObserver {
+    /// Called after every segment; the default does nothing.
+    fn progress(&mut self, _progress: &HistoryProgress) {}
+
+    /// Called every [`HistoryOptions::checkpoint_interval_segments`] segments with the complete
+    /// state; the default drops it.
+    fn checkpoint(&mut self, _checkpoint: &checkpoint::HistoryCheckpoint) {}
+
+    /// Asked after every segment (after the checkpoint, if any); `true` ends the run with
+    /// [`HistoryError::Stopped`]. The default never stops.
+    fn should_stop(&mut self) -> bool {
+        false
+    }
+}
+
+/// An observer that ignores everything.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoObserver;
+
+impl HistoryObserver for NoObserver {}
+
+/// Work counts and wall times of a history run.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct HistoryStats {
+    /// Original samples.
+    pub samples: usize,
+    /// Samples kept by the turning-point reduction.
+    pub kept_samples: usize,
+    /// Solved sub-steps (initialisation included).
+    pub substeps: usize,
+    /// Accepted Newton load steps.
+    pub newton_steps: usize,
+    /// Rejected attempts (cut-backs).
+    pub cutbacks: usize,
+    /// Newton iterations (linear solves).
+    pub iterations: usize,
+    /// Numeric factorisations.
+    pub factorisations: usize,
+    /// Residual evaluations.
+    pub evaluations: usize,
+    /// Wall time of the initialisation (s).
+    pub initialisation_time_s: f64,
+    /// Wall time of the Newton solves of the history (s).
+    pub solve_time_s: f64,
+    /// Wall time of result extraction, interpolation and rainflow counting (s).
+    pub output_time_s: f64,
+    /// Total wall time (s).
+    pub total_time_s: f64,
+    /// Split of the Newton work: assembly, factorisation, solves (s).
+    pub work: timing::WorkTimes,
+}
+
+impl HistoryStats {
+    fn add(&mut self, s: &NewtonStats) {
+        self.substeps += 1;
+        self.newton_steps += s.steps;
+        self.cutbacks += s.cutbacks;
+        self.iterations += s.iterations;
+        self.factorisations += s.factorisations;
+        self.evaluations += s.evaluations;
+    }
+}
+
+/// Result of a history run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HistoryResult {
+    /// One record per contact, mesh contact order.
+    pub contacts: Vec<ContactRecord>,
+    /// Monitor series on the original time axis.
+    pub monitors: MonitorSeries,
+    /// Indices of the samples the solver visited.
+    pub kept_samples: Vec<usize>,
+    /// Work counts and timings.
+    pub stats: HistoryStats,
+}
+
+/// Checks every sample (module docs); the first bad one is reported with its index.
+pub fn validate_samples(
+    model: &StrandModel,
+    samples: &[LoadSample],
+    options: &HistoryOptions,
+) -> Result<(), HistoryError> {
+    let half_d = 0.5 * model.strand.outer_diameter_m();
+    let mut previous = f64::NEG_INFINITY;
+    for (index, s) in samples.iter().enumerate() {
+        let bad = |field, value, reason: String| HistoryError::InvalidSample {
+            index,
+            time_s: s.time_s,
+            field,
+            value,
+            reason,
+        };
+        for (field, v) in [
+            ("time_s", s.time_s),
+            ("strain", s.strain),
+            ("curvature_per_m", s.curvature_per_m),
+        ] {
+            if !v.is_finite() {
+                return Err(bad(field, v, "not a finite number".into()));
+            }
+        }
+        if s.time_s <= previous {
+            return Err(bad(
+                "time_s",
+                s.time_s,
+                "times must increase strictly".into(),
+            ));
+        }
+        previous = s.time_s;
+        if s.strain < 0.0 {
+            return Err(bad(
+                "strain",
+                s.strain,
+                "negative: the strand would be in compression".into(),
+            ));
+        }
+        let fibre = s.strain + s.curvature_per_m.abs() * half_d;
+        if fibre > options.max_fibre_strain {
+            return Err(bad(
+                "curvature_per_m",
+                s.curvature_per_m,
+                format!(
+                    "fibre strain ε + |κ| D/2 = {fibre:.3e} at the strand surface exceeds the \
+                     admissible {:.3e}",
+                    options.max_fibre_strain
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+mod run;
+
+pub use run::{run_history, run_history_from};
+
+/// The section motion of a sample.
+fn motion_of(s: &LoadSample) -> SectionMotion {
+    SectionMotion {
+        strain: s.strain,
+        curvature_per_m: s.curvature_per_m,
+    }
+}
+
+/// Empty problem of `model` in the reference configuration.
+fn reference_problem(model: &StrandModel) -> StrandProblem<'_> {
+    StrandProblem::new(model, LoadPath::default())
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,204 @@
+//! Validation of a load history and its reduction to the points the solver has to visit.
+//!
+//! The strand response is quasi-static and rate-independent, so only the path in the (ε, κ)
+//! plane matters. The history is reduced to
+//! 1. the turning points of each channel (ε and κ), found with the hysteresis gate of
+//!    [`crate::fretting::reversals`] set to `tolerance` × the channel's range, plus the first and
+//!    last samples;
+//! 2. between two kept points, the sample farthest from the straight chord (in coordinates
+//!    scaled by each channel's range) as long as that distance exceeds `tolerance`
+//!    (Ramer-Douglas-Peucker), so that the straight segments the solver follows stay within
+//!    `tolerance` of the recorded path.
+//!
+//! Every original sample then gets a position s ∈ [0, 1] along its segment (projection on the
+//! chord, made non-decreasing), through which solver results are interpolated back onto the
+//! original time axis.
+
+use super::{HistoryError, LoadSample};
+use crate::fretting::extract_reversals;
+
+/// Scale of each channel: its range over the history, 1 for a constant channel.
+fn channel_scales(samples: &[LoadSample]) -> [f64; 2] {
+    let range = |f: &dyn Fn(&LoadSample) -> f64| {
+        let (lo, hi) = samples
+            .iter()
+            .map(f)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                (lo.min(x), hi.max(x))
+            });
+        let r = hi - lo;
+        if r > 0.0 && r.is_finite() {
+            r
+        } else {
+            1.0
+        }
+    };
+    [range(&|s| s.strain), range(&|s| s.curvature_per_m)]
+}
+
+fn scaled(s: &LoadSample, scales: &[f64; 2]) -> [f64; 2] {
+    [s.strain / scales[0], s.curvature_per_m / scales[1]]
+}
+
+/// Distance of `p` from the segment a-b.
+fn distance_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let len2 = dx * dx + dy * dy;
+    let t = if len2 > 0.0 {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let (ex, ey) = (p[0] - a[0] - t * dx, p[1] - a[1] - t * dy);
+    (ex * ex + ey * ey).sqrt()
+}
+
+/// Indices of the samples the solver visits, increasing, first and last included.
+/// `tolerance` is a fraction of each channel's range (≥ 0; 0 keeps every sample that is not
+/// exactly on a chord).
+pub fn reduce_history(samples: &[LoadSample], tolerance: f64) -> Result<Vec<usize>, HistoryError> {
+    if samples.is_empty() {
+        return Ok(Vec::new());
+    }
+    let scales = channel_scales(samples);
+    let last = samples.len() - 1;
+    let mut keep = vec![false; samples.len()];
+    keep[0] = true;
+    keep[last] = true;
+    for (channel, scale) in scales.iter().enumerate() {
+        let values: Vec<f64> = samples
+            .iter()
+            .map(|s| {
+                if channel == 0 {
+                    s.strain
+                } else {
+                    s.curvature_per_m
+                }
+            })
+            .collect();
+        let reversals = extract_reversals(&values, tolerance * scale).map_err(|e| {
+            HistoryError::InvalidOption {
+                field: "turning_point_tolerance",
+                value: tolerance,
+                reason: e.to_string(),
+            }
+        })?;
+        for r in reversals {
+            keep[r.index] = true;
+        }
+    }
+    let points: Vec<[f64; 2]> = samples.iter().map(|s| scaled(s, &scales)).collect();
+    let corners: Vec<usize> = (0..samples.len()).filter(|&i| keep[i]).collect();
+    // Ramer-Douglas-Peucker between consecutive corners, with an explicit stack
+    let mut stack: Vec<(usize, usize)> = corners.windows(2).map(|w| (w[0], w[1])).collect();
+    while let Some((a, b)) = stack.pop() {
+        if b <= a + 1 {
+            continue;
+        }
+        let (mut far, mut dmax) = (a, 0.0);
+        for (i, p) in points.iter().enumerate().take(b).skip(a + 1) {
+            let d = distance_to_segment(*p, points[a], points[b]);
+            if d > dmax {
+                dmax = d;
+                far = i;
+            }
+        }
+        if dmax > tolerance && far != a {
+            keep[far] = true;
+            stack.push((a, far));
+            stack.push((far, b));
+        }
+    }
+    Ok((0..samples.len()).filter(|&i| keep[i]).collect())
+}
+
+/// Position s ∈ [0, 1] of every sample of `samples[a..=b]` along the chord from `a` to `b`
+/// (scaled coordinates as in [`reduce_history`]), non-decreasing, 0 at `a` and 1 at `b`.
+pub fn chord_positions(samples: &[LoadSample], a: usize, b: usize, scales: &[f64; 2]) -> Vec<f64> {
+    let pa = scaled(&samples[a], scales);
+    let pb = scaled(&samples[b], scales);
+    let (dx, dy) = (pb[0] - pa[0], pb[1] - pa[1]);
+    let len2 = dx * dx + dy * dy;
+    let mut out = Vec::with_capacity(b - a + 1);
+    let mut running: f64 = 0.0;
+    for s in &samples[a..=b] {
+        let p = scaled(s, scales);
+        let t = if len2 > 0.0 {
+            (((p[0] - pa[0]) * dx + (p[1] - pa[1]) * dy) / len2).clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        running = running.max(t);
+        out.push(running);
+    }
+    out[0] = 0.0;
+    if let Some(l) = out.last_mut() {
+        *l = 1.0;
+    }
+    out
+}
+
+/// The channel scales used by [`reduce_history`] and [`chord_positions`].
+pub fn history_scales(samples: &[LoadSample]) -> [f64; 2] {
+    channel_scales(samples)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn history(values: &[(f64, f64)]) -> Vec<LoadSample> {
+        values
+            .iter()
+            .enumerate()
+            .map(|(i, &(e, k))| LoadSample {
+                time_s: i as f64,
+                strain: e,
+                curvature_per_m: k,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn monotone_straight_history_reduces_to_its_ends() {
+        let h = history(
+            &(0..20)
+                .map(|i| (1e-3 + 1e-5 * i as f64, 1e-3 * i as f64))
+                .collect::<Vec<_>>(),
+        );
+        assert_eq!(reduce_history(&h, 0.0).unwrap(), vec![0, 19]);
+        let s = chord_positions(&h, 0, 19, &history_scales(&h));
+        assert!((s[7] - 7.0 / 19.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn turning_points_of_either_channel_are_kept() {
+        // strain peaks at 3, curvature valley at 6
+        let h = history(&[
+            (1.0, 0.0),
+            (2.0, -1.0),
+            (3.0, -2.0),
+            (4.0, -3.0),
+            (3.0, -4.0),
+            (2.0, -5.0),
+            (1.0, -6.0),
+            (0.5, -3.0),
+            (0.0, 0.0),
+        ]);
+        let kept = reduce_history(&h, 0.01).unwrap();
+        assert_eq!(kept, vec![0, 3, 6, 8]);
+    }
+
+    #[test]
+    fn a_bend_in_the_path_without_a_turning_point_is_kept_above_the_tolerance() {
+        // both channels increase, but curvature first, then strain: a corner at sample 5
+        let mut v: Vec<(f64, f64)> = (0..=5).map(|i| (0.0, i as f64)).collect();
+        v.extend((1..=5).map(|i| (i as f64, 5.0)));
+        let h = history(&v);
+        assert_eq!(reduce_history(&h, 0.05).unwrap(), vec![0, 5, 10]);
+        // a ripple smaller than the tolerance is ignored
+        let mut r = h.clone();
+        r[7].curvature_per_m += 0.01;
+        assert_eq!(reduce_history(&r, 0.05).unwrap(), vec![0, 5, 10]);
+    }
+}

@@ -1,0 +1,431 @@
+//! The history run itself: sub-stepped Newton solves between the kept samples, interpolation
+//! back to the original samples, streaming rainflow of every contact (see the parent module).
+
+use std::time::Instant;
+
+use super::checkpoint::HistoryCheckpoint;
+use super::monitors::{
+    contact_sample, contact_sites, default_channels, element_axial_force, MonitorChannel,
+    MonitorQuantity, MonitorSeries, MonitorTarget,
+};
+use super::reduce::{chord_positions, history_scales, reduce_history};
+use super::timing::{TimedProblem, TimedSolver, WorkTimes};
+use super::{
+    motion_of, reference_problem, validate_samples, HistoryError, HistoryObserver, HistoryOptions,
+    HistoryProgress, HistoryResult, HistoryStats, LoadSample,
+};
+use crate::fretting::{ContactCycleAccumulator, ContactRecord, ContactSample, SlipCycle};
+use crate::linalg::{solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace, SparseLu};
+use crate::strand::loading::{LoadSegment, SectionMotion};
+use crate::strand::model::StrandModel;
+use crate::strand::problem::StrandProblem;
+
+/// Everything the outputs need of one solved state: every contact's sample and the wire
+/// element channels' values (in channel order, contact channels skipped).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub(super) struct Snapshot {
+    pub(super) contacts: Vec<ContactSample>,
+    pub(super) elements: Vec<f64>,
+}
+
+impl Snapshot {
+    /// (1 − f) a + f b, field by field (exactly b at f = 1).
+    fn blend(a: &Self, b: &Self, f: f64, out: &mut Self) {
+        let mix = |x: f64, y: f64| (1.0 - f) * x + f * y;
+        for ((o, x), y) in out.contacts.iter_mut().zip(&a.contacts).zip(&b.contacts) {
+            *o = ContactSample {
+                slip_m: mix(x.slip_m, y.slip_m),
+                normal_force_n: mix(x.normal_force_n, y.normal_force_n),
+                tangential_force_n: mix(x.tangential_force_n, y.tangential_force_n),
+            };
+        }
+        for ((o, x), y) in out.elements.iter_mut().zip(&a.elements).zip(&b.elements) {
+            *o = mix(*x, *y);
+        }
+    }
+}
+
+/// The solver side: problem, factorisation, workspace, counts.
+pub(super) struct Runner<'a> {
+    model: &'a StrandModel,
+    pub(super) problem: StrandProblem<'a>,
+    solver: TimedSolver<SparseLu>,
+    workspace: NewtonWorkspace,
+    newton: NewtonParams,
+    max_strain: f64,
+    max_curvature: f64,
+    pub(super) stats: HistoryStats,
+}
+
+impl<'a> Runner<'a> {
+    pub(super) fn new(
+        model: &'a StrandModel,
+        options: &HistoryOptions,
+    ) -> Result<Self, HistoryError> {
+        Ok(Self {
+            model,
+            problem: reference_problem(model),
+            solver: TimedSolver {
+                inner: SparseLu::new(&model.pattern)?,
+                times: WorkTimes::default(),
+            },
+            workspace: NewtonWorkspace::new(&model.pattern),
+            newton: options.newton,
+            max_strain: options.max_substep_strain,
+            max_curvature: options.max_substep_curvature_per_m,
+            stats: HistoryStats::default(),
+        })
+    }
+
+    /// Drives the committed state to `to` in equal sub-steps within the limits; with
+    /// `channels`, returns the snapshot after every sub-step.
+    pub(super) fn advance(
+        &mut self,
+        to: SectionMotion,
+        stage: &'static str,
+        sample: usize,
+        time_s: f64,
+        channels: Option<&[MonitorChannel]>,
+    ) -> Result<Vec<Snapshot>, HistoryError> {
+        let from = self.problem.motion();
+        let (de, dk) = (
+            (to.strain - from.strain).abs(),
+            (to.curvature_per_m - from.curvature_per_m).abs(),
+        );
+        let substeps = if de == 0.0 && dk == 0.0 {
+            0
+        } else {
+            ((de / self.max_strain).max(dk / self.max_curvature).ceil() as usize).max(1)
+        };
+        let segment = LoadSegment { from, to };
+        let mut out = Vec::with_capacity(if channels.is_some() { substeps } else { 0 });
+        for k in 1..=substeps {
+            let start = self.problem.motion();
+            let target = segment.at(k as f64 / substeps as f64);
+            self.problem.start_segment(target);
+            let mut stats = NewtonStats::default();
+            let mut timed = TimedProblem {
+                inner: &mut self.problem,
+                times: WorkTimes::default(),
+            };
+            let solved = solve_load_path(
+                &mut timed,
+                0.0,
+                1.0,
+                &self.model.pattern,
+                &mut self.solver,
+                &self.newton,
+                &mut self.workspace,
+                &mut stats,
+            );
+            self.stats.work.assembly_s += timed.times.assembly_s;
+            self.stats.add(&stats);
+            solved.map_err(|source| HistoryError::Step {
+                stage,
+                sample,
+                time_s,
+                substep: k,
+                substeps,
+                from_strain: start.strain,
+                from_curvature: start.curvature_per_m,
+                to_strain: target.strain,
+                to_curvature: target.curvature_per_m,
+                source,
+            })?;
+            if let Some(ch) = channels {
+                out.push(self.snapshot(ch)?);
+            }
+        }
+        Ok(out)
+    }
+
+    /// Counts and times so far.
+    pub(super) fn stats(&self) -> HistoryStats {
+        let mut stats = self.stats.clone();
+        stats.work.factorisation_s = self.solver.times.factorisation_s;
+        stats.work.solve_s = self.solver.times.solve_s;
+        stats
+    }
+
+    /// Snapshot of the committed state.
+    pub(super) fn snapshot(&self, channels: &[MonitorChannel]) -> Result<Snapshot, HistoryError> {
+        let state = self.problem.state();
+        let responses = self.problem.responses();
+        let contacts = (0..self.model.contacts.len())
+            .map(|c| contact_sample(self.model, state, c, responses[c].as_ref()))
+            .collect();
+        let mut elements = Vec::new();
+        for ch in channels {
+            if let MonitorTarget::Element(e) = ch.target {
+                elements.push(element_axial_force(self.model, state, e)?);
+            }
+        }
+        Ok(Snapshot { contacts, elements })
+    }
+}
+
+/// Streaming consumers of the interpolated samples: rainflow counters and monitor series.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub(super) struct Recorder {
+    accumulators: Vec<ContactCycleAccumulator>,
+    cycles: Vec<Vec<SlipCycle>>,
+    max_normal: Vec<f64>,
+    pub(super) monitors: MonitorSeries,
+}
+
+impl Recorder {
+    pub(super) fn new(
+        contacts: usize,
+        gate: f64,
+        channels: Vec<MonitorChannel>,
+    ) -> Result<Self, HistoryError> {
+        let acc = ContactCycleAccumulator::new(gate).map_err(|e| HistoryError::InvalidOption {
+            field: "slip_gate_m",
+            value: gate,
+            reason: e.to_string(),
+        })?;
+        Ok(Self {
+            accumulators: vec![acc; contacts],
+            cycles: vec![Vec::new(); contacts],
+            max_normal: vec![0.0; contacts],
+            monitors: MonitorSeries {
+                channels,
+                ..MonitorSeries::default()
+            },
+        })
+    }
+
+    /// Consumes the state of original sample `sample`.
+    pub(super) fn push(
+        &mut self,
+        sample: &LoadSample,
+        snap: &Snapshot,
+    ) -> Result<(), HistoryError> {
+        for (c, s) in snap.contacts.iter().enumerate() {
+            self.accumulators[c]
+                .push(*s, &mut self.cycles[c])
+                .map_err(|source| HistoryError::Fretting { contact: c, source })?;
+            self.max_normal[c] = self.max_normal[c].max(s.normal_force_n);
+        }
+        let m = &mut self.monitors;
+        m.time_s.push(sample.time_s);
+        m.strain.push(sample.strain);
+        m.curvature_per_m.push(sample.curvature_per_m);
+        let mut element = 0;
+        for ch in &mut m.channels {
+            let v = match ch.target {
+                MonitorTarget::Element(_) => {
+                    element += 1;
+                    snap.elements[element - 1]
+                }
+                MonitorTarget::Contact(c) => {
+                    let s = &snap.contacts[c];
+                    match ch.quantity {
+                        MonitorQuantity::NormalForce => s.normal_force_n,
+                        MonitorQuantity::TangentialForce => s.tangential_force_n,
+                        _ => s.slip_m,
+                    }
+                }
+            };
+            ch.values.push(v);
+        }
+        Ok(())
+    }
+
+    /// The contact records (residue closed as half cycles).
+    pub(super) fn records(&self, model: &StrandModel) -> Vec<ContactRecord> {
+        let sites = contact_sites(model);
+        sites
+            .iter()
+            .enumerate()
+            .map(|(c, site)| {
+                let mut cycles = self.cycles[c].clone();
+                self.accumulators[c].finish(&mut cycles);
+                ContactRecord {
+                    interface: site.interface,
+                    theta_rad: site.theta_rad,
+                    z_m: site.z_m,
+                    max_normal_force_n: self.max_normal[c],
+                    cycles,
+                }
+            })
+            .collect()
+    }
+}
+
+/// Runs `model` through `samples` (module docs of [`super`]).
+pub fn run_history(
+    model: &StrandModel,
+    samples: &[LoadSample],
+    options: &HistoryOptions,
+    observer: &mut dyn HistoryObserver,
+) -> Result<HistoryResult, HistoryError> {
+    run_history_from(model, samples, options, None, observer)
+}
+
+/// [`run_history`], continued from `checkpoint` if given (same model, samples and options as
+/// the run that wrote it; the results are identical to the bit to an uninterrupted run's).
+pub fn run_history_from(
+    model: &StrandModel,
+    samples: &[LoadSample],
+    options: &HistoryOptions,
+    checkpoint: Option<&HistoryCheckpoint>,
+    observer: &mut dyn HistoryObserver,
+) -> Result<HistoryResult, HistoryError> {
+    let options = options.validated()?;
+    validate_samples(model, samples, &options)?;
+    let Some(first) = samples.first() else {
+        return Err(HistoryError::InvalidOption {
+            field: "samples",
+            value: 0.0,
+            reason: "the load history is empty".into(),
+        });
+    };
+    let t_start = Instant::now();
+    let kept = reduce_history(samples, options.turning_point_tolerance)?;
+    let scales = history_scales(samples);
+    let mut runner = Runner::new(model, &options)?;
+    let (mut recorder, mut previous, start) = match checkpoint {
+        Some(cp) => {
+            cp.check(
+                samples.len(),
+                &kept,
+                model.frame.node_count(),
+                model.contacts.len(),
+            )?;
+            let state = crate::beam::frame::FrameState {
+                positions: cp.positions.clone(),
+                rotations: cp.rotations.clone(),
+            };
+            let motion = SectionMotion {
+                strain: cp.strain,
+                curvature_per_m: cp.curvature_per_m,
+            };
+            runner.problem.resume(motion, state, cp.histories.clone());
+            runner.stats = cp.stats.clone();
+            (cp.recorder.clone(), cp.previous.clone(), cp.next_segment)
+        }
+        None => {
+            let channels = if options.default_monitors {
+                default_channels(model, &contact_sites(model))
+            } else {
+                Vec::new()
+            };
+            initialise(&mut runner, first, &options)?;
+            runner.stats.initialisation_time_s = t_start.elapsed().as_secs_f64();
+            let mut recorder = Recorder::new(model.contacts.len(), options.slip_gate_m, channels)?;
+            let t_out = Instant::now();
+            let previous = runner.snapshot(&recorder.monitors.channels)?;
+            recorder.push(first, &previous)?;
+            runner.stats.output_time_s += t_out.elapsed().as_secs_f64();
+            (recorder, previous, 0)
+        }
+    };
+    let mut scratch = previous.clone();
+    let segments = kept.len().saturating_sub(1);
+    for segment in start..segments {
+        let (a, b) = (kept[segment], kept[segment + 1]);
+        let t_solve = Instant::now();
+        let mut points = vec![previous];
+        let solved = runner.advance(
+            motion_of(&samples[b]),
+            "history",
+            b,
+            samples[b].time_s,
+            Some(&recorder.monitors.channels),
+        )?;
+        points.extend(solved);
+        runner.stats.solve_time_s += t_solve.elapsed().as_secs_f64();
+        let t_out = Instant::now();
+        let positions = chord_positions(samples, a, b, &scales);
+        let n = points.len() - 1;
+        for (i, s) in (a + 1..=b).zip(positions.iter().skip(1)) {
+            if n == 0 {
+                recorder.push(&samples[i], &points[0])?;
+                continue;
+            }
+            let x = s * n as f64;
+            let k = (x.floor() as usize).min(n - 1);
+            Snapshot::blend(&points[k], &points[k + 1], x - k as f64, &mut scratch);
+            recorder.push(&samples[i], &scratch)?;
+        }
+        previous = points.pop().unwrap_or_else(|| scratch.clone());
+        runner.stats.output_time_s += t_out.elapsed().as_secs_f64();
+        let done = segment + 1;
+        observer.progress(&HistoryProgress {
+            segment: done,
+            segments,
+            sample: b,
+            time_s: samples[b].time_s,
+            elapsed_s: t_start.elapsed().as_secs_f64(),
+        });
+        let interval = options.checkpoint_interval_segments;
+        if interval > 0 && done % interval == 0 && done < segments {
+            let committed = runner.problem.committed_state();
+            let motion = runner.problem.motion();
+            observer.checkpoint(&HistoryCheckpoint {
+                samples: samples.len(),
+                kept_samples: kept.clone(),
+                next_segment: done,
+                strain: motion.strain,
+                curvature_per_m: motion.curvature_per_m,
+                positions: committed.positions.clone(),
+                rotations: committed.rotations.clone(),
+                histories: runner.problem.histories().to_vec(),
+                previous: previous.clone(),
+                recorder: recorder.clone(),
+                stats: runner.stats(),
+            });
+        }
+        if done < segments && observer.should_stop() {
+            return Err(HistoryError::Stopped {
+                segment: done,
+                time_s: samples[b].time_s,
+            });
+        }
+    }
+    let t_out = Instant::now();
+    let contacts = recorder.records(model);
+    let mut stats = runner.stats();
+    stats.samples = samples.len();
+    stats.kept_samples = kept.len();
+    stats.output_time_s += t_out.elapsed().as_secs_f64();
+    stats.total_time_s += t_start.elapsed().as_secs_f64();
+    Ok(HistoryResult {
+        contacts,
+        monitors: recorder.monitors,
+        kept_samples: kept,
+        stats,
+    })
+}
+
+/// The seed's three-step initialisation (Sec. 3.3): small tension, small tension with the
+/// initial curvature, initial tension and curvature.
+fn initialise(
+    runner: &mut Runner<'_>,
+    first: &LoadSample,
+    options: &HistoryOptions,
+) -> Result<(), HistoryError> {
+    let small = options.initial_strain_fraction * first.strain;
+    let stages: [(&'static str, f64, f64); 3] = [
+        ("initialisation 1/3 (small tension)", small, 0.0),
+        (
+            "initialisation 2/3 (small tension, initial curvature)",
+            small,
+            first.curvature_per_m,
+        ),
+        (
+            "initialisation 3/3 (initial tension and curvature)",
+            first.strain,
+            first.curvature_per_m,
+        ),
+    ];
+    for (stage, strain, curvature_per_m) in stages {
+        let to = SectionMotion {
+            strain,
+            curvature_per_m,
+        };
+        runner.advance(to, stage, 0, first.time_s, None)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,218 @@
+//! History runs on the 1+6+1 benchmark strand (seed Sec. 2.2) with the seed's 'vs_analytical'
+//! regularisation (ε_N = 2e8 N/m, γ_e = 1e-7 m); slip onset of the outer helix near
+//! κ_b ≈ 1.2e-2 1/m at ε = 1e-3 (campaigns/benchmarks/strand_1_6_1.json).
+
+use std::f64::consts::PI;
+
+use super::monitors::{MonitorChannel, MonitorQuantity};
+use super::stiffness::{
+    measure_axial_stiffness_n, samples_from_tension, straight_strand_stiffness,
+};
+use super::*;
+use crate::contact::{ContactParameters, NormalLaw, TangentialLaw};
+use crate::strand::model::StrandModelParameters;
+use crate::strand::profile::profile_from_json;
+
+const BENCHMARK: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../campaigns/benchmarks/strand_1_6_1.json"
+));
+
+fn model() -> StrandModel {
+    let strand = profile_from_json(BENCHMARK)
+        .expect("benchmark profile parses")
+        .validate()
+        .expect("benchmark profile is valid");
+    let params = StrandModelParameters {
+        contact: ContactParameters {
+            normal: NormalLaw::Penalty {
+                stiffness_n_per_m: 2e8,
+            },
+            tangential: TangentialLaw::ElasticSlip {
+                elastic_slip_m: 1e-7,
+            },
+            ..ContactParameters::default()
+        },
+        ..StrandModelParameters::default()
+    };
+    StrandModel::new(&strand, &params).expect("benchmark model builds")
+}
+
+/// ε = 1e-3, κ = amplitude · sin(2π t / 10 s), `cycles` periods sampled every 0.5 s.
+fn bending_cycles(amplitude: f64, cycles: usize) -> Vec<LoadSample> {
+    (0..=20 * cycles)
+        .map(|i| {
+            let t = 0.5 * i as f64;
+            LoadSample {
+                time_s: t,
+                strain: 1e-3,
+                curvature_per_m: amplitude * (2.0 * PI * t / 10.0).sin(),
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn bad_samples_are_refused_with_their_index() {
+    let model = model();
+    let options = HistoryOptions::default();
+    let good = bending_cycles(1e-2, 1);
+    let refused = |mutate: &dyn Fn(&mut Vec<LoadSample>)| {
+        let mut h = good.clone();
+        mutate(&mut h);
+        match validate_samples(&model, &h, &options) {
+            Err(HistoryError::InvalidSample { index, field, .. }) => (index, field),
+            other => panic!("expected a refused sample, got {other:?}"),
+        }
+    };
+    assert_eq!(refused(&|h| h[3].strain = f64::NAN), (3, "strain"));
+    assert_eq!(refused(&|h| h[4].strain = -1e-4), (4, "strain"));
+    assert_eq!(refused(&|h| h[5].time_s = h[4].time_s), (5, "time_s"));
+    // 0.5 1/m at the 25.8 mm outer diameter: fibre strain 1e-3 + 6.5e-3 > 7e-3
+    assert_eq!(
+        refused(&|h| h[6].curvature_per_m = 0.5),
+        (6, "curvature_per_m")
+    );
+    assert!(validate_samples(&model, &good, &options).is_ok());
+    match samples_from_tension(&[0.0, 1.0], &[1e4, -5.0], &[0.0, 0.0], 2e7) {
+        Err(HistoryError::InvalidSample { index, field, .. }) => {
+            assert_eq!((index, field), (1, "tension_n"))
+        }
+        other => panic!("negative tension accepted: {other:?}"),
+    }
+    let bad_options = HistoryOptions {
+        max_substep_strain: 0.0,
+        ..options
+    };
+    assert!(matches!(
+        run_history(&model, &good, &bad_options, &mut NoObserver),
+        Err(HistoryError::InvalidOption {
+            field: "max_substep_strain",
+            ..
+        })
+    ));
+}
+
+/// EA measured on the model against the straight-strand estimates of
+/// [`straight_strand_stiffness`] (simple E (A_core + Σ n A cos³β) and Costello-corrected); the
+/// penalty end ties and the contact compliance make the model slightly softer, the tolerance is
+/// the 3 % of the acceptance criterion.
+#[test]
+fn measured_axial_stiffness_is_the_straight_strand_estimate() {
+    let model = model();
+    let ea = measure_axial_stiffness_n(&model, 1e-3, &HistoryOptions::default().newton).unwrap();
+    let estimate = straight_strand_stiffness(&model.strand);
+    let e = (ea - estimate.corrected_n) / estimate.corrected_n;
+    eprintln!(
+        "EA = {ea:.5e} N, simple {:.5e} N, Costello-corrected {:.5e} N ({:+.2} %)",
+        estimate.simple_n,
+        estimate.corrected_n,
+        100.0 * e
+    );
+    assert!(e.abs() < 0.03);
+}
+
+/// Below the slip onset every contact sticks: the tangential gap stays within ±γ_e of the stick
+/// law (range < 2 γ_e), the response is elastic and the slip returns to its value after a full
+/// bending cycle. Above it (κ = 4e-2 1/m, over three times the onset), Coulomb sliding makes the
+/// range exceed 2 γ_e and leaves a residual slip after the cycle (hysteresis).
+#[test]
+fn bending_cycles_are_reversible_in_stick_and_hysteretic_in_slip() {
+    let model = model();
+    let options = HistoryOptions::default();
+    let outer: Vec<usize> = (0..model.contacts.len())
+        .filter(|&c| {
+            let b = model.mesh.contacts[c].nodes[1].0;
+            model.strand.wires()[model.mesh.nodes[b].wire.0].layer == Some(1)
+        })
+        .collect();
+    let residual_and_range = |amplitude: f64| {
+        let h = bending_cycles(amplitude, 1);
+        let r = run_history(&model, &h, &options, &mut NoObserver).unwrap();
+        assert_eq!(r.contacts.len(), model.contacts.len());
+        assert_eq!(r.monitors.time_s.len(), h.len());
+        assert!(r.kept_samples.len() < h.len());
+        // slip of every outer contact at t = 0 and after one period: monitors hold a ring
+        let ring: Vec<&MonitorChannel> = r
+            .monitors
+            .channels
+            .iter()
+            .filter(|c| c.quantity == MonitorQuantity::Slip && c.layer == 1)
+            .collect();
+        assert!(!ring.is_empty());
+        let residual = ring
+            .iter()
+            .map(|c| (c.values[h.len() - 1] - c.values[0]).abs())
+            .fold(0.0, f64::max);
+        let range = outer
+            .iter()
+            .flat_map(|&c| r.contacts[c].cycles.iter().map(|y| y.slip.range))
+            .fold(0.0, f64::max);
+        (residual, range, r.stats)
+    };
+    let (res_stick, range_stick, stats) = residual_and_range(2e-3);
+    let (res_slip, range_slip, _) = residual_and_range(4e-2);
+    eprintln!(
+        "stick: residual {res_stick:.3e} m, range {range_stick:.3e} m; slip: residual \
+         {res_slip:.3e} m, range {range_slip:.3e} m; {stats:?}"
+    );
+    assert!(
+        range_stick < 2e-7,
+        "stick slip range {range_stick} above 2 γ_e"
+    );
+    assert!(res_stick < 1e-3 * range_stick.max(1e-12) + 1e-12);
+    assert!(range_slip > 2e-7);
+    assert!(res_slip > 1e-2 * range_slip);
+}
+
+/// Keeps the first checkpoint (as bytes) and stops the run after it if asked to.
+struct KeepFirst {
+    bytes: Option<Vec<u8>>,
+    stop: bool,
+}
+
+impl HistoryObserver for KeepFirst {
+    fn checkpoint(&mut self, checkpoint: &checkpoint::HistoryCheckpoint) {
+        if self.bytes.is_none() {
+            self.bytes = Some(checkpoint.to_bytes().unwrap());
+        }
+    }
+
+    fn should_stop(&mut self) -> bool {
+        self.stop && self.bytes.is_some()
+    }
+}
+
+#[test]
+fn a_run_stopped_and_resumed_from_its_checkpoint_gives_identical_results() {
+    let model = model();
+    let options = HistoryOptions {
+        checkpoint_interval_segments: 1,
+        ..HistoryOptions::default()
+    };
+    let h = bending_cycles(3e-2, 1);
+    let full = run_history(&model, &h, &options, &mut NoObserver).unwrap();
+    assert!(full.kept_samples.len() >= 3);
+    let mut stopper = KeepFirst {
+        bytes: None,
+        stop: true,
+    };
+    match run_history(&model, &h, &options, &mut stopper) {
+        Err(HistoryError::Stopped { segment: 1, .. }) => {}
+        other => panic!(
+            "expected a stop after segment 1, got {:?}",
+            other.map(|r| r.stats)
+        ),
+    }
+    let bytes = stopper.bytes.expect("a checkpoint was written");
+    let cp = checkpoint::HistoryCheckpoint::from_bytes(&bytes).unwrap();
+    let resumed = run_history_from(&model, &h, &options, Some(&cp), &mut NoObserver).unwrap();
+    assert_eq!(resumed.contacts, full.contacts);
+    assert_eq!(resumed.monitors, full.monitors);
+    // a checkpoint of another history is refused
+    let other = bending_cycles(3e-2, 2);
+    assert!(matches!(
+        run_history_from(&model, &other, &options, Some(&cp), &mut NoObserver),
+        Err(HistoryError::Checkpoint { .. })
+    ));
+}
