@@ -68,9 +68,9 @@ fn bad_samples_are_refused_with_their_index() {
     assert_eq!(refused(&|h| h[3].strain = f64::NAN), (3, "strain"));
     assert_eq!(refused(&|h| h[4].strain = -1e-4), (4, "strain"));
     assert_eq!(refused(&|h| h[5].time_s = h[4].time_s), (5, "time_s"));
-    // 0.5 1/m at the 25.8 mm outer diameter: fibre strain 1e-3 + 6.5e-3 > 7e-3
+    // 0.6 1/m at the 21.5 mm outer diameter: fibre strain 1e-3 + 6.45e-3 > 7e-3
     assert_eq!(
-        refused(&|h| h[6].curvature_per_m = 0.5),
+        refused(&|h| h[6].curvature_per_m = 0.6),
         (6, "curvature_per_m")
     );
     assert!(validate_samples(&model, &good, &options).is_ok());
