@@ -14,7 +14,10 @@
 //!   (linear in z between its nodes a, b) and e₀ is the reference mismatch of that interpolation
 //!   (the chord sag, zero when R is a node), so that the reference configuration satisfies the
 //!   constraint exactly. R is the point at angle θ_P nearest mid-length (inner layers, whose lay
-//!   length is shorter than the model, have several), never an end node of its own.
+//!   length is shorter than the model, have several) whose element has no eliminated end; when
+//!   the model length is not exactly a lay length, the reference wire's far end is eliminated
+//!   too, and its R, one lay length back, may lie just outside the model (linear extrapolation
+//!   of the first element).
 //!
 //! Because C_P, C_R are prescribed, the constraint is affine in the unknowns:
 //!   x_P = c(z_P) + A (N_a x_a + N_b x_b − c(z_R)) + R(z_P) e₀,   A = R(z_P) R(z_R)ᵀ,
@@ -102,10 +105,22 @@ pub fn end_layout(strand: &Strand, mesh: &StrandMesh) -> Result<EndLayout, Stran
         let d = (theta - std::f64::consts::FRAC_PI_2).rem_euclid(2.0 * std::f64::consts::PI);
         d.min(2.0 * std::f64::consts::PI - d) < OUTER_ARC_TOLERANCE_RAD
     };
-    for (k, _layer) in strand.layers.iter().enumerate() {
+    for k in 0..strand.layers.len() {
         let reference = strand.first_wire_of_layer(k);
         let ref_nodes = mesh.wire_nodes[reference.0].clone();
+        if ref_nodes.len() < 2 {
+            continue;
+        }
         let helix = wires[reference.0].helix;
+        // the reference wire's ends at the outer arc are anchored; its other end, if any, is
+        // eliminated like every other wire end and may not serve as a master point
+        let free_ends: Vec<usize> = [ref_nodes.start, ref_nodes.end - 1]
+            .into_iter()
+            .filter(|&n| !at_outer_arc(helix.angle(mesh.nodes[n].z_m)))
+            .collect();
+        let ref_elements: Vec<(usize, usize)> = (ref_nodes.start..ref_nodes.end - 1)
+            .map(|i| (i, i + 1))
+            .collect();
         for w in wires.iter().filter(|w| w.layer == Some(k)) {
             let range = mesh.wire_nodes[w.id.0].clone();
             if range.len() < 2 {
@@ -114,36 +129,21 @@ pub fn end_layout(strand: &Strand, mesh: &StrandMesh) -> Result<EndLayout, Stran
             for node in [range.start, range.end - 1] {
                 let z_p = mesh.nodes[node].z_m;
                 let theta = w.helix.angle(z_p);
-                if w.id == reference && at_outer_arc(theta) {
+                if w.id == reference && !free_ends.contains(&node) {
                     anchored.push(node);
                     prescription[node] = [true; NODE_DOFS];
                     continue;
                 }
-                // R: reference-wire point at angle θ (mod 2π), interior, nearest mid-length
-                let rate = helix.rate_rad_per_m;
-                let z0 = (theta - helix.angle(0.0)) / rate;
-                let period = (2.0 * std::f64::consts::PI / rate).abs();
-                let n = ((0.5 * length - z0) / period).round();
-                let mut z_r = z0 + n * period;
-                if z_r < 0.0 {
-                    z_r += period;
-                }
-                if z_r > length {
-                    z_r -= period;
-                }
-                let Some(i) = (ref_nodes.start..ref_nodes.end - 1)
-                    .find(|&i| mesh.nodes[i].z_m <= z_r && z_r <= mesh.nodes[i + 1].z_m)
-                else {
-                    return Err(StrandModelError::InvalidParameter {
-                        field: "model_length_m",
-                        value: length,
-                        reason: "a wire end has no point at its angle on the reference wire",
-                    });
-                };
-                let (a, b) = (i, i + 1);
-                let (za, zb) = (mesh.nodes[a].z_m, mesh.nodes[b].z_m);
-                let nb = if zb > za { (z_r - za) / (zb - za) } else { 0.0 };
-                let weights = [1.0 - nb, nb];
+                let master =
+                    reference_point(mesh, &helix, &ref_elements, &free_ends, theta, length).ok_or(
+                        StrandModelError::InvalidParameter {
+                            field: "model_length_m",
+                            value: length,
+                            reason: "a wire end has no admissible point at its angle on the \
+                                 reference wire of its layer",
+                        },
+                    )?;
+                let (z_r, (a, b), weights) = master;
                 let x_r = weights[0] * mesh.nodes[a].position + weights[1] * mesh.nodes[b].position;
                 let x_p = mesh.nodes[node].position;
                 let offset_m =
@@ -177,6 +177,56 @@ pub fn end_layout(strand: &Strand, mesh: &StrandMesh) -> Result<EndLayout, Stran
         constraints,
         prescription,
     })
+}
+
+/// The point R of the reference wire (`helix`, elements `elements` in increasing z) at angle
+/// `theta` (mod 2π) nearest mid-length among the admissible ones: its element's nodes must not
+/// be eliminated ends (`free_ends`), and it may lie up to one element beyond the wire's ends
+/// (linear extrapolation: a model length slightly shorter than the lay length puts the point
+/// matching the far end just before z = 0). Returns (z_R, element nodes, weights N_a, N_b).
+fn reference_point(
+    mesh: &StrandMesh,
+    helix: &super::helix::Helix,
+    elements: &[(usize, usize)],
+    free_ends: &[usize],
+    theta: f64,
+    length: f64,
+) -> Option<(f64, (usize, usize), [f64; 2])> {
+    let rate = helix.rate_rad_per_m;
+    if rate == 0.0 || elements.is_empty() {
+        return None;
+    }
+    let period = (2.0 * std::f64::consts::PI / rate).abs();
+    let z0 = (theta - helix.angle(0.0)) / rate;
+    let z = |n: usize| mesh.nodes[n].z_m;
+    let (first, last) = (elements[0], elements[elements.len() - 1]);
+    let (lo, hi) = (2.0 * z(first.0) - z(first.1), 2.0 * z(last.1) - z(last.0));
+    let turns = (length / period).ceil() as i64 + 2;
+    let n0 = (-z0 / period).round() as i64;
+    let mut best: Option<(f64, (usize, usize), [f64; 2])> = None;
+    for n in (n0 - turns)..=(n0 + turns) {
+        let z_r = z0 + n as f64 * period;
+        if !(lo..=hi).contains(&z_r) {
+            continue;
+        }
+        let element = elements
+            .iter()
+            .copied()
+            .find(|&(a, b)| z(a) <= z_r && z_r <= z(b))
+            .unwrap_or(if z_r < z(first.0) { first } else { last });
+        if free_ends.contains(&element.0) || free_ends.contains(&element.1) {
+            continue;
+        }
+        let (za, zb) = (z(element.0), z(element.1));
+        let nb = if zb > za { (z_r - za) / (zb - za) } else { 0.0 };
+        let better = best.is_none_or(|(zb_best, _, _)| {
+            (z_r - 0.5 * length).abs() < (zb_best - 0.5 * length).abs()
+        });
+        if better {
+            best = Some((z_r, element, [1.0 - nb, nb]));
+        }
+    }
+    best
 }
 
 /// How an extended equation enters the reduced system: (reduced equation, coefficient slot).

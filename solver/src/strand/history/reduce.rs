@@ -15,7 +15,11 @@
 //! original time axis.
 
 use super::{HistoryError, LoadSample};
-use crate::fretting::extract_reversals;
+use crate::fretting::ReversalDetector;
+
+/// Distances from a chord below this (fraction of the channel ranges) are round-off: a
+/// straight stretch is one segment even with a zero tolerance.
+const CHORD_FLOOR: f64 = 1e-9;
 
 /// Scale of each channel: its range over the history, 1 for a constant channel.
 fn channel_scales(samples: &[LoadSample]) -> [f64; 2] {
@@ -54,8 +58,8 @@ fn distance_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
 }
 
 /// Indices of the samples the solver visits, increasing, first and last included.
-/// `tolerance` is a fraction of each channel's range (≥ 0; 0 keeps every sample that is not
-/// exactly on a chord).
+/// `tolerance` is a fraction of each channel's range (≥ 0; 0 keeps every sample that is off
+/// the chords by more than 1e-9 of the ranges).
 pub fn reduce_history(samples: &[LoadSample], tolerance: f64) -> Result<Vec<usize>, HistoryError> {
     if samples.is_empty() {
         return Ok(Vec::new());
@@ -76,15 +80,18 @@ pub fn reduce_history(samples: &[LoadSample], tolerance: f64) -> Result<Vec<usiz
                 }
             })
             .collect();
-        let reversals = extract_reversals(&values, tolerance * scale).map_err(|e| {
-            HistoryError::InvalidOption {
+        let mut detector =
+            ReversalDetector::new(tolerance * scale).map_err(|e| HistoryError::InvalidOption {
                 field: "turning_point_tolerance",
                 value: tolerance,
                 reason: e.to_string(),
+            })?;
+        // confirmed reversals only: an extreme the history never left by more than the gate
+        // is not a turning point (the last sample is kept anyway)
+        for (i, v) in values.iter().enumerate() {
+            if let Some(r) = detector.push(i, *v) {
+                keep[r.index] = true;
             }
-        })?;
-        for r in reversals {
-            keep[r.index] = true;
         }
     }
     let points: Vec<[f64; 2]> = samples.iter().map(|s| scaled(s, &scales)).collect();
@@ -103,7 +110,7 @@ pub fn reduce_history(samples: &[LoadSample], tolerance: f64) -> Result<Vec<usiz
                 far = i;
             }
         }
-        if dmax > tolerance && far != a {
+        if dmax > tolerance.max(CHORD_FLOOR) && far != a {
             keep[far] = true;
             stack.push((a, far));
             stack.push((far, b));
