@@ -179,3 +179,99 @@ fn outer_helix_force_is_friction_limited_above_slip_onset() {
     assert!((fit - slip_amplitude).abs() < 0.3 * slip_amplitude);
     assert!(2 * slipping > bent.contacts.len());
 }
+
+/// Contact normal forces in tension (ε = 1e-3, κ = 0) against the line load a helix of tension
+/// T needs to keep its shape, q = T κ_h with κ_h = sin²β/R (Costello 1997, Ch. 3, the wire's
+/// radial equilibrium X = T κ_h up to the bending-moment/shear terms N τ, 0.5 % of T κ_h here).
+/// Summed over a wire's arc length L/cos β:
+/// - outer wire on the 6-wire layer (18 trellis points): Σ f_N = T₂ sin²β/R₂ · L/cos β;
+/// - 6-wire layer on the core (core line points): Σ f_N = Σᵢ Tᵢ sin²β/R₁ · L/cos β plus the
+///   outer wire's radial load, passed through the layer to the core.
+///
+/// Tolerance 3 %: the N τ terms (0.5 %), the resultant of q over the 20° arc each trellis point
+/// carries (chord factor 0.995), and the tension of the wire varying between contact points.
+#[test]
+fn contact_normal_forces_carry_the_line_load_of_the_helix_tension() {
+    use moorfret_solver::strand::contacts::ContactKind;
+    let strand = benchmark(2);
+    let model = StrandModel::new(&strand, &vs_analytical()).unwrap();
+    let result = run_case(&model, 1e-3, 0.0, &StrandRunParameters::default()).unwrap();
+    let length = strand.model_length_m;
+    let mean_force = |wire: usize| {
+        let f: Vec<f64> = result
+            .element_forces
+            .iter()
+            .filter(|f| f.wire.0 == wire)
+            .map(|f| f.axial_force_n)
+            .collect();
+        f.iter().sum::<f64>() / f.len() as f64
+    };
+    let line_load_total = |layer: usize, tension: f64| {
+        let l = &strand.layers[layer];
+        tension * l.lay_angle_rad.sin().powi(2) / l.helix_radius_m * length / l.lay_angle_rad.cos()
+    };
+    let sum_normal = |kind: ContactKind| {
+        model
+            .mesh
+            .contacts
+            .iter()
+            .zip(&result.contacts)
+            .filter(|(mc, _)| mc.kind == kind)
+            .map(|(_, c)| c.normal_force_n)
+            .sum::<f64>()
+    };
+    let outer = strand.first_wire_of_layer(1).0;
+    let trellis = sum_normal(ContactKind::Trellis);
+    let trellis_expected = line_load_total(1, mean_force(outer));
+    let inner_first = strand.first_wire_of_layer(0).0;
+    let core = sum_normal(ContactKind::CoreLine);
+    let core_expected = (inner_first..inner_first + strand.layers[0].wires)
+        .map(|w| line_load_total(0, mean_force(w)))
+        .sum::<f64>()
+        + trellis;
+    eprintln!(
+        "normal forces: trellis {trellis:.1} N vs {trellis_expected:.1} N, core line {core:.1} N vs {core_expected:.1} N"
+    );
+    assert!(((trellis - trellis_expected) / trellis_expected).abs() < 0.03);
+    assert!(((core - core_expected) / core_expected).abs() < 0.03);
+}
+
+/// A load step that cannot converge (one Newton iteration allowed) is cut back down to the
+/// smallest increment and then reported with its stage, step, iteration and residual.
+#[test]
+fn non_converging_load_step_is_reported_with_step_iteration_and_residual() {
+    use moorfret_solver::linalg::NewtonError;
+    use moorfret_solver::strand::driver::StrandRunError;
+    let strand = benchmark(1);
+    let model = StrandModel::new(&strand, &vs_analytical()).unwrap();
+    let mut params = StrandRunParameters::default();
+    params.newton.max_iterations = 1;
+    params.newton.min_load_increment = 0.3;
+    let err = run_case(&model, 1e-3, 0.0, &params).unwrap_err();
+    let text = err.to_string();
+    match err {
+        StrandRunError::Newton {
+            stage,
+            source:
+                NewtonError::NewtonDiverged {
+                    step,
+                    iteration,
+                    residual,
+                    tolerance,
+                    load_factor,
+                },
+            ..
+        } => {
+            assert_eq!(stage, 1);
+            assert_eq!(step, 0);
+            assert_eq!(iteration, 1);
+            assert!(residual.is_finite() && residual > tolerance);
+            // Δλ 1 → 0.5 → 0.25 < 0.3: the attempt at λ = 0.5 is the last one
+            assert_eq!(load_factor, 0.5);
+        }
+        other => panic!("unexpected {other:?}"),
+    }
+    for word in ["stage 1", "step 0", "iteration 1", "residual"] {
+        assert!(text.contains(word), "{text}");
+    }
+}
