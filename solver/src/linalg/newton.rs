@@ -79,6 +79,9 @@ pub struct NewtonParams {
     pub max_tangent_age: usize,
     /// With a reused factorisation, refactorise when ‖rₖ‖ > this × ‖rₖ₋₁‖.
     pub reuse_contraction: f64,
+    /// Backtracking halvings of a Newton correction allowed when it does not reduce ‖r‖
+    /// (0: plain Newton).
+    pub line_search_halvings: usize,
 }
 
 impl Default for NewtonParams {
@@ -97,6 +100,7 @@ impl Default for NewtonParams {
             divergence_ratio: 1e8,
             max_tangent_age: 1,
             reuse_contraction: 0.25,
+            line_search_halvings: 0,
         }
     }
 }
@@ -288,6 +292,7 @@ pub struct NewtonWorkspace {
     residual: Vec<f64>,
     increment: Vec<f64>,
     values: Vec<f64>,
+    scratch: Vec<f64>,
 }
 
 impl NewtonWorkspace {
@@ -297,6 +302,7 @@ impl NewtonWorkspace {
             residual: vec![0.0; pattern.size()],
             increment: vec![0.0; pattern.size()],
             values: vec![0.0; pattern.nnz()],
+            scratch: vec![0.0; pattern.size()],
         }
     }
 
@@ -432,6 +438,34 @@ fn evaluate<P: NonlinearProblem>(
     Ok((norm, scale))
 }
 
+/// Backtracking on the residual norm after the correction δu has been applied: while ‖r‖ at the
+/// trial state is not below `norm` (the norm before the correction) or cannot be evaluated, the
+/// applied fraction a of δu is halved (applying −a/2 δu, exact for the additive and the
+/// left-multiplied rotation-vector updates along the same δu), at most `line_search_halvings`
+/// times. The last fraction tried is kept.
+fn line_search<P: NonlinearProblem>(
+    problem: &mut P,
+    load_factor: f64,
+    norm: f64,
+    params: &NewtonParams,
+    ws: &mut NewtonWorkspace,
+    stats: &mut NewtonStats,
+) {
+    let mut fraction = 1.0;
+    for _ in 0..params.line_search_halvings {
+        match evaluate(problem, load_factor, ws, false, stats) {
+            Ok((trial, _)) if trial.is_finite() && trial < norm => return,
+            _ => {}
+        }
+        fraction *= 0.5;
+        ws.scratch
+            .iter_mut()
+            .zip(&ws.increment)
+            .for_each(|(s, d)| *s = -fraction * d);
+        problem.apply_increment(&ws.scratch);
+    }
+}
+
 /// Newton iterations at a fixed load factor; returns the iteration count on convergence.
 fn newton_step<P: NonlinearProblem, S: LinearSolver>(
     problem: &mut P,
@@ -503,6 +537,9 @@ fn newton_step<P: NonlinearProblem, S: LinearSolver>(
             first_energy = energy;
         } else if energy <= params.energy_tolerance * first_energy {
             return Ok(iteration + 1);
+        }
+        if params.line_search_halvings > 0 {
+            line_search(problem, load_factor, norm, params, ws, stats);
         }
     }
     // the loop returns at iteration == max_iterations at the latest
@@ -641,6 +678,49 @@ mod tests {
         assert!((s.u - 1.0).abs() < 1e-12);
         assert!(stats.cutbacks >= 1);
         assert_eq!(*stats.load_factors.last().unwrap(), 1.0);
+    }
+
+    #[test]
+    fn non_converging_step_is_cut_back_then_reported_with_step_iteration_and_residual() {
+        // two Newton iterations never reach ‖r‖ ≤ 1e-9 · λ F on the cubic spring: every attempt
+        // fails, Δλ is halved 1 → 0.5 → 0.25 → 0.125 → 0.0625 < min, and the last attempt
+        // (target λ = 0.125) is reported
+        let mut s = Spring {
+            u: 0.0,
+            committed: 0.0,
+            force: 7.0,
+            u_max: 10.0,
+        };
+        let (r, stats) = run(
+            &mut s,
+            &NewtonParams {
+                max_iterations: 2,
+                min_load_increment: 0.1,
+                ..Default::default()
+            },
+        );
+        assert_eq!(stats.cutbacks, 4);
+        assert_eq!(stats.steps, 0);
+        match r {
+            Err(NewtonError::NewtonDiverged {
+                step,
+                iteration,
+                residual,
+                tolerance,
+                load_factor,
+            }) => {
+                assert_eq!(step, 0);
+                assert_eq!(iteration, 2);
+                assert!(
+                    residual.is_finite() && residual > tolerance,
+                    "{residual} {tolerance}"
+                );
+                assert_eq!(load_factor, 0.125);
+            }
+            other => panic!("unexpected {other:?}"),
+        }
+        // the state is rolled back to the last committed one
+        assert_eq!(s.u, 0.0);
     }
 
     #[test]

@@ -8,11 +8,12 @@
 
 use std::time::Instant;
 
-use super::loading::LoadPath;
+use super::contacts::ContactKind;
+use super::loading::{LoadPath, SectionMotion};
 use super::model::StrandModel;
 use super::problem::{section_force_n, StrandProblem};
 use super::wires::WireId;
-use crate::beam::frame::FrameError;
+use crate::beam::frame::{FrameError, FrameState};
 use crate::contact::ContactStatus;
 use crate::linalg::{
     solve_load_path, LinalgError, NewtonError, NewtonParams, NewtonStats, NewtonWorkspace, SparseLu,
@@ -63,7 +64,9 @@ impl Default for StrandRunParameters {
                 max_load_increment: 1.0,
                 ..NewtonParams::default()
             },
-            tension_increment: 1.0,
+            // from the reference state, where the contacts carry only the interference force,
+            // larger first increments fail six times before 1/64 converges (1+6+1 benchmark)
+            tension_increment: 1.0 / 64.0,
             bending_increment: 0.25,
         }
     }
@@ -118,6 +121,67 @@ pub struct CaseResult {
     pub contacts: Vec<ContactResult>,
     /// Axial force across the mid-length plane (N), all wires.
     pub strand_force_n: f64,
+    /// Departure from plane-section motion at every trellis contact, mesh contact order.
+    pub trellis_departures: Vec<PlaneSectionDeparture>,
+}
+
+/// Displacements, relative to the rigid plane-section motion of the strand
+/// ([`SectionMotion::map`]), of the material points of one trellis contact, projected on the
+/// outer wire's current tangent (m). The stick solution of the outer helix assumes all of them
+/// zero; `outer_axis_m` is what its axial force follows. Points: the outer wire's axis node,
+/// the contact points on the outer and inner wire surfaces (±r along the reference normal,
+/// carried by the node rotations), and the inner wire's point on the opposite side (towards the
+/// core).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct PlaneSectionDeparture {
+    /// Angular position of the outer wire at the contact (rad, unwrapped).
+    pub theta_rad: f64,
+    /// Outer wire axis.
+    pub outer_axis_m: f64,
+    /// Outer wire contact point.
+    pub outer_point_m: f64,
+    /// Inner wire contact point (its side facing the outer wire).
+    pub inner_top_m: f64,
+    /// Inner wire axis.
+    pub inner_axis_m: f64,
+    /// Inner wire point on the core side.
+    pub inner_bottom_m: f64,
+}
+
+/// Departures from plane-section motion of every trellis contact of `model` in `state` under
+/// the section motion `motion`.
+pub fn plane_section_departures(
+    model: &StrandModel,
+    state: &FrameState,
+    motion: &SectionMotion,
+) -> Vec<PlaneSectionDeparture> {
+    let wires = model.strand.wires();
+    model
+        .mesh
+        .contacts
+        .iter()
+        .filter(|mc| mc.kind == ContactKind::Trellis)
+        .map(|mc| {
+            let [a, b] = mc.nodes;
+            let (na, nb) = (&model.mesh.nodes[a.0], &model.mesh.nodes[b.0]);
+            let n0 = (nb.position - na.position).normalize();
+            let (ra, rb) = (wires[na.wire.0].radius_m, wires[nb.wire.0].radius_m);
+            let t2 = motion.rotation(nb.z_m) * nb.tangent;
+            let along = |current: nalgebra::Vector3<f64>, reference: nalgebra::Vector3<f64>| {
+                (current - motion.map(&reference)).dot(&t2)
+            };
+            let (xa, xb) = (state.positions[a.0], state.positions[b.0]);
+            let (la, lb) = (state.rotations[a.0], state.rotations[b.0]);
+            PlaneSectionDeparture {
+                theta_rad: wires[nb.wire.0].helix.angle(nb.z_m),
+                outer_axis_m: along(xb, nb.position),
+                outer_point_m: along(xb - lb * n0 * rb, nb.position - n0 * rb),
+                inner_top_m: along(xa + la * n0 * ra, na.position + n0 * ra),
+                inner_axis_m: along(xa, na.position),
+                inner_bottom_m: along(xa - la * n0 * ra, na.position - n0 * ra),
+            }
+        })
+        .collect()
 }
 
 fn wrap(theta: f64) -> f64 {
@@ -235,6 +299,7 @@ pub fn run_case(
         })
         .collect();
     let strand_force_n = section_force_n(model, state, 0.5 * model.strand.model_length_m)?;
+    let trellis_departures = plane_section_departures(model, state, &problem.motion());
     Ok(CaseResult {
         strain,
         curvature_per_m,
@@ -244,5 +309,6 @@ pub fn run_case(
         element_forces,
         contacts,
         strand_force_n,
+        trellis_departures,
     })
 }
