@@ -5,4 +5,6 @@
 
 pub mod cli;
 pub mod plot;
+pub mod query;
+pub mod report;
 pub mod store;

@@ -3,7 +3,9 @@
 
 use clap::{Parser, Subcommand};
 
+pub mod query;
 pub mod rainflow;
+pub mod report;
 pub mod run;
 
 /// moorfret: fretting fatigue of spiral-strand mooring ropes over a site's long-term sea climate.
@@ -23,6 +25,10 @@ pub enum Command {
     Run(run::RunCommand),
     /// Rainflow-count one column of a CSV file (ASTM E1049-85), cycles as JSON or CSV.
     Rainflow(rainflow::RainflowArgs),
+    /// A campaign's results: damage inputs, sea states, lifetime damage or contacts.
+    Query(query::QueryArgs),
+    /// An offline HTML report of a campaign (plots and tables).
+    Report(report::ReportArgs),
 }
 
 /// Execute a parsed command line.
@@ -30,5 +36,7 @@ pub fn execute(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Run(cmd) => run::execute(cmd),
         Command::Rainflow(args) => rainflow::execute(args),
+        Command::Query(args) => query::execute(args),
+        Command::Report(args) => report::execute(args),
     }
 }
