@@ -82,7 +82,7 @@ async fn report_of_the_fixture_is_self_contained_and_renders() {
     assert!(page.contains("layer interface 2, outer_arc"));
     assert!(page.contains("hot spot 0, layer interface 0"));
     // Sea state 0 carries 0.30·1e-6 / (0.30·1e-6 + 0.13758·4e-6) = 35 % of the fretting damage.
-    assert!(page.contains(">35%<"), "share label");
+    assert!(page.contains(">\n35%\n</text>"), "share label");
     // Offline: no scripts, no external resources (the SVG namespace is not fetched).
     assert!(!page.contains("<script"));
     assert!(!page.contains("src=\"http") && !page.contains("href=\"http"));
@@ -95,6 +95,10 @@ async fn report_of_the_fixture_is_self_contained_and_renders() {
     };
     let png = dir.path().join("report.png");
     screenshot(&browser, &page_path, &png, &dir.path().join("profile"));
+    // MOORFRET_KEEP_SCREENSHOT=path keeps a copy for inspection.
+    if let Ok(keep) = std::env::var("MOORFRET_KEEP_SCREENSHOT") {
+        std::fs::copy(&png, keep).unwrap();
+    }
     let bytes = std::fs::read(&png).unwrap();
     assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
     // A rendered page of plots compresses to far more than a blank 1280 × 2000 image (< 10 kB).

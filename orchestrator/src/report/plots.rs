@@ -61,11 +61,12 @@ pub(crate) fn scatter_svg(
                 .map_err(plot_err)?;
             if let Some(v) = value.filter(|v| *v >= 0.005) {
                 chart
-                    .draw_series([Text::new(
-                        format!("{:.0}%", 100.0 * v),
-                        (s.tp_s, s.hs_m),
-                        ("sans-serif", 11).into_font().color(&BLACK),
-                    )])
+                    .draw_series([EmptyElement::at((s.tp_s, s.hs_m))
+                        + Text::new(
+                            format!("{:.0}%", 100.0 * v),
+                            (12, -6),
+                            ("sans-serif", 12).into_font().color(&BLACK),
+                        )])
                     .map_err(plot_err)?;
             }
         }
