@@ -6,5 +6,7 @@
 pub mod campaign;
 pub mod cli;
 pub mod plot;
+pub mod query;
+pub mod report;
 pub mod store;
 pub mod worker;

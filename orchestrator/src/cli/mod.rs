@@ -5,7 +5,9 @@ use clap::{Parser, Subcommand};
 
 pub mod campaign;
 pub mod drive;
+pub mod query;
 pub mod rainflow;
+pub mod report;
 pub mod run;
 pub mod worker;
 
@@ -31,6 +33,10 @@ pub enum Command {
     Campaign(campaign::CampaignCommand),
     /// A worker process serving a store's campaigns.
     Worker(worker::WorkerArgs),
+    /// A campaign's results: damage inputs, sea states, lifetime damage or contacts.
+    Query(query::QueryArgs),
+    /// An offline HTML report of a campaign (plots and tables).
+    Report(report::ReportArgs),
 }
 
 /// Execute a parsed command line.
@@ -40,5 +46,7 @@ pub fn execute(cli: Cli) -> anyhow::Result<()> {
         Command::Rainflow(args) => rainflow::execute(args),
         Command::Campaign(cmd) => campaign::execute(cmd),
         Command::Worker(args) => worker::execute(args),
+        Command::Query(args) => query::execute(args),
+        Command::Report(args) => report::execute(args),
     }
 }

@@ -6,7 +6,7 @@ use anyhow::{anyhow, Context};
 use moorfret_solver::global::GlobalResult;
 use plotters::prelude::*;
 
-fn bounds(x: &[f64]) -> (f64, f64) {
+pub(crate) fn bounds(x: &[f64]) -> (f64, f64) {
     let lo = x.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = x.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     if !(lo.is_finite() && hi.is_finite()) {
@@ -16,12 +16,12 @@ fn bounds(x: &[f64]) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-fn plot_err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
+pub(crate) fn plot_err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
     anyhow!("plotting failed: {e:?}")
 }
 
 /// One panel: `y(t)`.
-fn panel<DB: DrawingBackend>(
+pub(crate) fn panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
     title: &str,
     y_label: &str,

@@ -7,4 +7,5 @@
 
 mod global;
 
+pub(crate) use global::{bounds, panel, plot_err};
 pub use global::{hotspots_svg, static_shapes_svg};

@@ -24,6 +24,10 @@ use super::model::{
 };
 use super::policy::QueuePolicy;
 use super::types::{AttemptId, AttemptOutcome, CampaignId, JobId, SeaStateId, WorkerId};
+use super::results::{
+    ClassDamageInput, ContactRow, LifetimeClassDamage, SeaStateClassDamage, SeaStateDamage,
+    SeaStateStatus,
+};
 use super::{postgres, sqlite};
 
 /// How to open a store.
@@ -340,6 +344,51 @@ impl Store {
         campaign: CampaignId,
     ) -> Result<Vec<LifetimeDamage>, StoreError> {
         dispatch!(self, q => q.lifetime_damage(campaign).await)
+    }
+
+    /// Rows of the `sea_state_class_damage_inputs` view of a campaign.
+    pub async fn sea_state_class_damage(
+        &self,
+        campaign: CampaignId,
+    ) -> Result<Vec<SeaStateClassDamage>, StoreError> {
+        dispatch!(self, q => q.sea_state_class_damage(campaign).await)
+    }
+
+    /// Rows of the `lifetime_class_damage` view of a campaign.
+    pub async fn lifetime_class_damage(
+        &self,
+        campaign: CampaignId,
+    ) -> Result<Vec<LifetimeClassDamage>, StoreError> {
+        dispatch!(self, q => q.lifetime_class_damage(campaign).await)
+    }
+
+    /// Rows of the `sea_state_damage_inputs` view of a campaign (per hot spot measures).
+    pub async fn sea_state_damage(
+        &self,
+        campaign: CampaignId,
+    ) -> Result<Vec<SeaStateDamage>, StoreError> {
+        dispatch!(self, q => q.sea_state_damage(campaign).await)
+    }
+
+    /// Sea states of a campaign with their job counts.
+    pub async fn sea_state_status(
+        &self,
+        campaign: CampaignId,
+    ) -> Result<Vec<SeaStateStatus>, StoreError> {
+        dispatch!(self, q => q.sea_state_status(campaign).await)
+    }
+
+    /// Per-contact statistics of the done jobs of a campaign.
+    pub async fn contact_rows(&self, campaign: CampaignId) -> Result<Vec<ContactRow>, StoreError> {
+        dispatch!(self, q => q.contact_rows(campaign).await)
+    }
+
+    /// Class rows of the done jobs of a campaign with their sea state index and occurrence.
+    pub async fn class_rows_of_campaign(
+        &self,
+        campaign: CampaignId,
+    ) -> Result<Vec<(i64, f64, ClassDamageInput)>, StoreError> {
+        dispatch!(self, q => q.class_rows_of_campaign(campaign).await)
     }
 }
 

@@ -7,6 +7,7 @@
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
+use super::results::ClassDamageInput;
 use super::types::{
     AttemptId, AttemptOutcome, CampaignId, CampaignState, JobId, JobKind, JobState, LeaseToken,
     SeaStateId, WorkerId,
@@ -189,6 +190,9 @@ pub struct JobResults {
     pub contacts: Vec<ContactStatistics>,
     /// Per realisation damage inputs.
     pub damage_inputs: Vec<DamageInput>,
+    /// Per realisation damage inputs of each contact class ([`super::results::damage_rows`]).
+    #[serde(default)]
+    pub class_damage_inputs: Vec<ClassDamageInput>,
     /// Artifacts written beforehand.
     pub artifacts: Vec<JobArtifact>,
 }

@@ -20,6 +20,10 @@ use super::model::{
     WorkerInfo,
 };
 use super::policy::QueuePolicy;
+use super::results::{
+    parse_position, ClassDamageInput, ContactRow, LifetimeClassDamage, SeaStateClassDamage,
+    SeaStateDamage, SeaStateStatus,
+};
 use super::types::{
     AttemptId, AttemptOutcome, CampaignId, JobId, JobKind, JobState, LeaseToken, SeaStateId,
     WorkerId,
@@ -219,3 +223,4 @@ include!("queue_campaign.rs");
 include!("queue_lease.rs");
 include!("queue_recovery.rs");
 include!("queue_read.rs");
+include!("queue_results.rs");

@@ -215,6 +215,7 @@ impl Queue {
         let has_rows = !(results.hot_spots.is_empty()
             && results.contacts.is_empty()
             && results.damage_inputs.is_empty()
+            && results.class_damage_inputs.is_empty()
             && results.artifacts.is_empty());
         if lease.kind == JobKind::Test && has_rows {
             return Err(StoreError::TestKindResults(lease.job));
@@ -287,6 +288,7 @@ impl Queue {
             .await
             .map_err(StoreError::db(OP))?;
         }
+        insert_class_damage_inputs(&mut tx, lease.job, &results.class_damage_inputs).await?;
         for artifact in &results.artifacts {
             sqlx::query(
                 "INSERT INTO artifacts (sha256, size_bytes, path, created_at_ms) \
@@ -382,6 +384,7 @@ impl Queue {
              effective_duration_s, damage, details_json) \
              SELECT $1, hot_spot_index, measure, seed_index, effective_duration_s, damage, \
              details_json FROM damage_inputs WHERE job_id = $2",
+            COPY_CLASS_DAMAGE_INPUTS,
             "INSERT INTO job_artifacts (job_id, role, sha256) \
              SELECT $1, role, sha256 FROM job_artifacts WHERE job_id = $2",
         ] {

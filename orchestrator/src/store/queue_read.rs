@@ -151,6 +151,7 @@ impl Queue {
                 details: parse_json("damage_inputs.details_json", &details)?,
             });
         }
+        results.class_damage_inputs = self.class_damage_inputs_of(job).await?;
         let rows = sqlx::query(
             "SELECT ja.role, a.sha256, a.size_bytes, a.path FROM job_artifacts ja \
              JOIN artifacts a ON a.sha256 = ja.sha256 WHERE ja.job_id = $1 ORDER BY ja.role",

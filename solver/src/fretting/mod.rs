@@ -8,6 +8,7 @@
 //! - [`histogram`]: 2D histograms of cycles (slip amplitude × normal force);
 //! - [`hertz`]: Hertz contact of crossed cylinders (ellipse semi-axes, peak pressure);
 //! - [`indicators`]: fretting regime (Mindlin), Ruiz products, fretting S-N damage;
+//! - [`inputs`]: per-sea-state damage inputs per contact class and T-N curve;
 //! - [`record`]: the per-contact record the strand stage produces, and contact classes;
 //! - [`runin`]: where the mean slip stops drifting (run-in to exclude from the statistics).
 //!
@@ -18,6 +19,7 @@ pub mod error;
 pub mod hertz;
 pub mod histogram;
 pub mod indicators;
+pub mod inputs;
 pub mod rainflow;
 pub mod record;
 pub mod reversals;
@@ -31,6 +33,10 @@ pub use histogram::{BinEdges, CycleHistogram, ForceMeasure};
 pub use indicators::{
     evaluate_cycle, CycleIndicators, FrettingParams, FrettingRegime, FrettingSnLaw,
     RegimeCriterion, WireStress,
+};
+pub use inputs::{
+    sea_state_damage_inputs, ClassInputs, DamageInputsConfig, DamageInputsError, NamedTnCurve,
+    RegimeCounts, SeaStateInputs, TensionHistory, TensionInputs,
 };
 pub use rainflow::{count_cycles, Cycle, RainflowCounter, RainflowOptions};
 pub use record::{AngularPosition, ContactClass, ContactRecord};

@@ -1,0 +1,56 @@
+//! `moorfret report NAME --out DIR [--db URL] [--artifacts DIR]`: an offline HTML page of a
+//! campaign's results ([`crate::report`]).
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::query::open_existing;
+use crate::query::DEFAULT_DB;
+use crate::store::{ArtifactStore, StoreLocation};
+
+/// Arguments of `moorfret report`.
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// Campaign name.
+    pub name: String,
+    /// Output directory (created if missing); the page is `DIR/index.html`.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Store: SQLite file path or `postgres://…` URL.
+    #[arg(long, default_value = DEFAULT_DB)]
+    pub db: String,
+    /// Artifact directory (default: next to an SQLite store; none for PostgreSQL).
+    #[arg(long)]
+    pub artifacts: Option<PathBuf>,
+}
+
+/// Writes the report and prints the path of the page.
+pub fn execute(args: ReportArgs) -> anyhow::Result<()> {
+    let artifacts = match (&args.artifacts, StoreLocation::parse(&args.db)?) {
+        (Some(dir), _) => Some(ArtifactStore::open(dir.clone())?),
+        (None, StoreLocation::Sqlite(path)) if path.exists() => {
+            let mut name = path.file_name().unwrap_or_default().to_os_string();
+            name.push(".artifacts");
+            let dir = path.with_file_name(name);
+            if dir.is_dir() {
+                Some(ArtifactStore::open(dir)?)
+            } else {
+                None
+            }
+        }
+        _ => None,
+    };
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()?;
+    let page = runtime.block_on(async {
+        let store = open_existing(&args.db).await?;
+        let page =
+            crate::report::write_report(&store, &args.name, &args.out, artifacts.as_ref()).await;
+        store.close().await;
+        page
+    })?;
+    println!("{}", page.display());
+    Ok(())
+}

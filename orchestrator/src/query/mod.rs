@@ -1,0 +1,176 @@
+//! Queries users run on a campaign's results (`moorfret query …`), read from the store's views
+//! (DESIGN §3.3-3.4):
+//!
+//! - `damage-inputs`: `sea_state_class_damage_inputs`, one row per sea state × hot spot ×
+//!   contact class for one fretting measure (`fretting_max` by default, or `fretting_mean`);
+//! - `sea-states`: the sea states with their job counts and per-hot-spot damage rates of every
+//!   other measure (T-N curves) from `sea_state_damage_inputs`;
+//! - `lifetime`: `lifetime_damage` (per hot spot and measure) and `lifetime_class_damage` (per
+//!   hot spot, contact class and fretting measure), annual damage with the covered occurrence;
+//! - `contacts`: the per-contact statistics rows of the done jobs.
+//!
+//! Results come as a [`Table`] (named columns, JSON values) printed as an aligned text table,
+//! CSV or JSON (an array of objects).
+
+mod table;
+
+use anyhow::Context;
+use serde_json::Value;
+
+use crate::store::{CampaignId, Store};
+
+pub use table::{OutputFormat, Table};
+
+/// SQLite file used when no `--db` is given, in the working directory.
+pub const DEFAULT_DB: &str = "moorfret.sqlite";
+
+/// Which query.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum QueryKind {
+    /// Per sea state, hot spot and contact class.
+    DamageInputs,
+    /// Sea states, job counts and per hot spot damage rates.
+    SeaStates,
+    /// Annual damage per hot spot (and contact class).
+    Lifetime,
+    /// Per-contact statistics.
+    Contacts,
+}
+
+/// Fretting measure names stored in `sea_state_class_damage_inputs`.
+pub const FRETTING_MEASURES: [&str; 2] = ["fretting_max", "fretting_mean"];
+
+/// The id of campaign `name`, or an error naming it.
+pub async fn campaign_id(store: &Store, name: &str) -> anyhow::Result<CampaignId> {
+    store
+        .campaign_by_name(name)
+        .await?
+        .with_context(|| format!("campaign `{name}` is not in the store"))
+}
+
+/// Runs query `kind` on campaign `name`; `measure` selects the fretting measure of
+/// `damage-inputs`.
+pub async fn run(
+    store: &Store,
+    name: &str,
+    kind: QueryKind,
+    measure: &str,
+) -> anyhow::Result<Table> {
+    let campaign = campaign_id(store, name).await?;
+    match kind {
+        QueryKind::DamageInputs => {
+            if !FRETTING_MEASURES.contains(&measure) {
+                anyhow::bail!(
+                    "--measure `{measure}` is not a fretting measure (one of {})",
+                    FRETTING_MEASURES.join(", ")
+                );
+            }
+            let rows: Vec<_> = store
+                .sea_state_class_damage(campaign)
+                .await?
+                .into_iter()
+                .filter(|r| r.measure == measure)
+                .collect();
+            Table::from_rows(
+                &[
+                    "sea_state_index",
+                    "hs_m",
+                    "tp_s",
+                    "occurrence_fraction",
+                    "hot_spot_index",
+                    "layer_interface",
+                    "angular_position",
+                    "measure",
+                    "seeds",
+                    "contacts",
+                    "effective_duration_s",
+                    "damage_rate_per_s",
+                    "damage_seed_mean",
+                    "stick_cycles_per_hour",
+                    "partial_slip_cycles_per_hour",
+                    "gross_slip_cycles_per_hour",
+                    "ruiz_f1_max",
+                    "ruiz_f2_max",
+                    "peak_pressure_max_pa",
+                    "slip_amplitude_max_m",
+                ],
+                &rows,
+            )
+        }
+        QueryKind::SeaStates => sea_states(store, campaign).await,
+        QueryKind::Lifetime => lifetime(store, campaign).await,
+        QueryKind::Contacts => Table::from_rows(
+            &[
+                "sea_state_index",
+                "job_id",
+                "hot_spot_index",
+                "contact_index",
+                "layer_interface",
+                "angular_position_rad",
+                "statistics",
+            ],
+            &store.contact_rows(campaign).await?,
+        ),
+    }
+}
+
+/// Sea states with job counts, and one column `<measure>_rate_per_s_hs<k>` per hot spot and
+/// per-hot-spot measure.
+async fn sea_states(store: &Store, campaign: CampaignId) -> anyhow::Result<Table> {
+    let states = store.sea_state_status(campaign).await?;
+    let damage = store.sea_state_damage(campaign).await?;
+    let mut extra: Vec<(i64, String)> = damage
+        .iter()
+        .map(|d| (d.hot_spot_index, d.measure.clone()))
+        .collect();
+    extra.sort();
+    extra.dedup();
+    let mut table = Table::from_rows(
+        &[
+            "sea_state_index",
+            "hs_m",
+            "tp_s",
+            "occurrence_fraction",
+            "jobs_total",
+            "jobs_done",
+            "jobs_failed",
+        ],
+        &states,
+    )?;
+    for (hot_spot, measure) in &extra {
+        let column = format!("{measure}_rate_per_s_hs{hot_spot}");
+        let values = states
+            .iter()
+            .map(|s| {
+                damage
+                    .iter()
+                    .find(|d| {
+                        d.sea_state_index == s.sea_state_index
+                            && d.hot_spot_index == *hot_spot
+                            && &d.measure == measure
+                    })
+                    .map_or(Value::Null, |d| Value::from(d.damage_rate_per_s))
+            })
+            .collect();
+        table.push_column(column, values);
+    }
+    Ok(table)
+}
+
+/// Lifetime rows of both views in one table; class columns are empty for per-hot-spot
+/// measures.
+async fn lifetime(store: &Store, campaign: CampaignId) -> anyhow::Result<Table> {
+    let columns = [
+        "hot_spot_index",
+        "layer_interface",
+        "angular_position",
+        "measure",
+        "annual_damage",
+        "occurrence_covered",
+        "sea_states",
+    ];
+    let mut table = Table::from_rows(&columns, &store.lifetime_damage(campaign).await?)?;
+    let classes = Table::from_rows(&columns, &store.lifetime_class_damage(campaign).await?)?;
+    table.rows.extend(classes.rows);
+    Ok(table)
+}

@@ -1,0 +1,168 @@
+//! A small result table (named columns, JSON values) and its text, CSV and JSON renderings.
+
+use anyhow::Context;
+use serde::Serialize;
+use serde_json::{Map, Value};
+
+/// Output format of a query.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum OutputFormat {
+    /// Aligned text columns for a terminal.
+    #[default]
+    Table,
+    /// Comma-separated values with a header line.
+    Csv,
+    /// An array of objects, one per row.
+    Json,
+}
+
+/// Rows of values under named columns.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Table {
+    /// Column names.
+    pub columns: Vec<String>,
+    /// Rows, each with one value per column.
+    pub rows: Vec<Vec<Value>>,
+}
+
+impl Table {
+    /// A table of the fields `columns` of each serialised row (missing fields are null).
+    pub fn from_rows<T: Serialize>(columns: &[&str], rows: &[T]) -> anyhow::Result<Self> {
+        let rows = rows
+            .iter()
+            .map(|row| {
+                let value = serde_json::to_value(row).context("serialising a result row")?;
+                Ok(columns
+                    .iter()
+                    .map(|c| value.get(c).cloned().unwrap_or(Value::Null))
+                    .collect())
+            })
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        Ok(Self {
+            columns: columns.iter().map(|c| c.to_string()).collect(),
+            rows,
+        })
+    }
+
+    /// Appends a column (one value per row).
+    pub fn push_column(&mut self, name: String, values: Vec<Value>) {
+        self.columns.push(name);
+        for (row, value) in self.rows.iter_mut().zip(values) {
+            row.push(value);
+        }
+    }
+
+    /// Rows as JSON objects.
+    pub fn to_json(&self) -> Value {
+        Value::Array(
+            self.rows
+                .iter()
+                .map(|row| {
+                    let mut object = Map::new();
+                    for (c, v) in self.columns.iter().zip(row) {
+                        object.insert(c.clone(), v.clone());
+                    }
+                    Value::Object(object)
+                })
+                .collect(),
+        )
+    }
+
+    /// Renders the table in `format`.
+    pub fn render(&self, format: OutputFormat) -> anyhow::Result<String> {
+        match format {
+            OutputFormat::Json => Ok(serde_json::to_string_pretty(&self.to_json())? + "\n"),
+            OutputFormat::Csv => {
+                let mut writer = csv::Writer::from_writer(Vec::new());
+                writer.write_record(&self.columns)?;
+                for row in &self.rows {
+                    writer.write_record(row.iter().map(cell))?;
+                }
+                Ok(String::from_utf8(writer.into_inner()?)?)
+            }
+            OutputFormat::Table => {
+                let cells: Vec<Vec<String>> = self
+                    .rows
+                    .iter()
+                    .map(|r| r.iter().map(cell).collect())
+                    .collect();
+                let widths: Vec<usize> = (0..self.columns.len())
+                    .map(|k| {
+                        cells
+                            .iter()
+                            .map(|r| r[k].chars().count())
+                            .chain([self.columns[k].chars().count()])
+                            .max()
+                            .unwrap_or(0)
+                    })
+                    .collect();
+                let line = |items: &mut dyn Iterator<Item = &String>| {
+                    items
+                        .zip(widths.iter().copied())
+                        .map(|(s, w)| format!("{s:>w$}"))
+                        .collect::<Vec<_>>()
+                        .join("  ")
+                        .trim_end()
+                        .to_owned()
+                        + "\n"
+                };
+                let mut out = line(&mut self.columns.iter());
+                for r in &cells {
+                    out += &line(&mut r.iter());
+                }
+                Ok(out)
+            }
+        }
+    }
+}
+
+/// Text of one value: numbers in full precision (shortest round-trip form), strings bare,
+/// null empty, objects as compact JSON.
+fn cell(value: &Value) -> String {
+    match value {
+        Value::Null => String::new(),
+        Value::String(s) => s.clone(),
+        Value::Number(n) => n.to_string(),
+        other => other.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(Serialize)]
+    struct Row {
+        a: i64,
+        b: Option<f64>,
+        c: &'static str,
+    }
+
+    #[test]
+    fn renders_columns_in_the_given_order() {
+        let rows = [
+            Row {
+                a: 1,
+                b: Some(2.5e-7),
+                c: "outer_arc",
+            },
+            Row {
+                a: 10,
+                b: None,
+                c: "x,y",
+            },
+        ];
+        let t = Table::from_rows(&["c", "a", "b", "missing"], &rows).unwrap();
+        let csv = t.render(OutputFormat::Csv).unwrap();
+        assert_eq!(csv, "c,a,b,missing\nouter_arc,1,2.5e-7,\n\"x,y\",10,,\n");
+        let text = t.render(OutputFormat::Table).unwrap();
+        assert_eq!(
+            text,
+            "        c   a       b  missing\nouter_arc   1  2.5e-7\n      x,y  10\n"
+        );
+        let json: Value = serde_json::from_str(&t.render(OutputFormat::Json).unwrap()).unwrap();
+        assert_eq!(json[1]["a"], 10);
+        assert_eq!(json[0]["b"], 2.5e-7);
+        assert!(json[1]["b"].is_null());
+    }
+}

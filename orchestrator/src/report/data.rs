@@ -1,0 +1,275 @@
+//! What the report shows, read from the store.
+
+use std::collections::BTreeMap;
+
+use anyhow::Context;
+use moorfret_solver::fretting::{AngularPosition, CycleHistogram};
+
+use crate::query::{self, Table};
+use crate::store::{ArtifactStore, JobKind, JobState, LifetimeClassDamage, SeaStateStatus, Store};
+
+/// The contact class with the largest annual `fretting_max` damage.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CriticalClass {
+    /// Hot spot index.
+    pub hot_spot_index: i64,
+    /// Layer interface.
+    pub layer_interface: i64,
+    /// Angular position.
+    pub angular_position: AngularPosition,
+    /// Annual damage.
+    pub annual_damage: f64,
+}
+
+/// Slip amplitude histogram of one layer interface, cycles per hour of the year.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SlipHistogram {
+    /// Hot spot index.
+    pub hot_spot_index: i64,
+    /// Layer interface.
+    pub layer_interface: i64,
+    /// Bin edges (m).
+    pub edges_m: Vec<f64>,
+    /// Cycles per hour of the year in each bin.
+    pub cycles_per_hour: Vec<f64>,
+}
+
+/// Hot-spot series of one global job.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HotSpotSeries {
+    /// Sea state index of the job.
+    pub sea_state_index: i64,
+    /// Time (s).
+    pub time_s: Vec<f64>,
+    /// Per hot spot: (tension N, curvature 1/m).
+    pub hot_spots: Vec<(Vec<f64>, Vec<f64>)>,
+}
+
+/// Everything on the page.
+#[derive(Debug, Clone)]
+pub struct ReportData {
+    /// Campaign name.
+    pub name: String,
+    /// Sea states.
+    pub sea_states: Vec<SeaStateStatus>,
+    /// Critical class, if any fretting result is stored.
+    pub critical: Option<CriticalClass>,
+    /// Per sea state index: share of the critical class's annual fretting damage.
+    pub fretting_share: BTreeMap<i64, f64>,
+    /// T-N measure shown, and per sea state index its share of the annual T-N damage.
+    pub tn_share: Option<(String, BTreeMap<i64, f64>)>,
+    /// Slip histograms per hot spot and layer interface.
+    pub histograms: Vec<SlipHistogram>,
+    /// Hot-spot series, if an artifact holds them.
+    pub series: Option<HotSpotSeries>,
+    /// Lifetime table (`query lifetime`).
+    pub lifetime: Table,
+    /// Damage inputs (`query damage-inputs`).
+    pub damage_inputs: Table,
+}
+
+fn shares(terms: impl Iterator<Item = (i64, f64)>) -> BTreeMap<i64, f64> {
+    let terms: BTreeMap<i64, f64> = terms.collect();
+    let total: f64 = terms.values().sum();
+    terms
+        .into_iter()
+        .map(|(k, v)| (k, if total > 0.0 { v / total } else { 0.0 }))
+        .collect()
+}
+
+fn critical_class(rows: &[LifetimeClassDamage]) -> Option<CriticalClass> {
+    rows.iter()
+        .filter(|r| r.measure == "fretting_max")
+        .max_by(|a, b| a.annual_damage.total_cmp(&b.annual_damage))
+        .map(|r| CriticalClass {
+            hot_spot_index: r.hot_spot_index,
+            layer_interface: r.layer_interface,
+            angular_position: r.angular_position,
+            annual_damage: r.annual_damage,
+        })
+}
+
+/// Reads the report data of campaign `name`.
+pub async fn gather(
+    store: &Store,
+    name: &str,
+    artifacts: Option<&ArtifactStore>,
+) -> anyhow::Result<ReportData> {
+    let campaign = query::campaign_id(store, name).await?;
+    let sea_states = store.sea_state_status(campaign).await?;
+    let critical = critical_class(&store.lifetime_class_damage(campaign).await?);
+    let mut fretting_share = BTreeMap::new();
+    let mut tn_share = None;
+    if let Some(c) = &critical {
+        let rows = store.sea_state_class_damage(campaign).await?;
+        fretting_share = shares(
+            rows.iter()
+                .filter(|r| {
+                    r.measure == "fretting_max"
+                        && r.hot_spot_index == c.hot_spot_index
+                        && r.layer_interface == c.layer_interface
+                        && r.angular_position == c.angular_position
+                })
+                .map(|r| {
+                    (
+                        r.sea_state_index,
+                        r.occurrence_fraction * r.damage_rate_per_s,
+                    )
+                }),
+        );
+    }
+    let tn_rows = store.sea_state_damage(campaign).await?;
+    let hot_spot = critical.as_ref().map_or(0, |c| c.hot_spot_index);
+    let measure = tn_rows
+        .iter()
+        .filter(|r| r.hot_spot_index == hot_spot && r.measure.starts_with("tn"))
+        .map(|r| r.measure.clone())
+        .min();
+    if let Some(measure) = measure {
+        let share = shares(
+            tn_rows
+                .iter()
+                .filter(|r| r.hot_spot_index == hot_spot && r.measure == measure)
+                .map(|r| {
+                    (
+                        r.sea_state_index,
+                        r.occurrence_fraction * r.damage_rate_per_s,
+                    )
+                }),
+        );
+        tn_share = Some((measure, share));
+    }
+    let histograms = slip_histograms(store.class_rows_of_campaign(campaign).await?)?;
+    let series = match artifacts {
+        Some(a) => hot_spot_series(store, campaign, a, &fretting_share).await?,
+        None => None,
+    };
+    Ok(ReportData {
+        name: name.to_owned(),
+        sea_states,
+        critical,
+        fretting_share,
+        tn_share,
+        histograms,
+        series,
+        lifetime: query::run(store, name, query::QueryKind::Lifetime, "").await?,
+        damage_inputs: query::run(store, name, query::QueryKind::DamageInputs, "fretting_max")
+            .await?,
+    })
+}
+
+/// Σ over sea states of occurrence × seed-mean cycles per hour, per hot spot and interface,
+/// marginal over normal force and angular position.
+fn slip_histograms(
+    rows: Vec<(i64, f64, crate::store::ClassDamageInput)>,
+) -> anyhow::Result<Vec<SlipHistogram>> {
+    // Seeds per (sea state, hot spot, class), to take seed means.
+    let mut seeds: BTreeMap<(i64, i64, i64, AngularPosition), f64> = BTreeMap::new();
+    for (s, _, r) in &rows {
+        *seeds
+            .entry((*s, r.hot_spot_index, r.layer_interface, r.angular_position))
+            .or_default() += 1.0;
+    }
+    let mut out: BTreeMap<(i64, i64), SlipHistogram> = BTreeMap::new();
+    for (s, occurrence, r) in &rows {
+        let h: CycleHistogram = serde_json::from_value(r.histogram.clone())
+            .context("decoding a stored cycle histogram")?;
+        let n = seeds[&(*s, r.hot_spot_index, r.layer_interface, r.angular_position)];
+        let edges = h.slip_edges().edges().to_vec();
+        let entry = out
+            .entry((r.hot_spot_index, r.layer_interface))
+            .or_insert_with(|| SlipHistogram {
+                hot_spot_index: r.hot_spot_index,
+                layer_interface: r.layer_interface,
+                cycles_per_hour: vec![0.0; edges.len() - 1],
+                edges_m: edges.clone(),
+            });
+        if entry.edges_m != edges {
+            anyhow::bail!(
+                "hot spot {}, interface {}: stored histograms have different slip bins",
+                r.hot_spot_index,
+                r.layer_interface
+            );
+        }
+        for (i, bin) in entry.cycles_per_hour.iter_mut().enumerate() {
+            let row: f64 = (0..h.force_edges().bins()).map(|j| h.count(i, j)).sum();
+            *bin += occurrence * row / n;
+        }
+    }
+    Ok(out.into_values().collect())
+}
+
+/// Reads the `hotspots.csv` artifact of the done global job of the sea state with the largest
+/// fretting share (or of the first one holding it).
+async fn hot_spot_series(
+    store: &Store,
+    campaign: crate::store::CampaignId,
+    artifacts: &ArtifactStore,
+    fretting_share: &BTreeMap<i64, f64>,
+) -> anyhow::Result<Option<HotSpotSeries>> {
+    let states = store.sea_state_status(campaign).await?;
+    let mut jobs: Vec<_> = store
+        .jobs_of_campaign(campaign)
+        .await?
+        .into_iter()
+        .filter(|j| j.kind == JobKind::Global && j.state == JobState::Done)
+        .collect();
+    let mut best: Option<(f64, HotSpotSeries)> = None;
+    jobs.sort_by_key(|j| j.id.0);
+    for job in jobs {
+        let results = store.results_of(job.id).await?;
+        let Some(artifact) = results
+            .artifacts
+            .iter()
+            .find(|a| a.role.contains("hotspots"))
+        else {
+            continue;
+        };
+        let Ok(bytes) = artifacts.get(&artifact.sha256) else {
+            continue;
+        };
+        let index = states
+            .iter()
+            .find(|s| Some(s.sea_state_id) == job.sea_state.map(|id| id.0))
+            .map_or(-1, |s| s.sea_state_index);
+        let series = parse_hotspots_csv(&bytes, index)?;
+        let share = fretting_share.get(&index).copied().unwrap_or(0.0);
+        if best.as_ref().is_none_or(|(s, _)| share > *s) {
+            best = Some((share, series));
+        }
+    }
+    Ok(best.map(|(_, s)| s))
+}
+
+/// Parses the `hotspots.csv` layout: `time_s, tension_n_0, curvature_per_m_0, …`.
+pub(crate) fn parse_hotspots_csv(
+    bytes: &[u8],
+    sea_state_index: i64,
+) -> anyhow::Result<HotSpotSeries> {
+    let mut reader = csv::Reader::from_reader(bytes);
+    let header = reader.headers().context("hotspots.csv header")?.clone();
+    if header.get(0) != Some("time_s") || header.len() % 2 != 1 {
+        anyhow::bail!("hotspots.csv: expected columns time_s, tension_n_i, curvature_per_m_i");
+    }
+    let n = (header.len() - 1) / 2;
+    let mut series = HotSpotSeries {
+        sea_state_index,
+        time_s: Vec::new(),
+        hot_spots: vec![(Vec::new(), Vec::new()); n],
+    };
+    for (line, record) in reader.records().enumerate() {
+        let record = record.with_context(|| format!("hotspots.csv line {}", line + 2))?;
+        let value = |k: usize| -> anyhow::Result<f64> {
+            record
+                .get(k)
+                .and_then(|t| t.trim().parse().ok())
+                .with_context(|| format!("hotspots.csv line {}, column {}", line + 2, k + 1))
+        };
+        series.time_s.push(value(0)?);
+        for (i, (t, k)) in series.hot_spots.iter_mut().enumerate() {
+            t.push(value(1 + 2 * i)?);
+            k.push(value(2 + 2 * i)?);
+        }
+    }
+    Ok(series)
+}

@@ -1,0 +1,44 @@
+//! `moorfret report`: one self-contained HTML page of a campaign's results (inline SVG, no
+//! network resources), written to `DIR/index.html`.
+//!
+//! Content:
+//! - the scatter diagram (Tp × Hs) coloured by each sea state's share of the annual fretting
+//!   damage of the critical contact class (largest `fretting_max` annual damage in
+//!   `lifetime_class_damage`), and separately by its share of the annual T-N damage of that
+//!   hot spot (first T-N measure in name order);
+//! - the hot-spot tension and curvature series of one global job, read from its `hotspots.csv`
+//!   artifact (the layout `run global` writes) when the artifact directory holds it;
+//! - slip-amplitude histograms per layer interface: cycles per hour of the year
+//!   (Σ over sea states of occurrence × seed-mean cycles per hour, summed over the angular
+//!   positions and normal-force bins of the interface);
+//! - tables: lifetime damage, and the damage inputs of the critical class per sea state.
+//!
+//! Shares are ratios of occurrence × seed-mean damage rate, the terms of the lifetime sums.
+
+pub mod data;
+mod html;
+mod plots;
+
+use std::path::Path;
+
+use anyhow::Context;
+
+use crate::store::{ArtifactStore, Store};
+
+pub use data::ReportData;
+
+/// Writes the report of campaign `name` into `out_dir` (created if missing); returns the page.
+pub async fn write_report(
+    store: &Store,
+    name: &str,
+    out_dir: &Path,
+    artifacts: Option<&ArtifactStore>,
+) -> anyhow::Result<std::path::PathBuf> {
+    let data = data::gather(store, name, artifacts).await?;
+    let page = html::page(&data)?;
+    std::fs::create_dir_all(out_dir)
+        .with_context(|| format!("creating the report directory {}", out_dir.display()))?;
+    let path = out_dir.join("index.html");
+    std::fs::write(&path, page).with_context(|| format!("writing {}", path.display()))?;
+    Ok(path)
+}

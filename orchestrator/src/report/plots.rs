@@ -1,0 +1,148 @@
+//! SVG plots of the report, rendered to strings for inlining (plotters SVG backend).
+
+use std::collections::BTreeMap;
+
+use plotters::prelude::*;
+
+use super::data::{HotSpotSeries, SlipHistogram};
+use crate::plot::{bounds, panel, plot_err};
+use crate::store::SeaStateStatus;
+
+/// Colour of a share in [0, 1]: pale yellow (0) to dark red (1), linear in RGB.
+pub(crate) fn share_colour(share: f64) -> RGBColor {
+    let s = share.clamp(0.0, 1.0);
+    let mix = |a: u8, b: u8| (a as f64 + (b as f64 - a as f64) * s).round() as u8;
+    RGBColor(mix(255, 165), mix(247, 0), mix(188, 38))
+}
+
+/// Scatter diagram (Tp, Hs) with every sea state as a disc coloured by its share of the
+/// total, scaled so the largest share is darkest, and labelled in percent.
+pub(crate) fn scatter_svg(
+    states: &[SeaStateStatus],
+    share: &BTreeMap<i64, f64>,
+    title: &str,
+) -> anyhow::Result<String> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (640, 480)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        let tp: Vec<f64> = states.iter().map(|s| s.tp_s).collect();
+        let hs: Vec<f64> = states.iter().map(|s| s.hs_m).collect();
+        let (x0, x1) = bounds(&tp);
+        let (y0, y1) = bounds(&hs);
+        let (x0, x1) = (x0 - 0.5, x1 + 0.5);
+        let (y0, y1) = ((y0 - 0.5).max(0.0), y1 + 0.5);
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 18))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(plot_err)?;
+        chart
+            .configure_mesh()
+            .x_desc("Tp (s)")
+            .y_desc("Hs (m)")
+            .draw()
+            .map_err(plot_err)?;
+        let top = share.values().copied().fold(0.0, f64::max);
+        for s in states {
+            let value = share.get(&s.sea_state_index).copied();
+            let colour = match value {
+                Some(v) if top > 0.0 => share_colour(v / top),
+                Some(_) => share_colour(0.0),
+                None => RGBColor(220, 220, 220),
+            };
+            chart
+                .draw_series([Circle::new((s.tp_s, s.hs_m), 9, colour.filled())])
+                .map_err(plot_err)?;
+            chart
+                .draw_series([Circle::new((s.tp_s, s.hs_m), 9, BLACK.stroke_width(1))])
+                .map_err(plot_err)?;
+            if let Some(v) = value.filter(|v| *v >= 0.005) {
+                chart
+                    .draw_series([EmptyElement::at((s.tp_s, s.hs_m))
+                        + Text::new(
+                            format!("{:.0}%", 100.0 * v),
+                            (12, -6),
+                            ("sans-serif", 12).into_font().color(&BLACK),
+                        )])
+                    .map_err(plot_err)?;
+            }
+        }
+        root.present().map_err(plot_err)?;
+    }
+    Ok(svg)
+}
+
+/// Slip amplitude histogram (µm) in cycles per hour of the year.
+pub(crate) fn histogram_svg(h: &SlipHistogram) -> anyhow::Result<String> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (640, 360)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        let edges_um: Vec<f64> = h.edges_m.iter().map(|e| e * 1e6).collect();
+        let x0 = edges_um.first().copied().unwrap_or(0.0);
+        let x1 = edges_um.last().copied().unwrap_or(1.0);
+        let top = h.cycles_per_hour.iter().copied().fold(0.0, f64::max);
+        let y1 = if top > 0.0 { 1.05 * top } else { 1.0 };
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                format!(
+                    "hot spot {}, layer interface {}",
+                    h.hot_spot_index, h.layer_interface
+                ),
+                ("sans-serif", 16),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(70)
+            .build_cartesian_2d(x0..x1, 0.0..y1)
+            .map_err(plot_err)?;
+        chart
+            .configure_mesh()
+            .x_desc("slip amplitude (µm)")
+            .y_desc("cycles per hour of the year")
+            .draw()
+            .map_err(plot_err)?;
+        chart
+            .draw_series(
+                edges_um.windows(2).zip(&h.cycles_per_hour).map(|(e, &c)| {
+                    Rectangle::new([(e[0], 0.0), (e[1], c)], BLUE.mix(0.6).filled())
+                }),
+            )
+            .map_err(plot_err)?;
+        root.present().map_err(plot_err)?;
+    }
+    Ok(svg)
+}
+
+/// Tension (kN) and curvature (1/m) of every hot spot of one global job.
+pub(crate) fn series_svg(series: &HotSpotSeries) -> anyhow::Result<String> {
+    let mut svg = String::new();
+    {
+        let n = series.hot_spots.len().max(1);
+        let root = SVGBackend::with_string(&mut svg, (900, 260 * 2 * n as u32)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_err)?;
+        let areas = root.split_evenly((2 * n, 1));
+        for (i, (tension, curvature)) in series.hot_spots.iter().enumerate() {
+            let kn: Vec<f64> = tension.iter().map(|t| t * 1e-3).collect();
+            panel(
+                &areas[2 * i],
+                &format!("hot spot {i}: tension"),
+                "T (kN)",
+                &series.time_s,
+                &kn,
+            )?;
+            panel(
+                &areas[2 * i + 1],
+                &format!("hot spot {i}: curvature"),
+                "κ (1/m)",
+                &series.time_s,
+                curvature,
+            )?;
+        }
+        root.present().map_err(plot_err)?;
+    }
+    Ok(svg)
+}

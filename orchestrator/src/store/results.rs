@@ -1,0 +1,255 @@
+//! Result rows of strand jobs and what the result views return (DESIGN §3.3, §4.5).
+//!
+//! A strand job turns its [`SeaStateInputs`] (from
+//! [`moorfret_solver::fretting::sea_state_damage_inputs`]) into rows with [`damage_rows`]:
+//! one [`DamageInput`] per T-N curve (table `damage_inputs`) and one [`ClassDamageInput`] per
+//! contact class (table `class_damage_inputs`), stored with the job's completion
+//! ([`super::JobResults`]). The views `sea_state_class_damage_inputs` and
+//! `lifetime_class_damage` aggregate them; [`SeaStateClassDamage`] and [`LifetimeClassDamage`]
+//! are their rows.
+
+use moorfret_solver::fretting::{AngularPosition, SeaStateInputs};
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+
+use super::error::StoreError;
+use super::model::DamageInput;
+
+/// Damage inputs of one contact class from one strand job (`class_damage_inputs` row).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ClassDamageInput {
+    /// Hot spot index in the campaign.
+    pub hot_spot_index: i64,
+    /// Layer interface (0: core / layer 1, k: layer k / layer k+1).
+    pub layer_interface: i64,
+    /// Angular position class.
+    pub angular_position: AngularPosition,
+    /// Seed index within the sea state.
+    pub seed_index: i64,
+    /// Simulated time after the run-in (s).
+    pub effective_duration_s: f64,
+    /// Contacts in the class.
+    pub contacts: i64,
+    /// Largest fretting damage rate of a contact of the class (1/s).
+    pub fretting_damage_rate_max_per_s: f64,
+    /// Mean fretting damage rate over the contacts of the class (1/s).
+    pub fretting_damage_rate_mean_per_s: f64,
+    /// Stick cycles per hour, summed over the class.
+    pub stick_cycles_per_hour: f64,
+    /// Partial-slip cycles per hour, summed over the class.
+    pub partial_slip_cycles_per_hour: f64,
+    /// Gross-slip cycles per hour, summed over the class.
+    pub gross_slip_cycles_per_hour: f64,
+    /// Largest Ruiz F1 = τδ (N/m).
+    pub ruiz_f1_max: f64,
+    /// Largest Ruiz F2 = στδ (Pa·N/m).
+    pub ruiz_f2_max: f64,
+    /// Largest Hertz peak pressure (Pa).
+    pub peak_pressure_max_pa: f64,
+    /// Largest slip amplitude (m).
+    pub slip_amplitude_max_m: f64,
+    /// Cycles per hour over slip amplitude × normal force (`CycleHistogram` as JSON).
+    pub histogram: Value,
+}
+
+/// Rows of one (sea state, seed, hot spot): T-N damage per curve, fretting inputs per class.
+pub fn damage_rows(
+    hot_spot_index: i64,
+    seed_index: i64,
+    inputs: &SeaStateInputs,
+) -> Result<(Vec<DamageInput>, Vec<ClassDamageInput>), StoreError> {
+    let json = |field: &'static str, value: Result<Value, serde_json::Error>| {
+        value.map_err(|source| StoreError::Json { field, source })
+    };
+    let tension = inputs
+        .tension
+        .iter()
+        .map(|t| {
+            Ok(DamageInput {
+                hot_spot_index,
+                measure: t.measure.clone(),
+                seed_index,
+                effective_duration_s: inputs.effective_duration_s,
+                damage: t.damage,
+                details: serde_json::json!({
+                    "curve": json("damage_inputs.details_json", serde_json::to_value(t.curve))?,
+                    "cycles": t.cycles,
+                    "mean_tension_n": t.mean_tension_n,
+                    "run_in_samples": inputs.run_in_samples,
+                }),
+            })
+        })
+        .collect::<Result<Vec<_>, StoreError>>()?;
+    let classes = inputs
+        .classes
+        .iter()
+        .map(|c| {
+            Ok(ClassDamageInput {
+                hot_spot_index,
+                layer_interface: c.class.interface as i64,
+                angular_position: c.class.position,
+                seed_index,
+                effective_duration_s: inputs.effective_duration_s,
+                contacts: c.contacts as i64,
+                fretting_damage_rate_max_per_s: c.fretting_damage_rate_max_per_s,
+                fretting_damage_rate_mean_per_s: c.fretting_damage_rate_mean_per_s,
+                stick_cycles_per_hour: c.regime_cycles_per_hour.stick,
+                partial_slip_cycles_per_hour: c.regime_cycles_per_hour.partial_slip,
+                gross_slip_cycles_per_hour: c.regime_cycles_per_hour.gross_slip,
+                ruiz_f1_max: c.ruiz_f1_max,
+                ruiz_f2_max: c.ruiz_f2_max,
+                peak_pressure_max_pa: c.peak_pressure_max_pa,
+                slip_amplitude_max_m: c.slip_amplitude_max_m,
+                histogram: json(
+                    "class_damage_inputs.histogram_json",
+                    serde_json::to_value(&c.cycles_per_hour),
+                )?,
+            })
+        })
+        .collect::<Result<Vec<_>, StoreError>>()?;
+    Ok((tension, classes))
+}
+
+/// Reads a stored angular position name.
+pub(crate) fn parse_position(text: &str) -> Result<AngularPosition, StoreError> {
+    [
+        AngularPosition::NeutralAxis,
+        AngularPosition::Between,
+        AngularPosition::OuterArc,
+    ]
+    .into_iter()
+    .find(|p| p.as_str() == text)
+    .ok_or_else(|| StoreError::UnknownValue {
+        field: "angular_position",
+        value: text.to_owned(),
+    })
+}
+
+/// A row of the `sea_state_class_damage_inputs` view.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SeaStateClassDamage {
+    /// Index of the sea state in the campaign.
+    pub sea_state_index: i64,
+    /// Significant wave height (m).
+    pub hs_m: f64,
+    /// Peak period (s).
+    pub tp_s: f64,
+    /// Fraction of the year.
+    pub occurrence_fraction: f64,
+    /// Hot spot index.
+    pub hot_spot_index: i64,
+    /// Layer interface.
+    pub layer_interface: i64,
+    /// Angular position class.
+    pub angular_position: AngularPosition,
+    /// `fretting_max` or `fretting_mean`.
+    pub measure: String,
+    /// Seeds averaged.
+    pub seeds: i64,
+    /// Contacts in the class.
+    pub contacts: i64,
+    /// Seed-mean effective duration (s).
+    pub effective_duration_s: f64,
+    /// Seed-mean damage rate (1/s).
+    pub damage_rate_per_s: f64,
+    /// Seed-mean damage over the effective duration.
+    pub damage_seed_mean: f64,
+    /// Seed-mean stick cycles per hour.
+    pub stick_cycles_per_hour: f64,
+    /// Seed-mean partial-slip cycles per hour.
+    pub partial_slip_cycles_per_hour: f64,
+    /// Seed-mean gross-slip cycles per hour.
+    pub gross_slip_cycles_per_hour: f64,
+    /// Largest Ruiz F1 over the seeds (N/m).
+    pub ruiz_f1_max: f64,
+    /// Largest Ruiz F2 over the seeds (Pa·N/m).
+    pub ruiz_f2_max: f64,
+    /// Largest Hertz peak pressure (Pa).
+    pub peak_pressure_max_pa: f64,
+    /// Largest slip amplitude (m).
+    pub slip_amplitude_max_m: f64,
+}
+
+/// A row of the `lifetime_class_damage` view.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LifetimeClassDamage {
+    /// Hot spot index.
+    pub hot_spot_index: i64,
+    /// Layer interface.
+    pub layer_interface: i64,
+    /// Angular position class.
+    pub angular_position: AngularPosition,
+    /// `fretting_max` or `fretting_mean`.
+    pub measure: String,
+    /// Σ occurrence × (year / T_eff) × seed-mean damage, per year.
+    pub annual_damage: f64,
+    /// Fraction of the year the contributing sea states cover.
+    pub occurrence_covered: f64,
+    /// Contributing sea states.
+    pub sea_states: i64,
+}
+
+/// A row of the `sea_state_damage_inputs` view (T-N and other per-hot-spot measures).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SeaStateDamage {
+    /// Index of the sea state in the campaign.
+    pub sea_state_index: i64,
+    /// Significant wave height (m).
+    pub hs_m: f64,
+    /// Peak period (s).
+    pub tp_s: f64,
+    /// Fraction of the year.
+    pub occurrence_fraction: f64,
+    /// Hot spot index.
+    pub hot_spot_index: i64,
+    /// Measure name.
+    pub measure: String,
+    /// Seeds averaged.
+    pub seeds: i64,
+    /// Seed-mean damage over the effective duration.
+    pub damage_seed_mean: f64,
+    /// Seed-mean effective duration (s).
+    pub effective_duration_s: f64,
+    /// Seed-mean damage rate (1/s).
+    pub damage_rate_per_s: f64,
+}
+
+/// A sea state of a campaign with the state of its jobs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SeaStateStatus {
+    /// Row id.
+    pub sea_state_id: i64,
+    /// Index in the campaign.
+    pub sea_state_index: i64,
+    /// Significant wave height (m).
+    pub hs_m: f64,
+    /// Peak period (s).
+    pub tp_s: f64,
+    /// Fraction of the year.
+    pub occurrence_fraction: f64,
+    /// Jobs planned.
+    pub jobs_total: i64,
+    /// Jobs done.
+    pub jobs_done: i64,
+    /// Jobs failed.
+    pub jobs_failed: i64,
+}
+
+/// A `contact_statistics` row with its sea state.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ContactRow {
+    /// Index of the sea state in the campaign.
+    pub sea_state_index: i64,
+    /// Job that wrote the row.
+    pub job_id: i64,
+    /// Hot spot index.
+    pub hot_spot_index: i64,
+    /// Contact index in the strand model.
+    pub contact_index: i64,
+    /// Layer interface.
+    pub layer_interface: i64,
+    /// Angle from the bending neutral axis (rad).
+    pub angular_position_rad: f64,
+    /// Statistics as stored.
+    pub statistics: Value,
+}

@@ -1,0 +1,106 @@
+//! `moorfret report` on a store populated by the test fixture (hand-made rows, see
+//! `fixture/mod.rs`): the page is self-contained, holds the plots and tables, and renders in
+//! headless Chromium (skipped with a message when no Chromium is installed).
+
+mod fixture;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use moorfret_orchestrator::store::ArtifactStore;
+
+fn chromium() -> Option<PathBuf> {
+    for name in ["chromium", "chromium-browser", "google-chrome"] {
+        let found = Command::new("sh")
+            .arg("-c")
+            .arg(format!("command -v {name}"))
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| PathBuf::from(String::from_utf8_lossy(&o.stdout).trim()));
+        if found.is_some() {
+            return found;
+        }
+    }
+    None
+}
+
+fn screenshot(browser: &Path, page: &Path, png: &Path, profile: &Path) {
+    let status = Command::new(browser)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+        ])
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .arg(format!("--screenshot={}", png.display()))
+        .arg("--window-size=1280,2000")
+        .arg(format!("file://{}", page.display()))
+        .output()
+        .unwrap();
+    assert!(
+        status.status.success(),
+        "chromium failed: {}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn report_of_the_fixture_is_self_contained_and_renders() {
+    let Some((store, fixture::Location::Sqlite(dir))) = fixture::open(false).await else {
+        panic!("SQLite fixture");
+    };
+    let db = dir.path().join("fixture.sqlite");
+    let artifacts = ArtifactStore::beside_database(&db).unwrap();
+    fixture::populate(&store, Some(&artifacts)).await;
+    store.close().await;
+
+    let out = dir.path().join("report");
+    let run = Command::new(env!("CARGO_BIN_EXE_moorfret"))
+        .args(["report", fixture::NAME, "--out"])
+        .arg(&out)
+        .arg("--db")
+        .arg(&db)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let page_path = out.join("index.html");
+    let page = std::fs::read_to_string(&page_path).unwrap();
+    // Two scatter diagrams, one series figure, two interface histograms.
+    assert_eq!(page.matches("<svg").count(), 5, "inline SVG figures");
+    assert!(page.contains("share of annual fretting damage"));
+    assert!(page.contains("share of annual T-N damage (tn_dnv_spiral_rope)"));
+    assert!(page.contains("layer interface 2, outer_arc"));
+    assert!(page.contains("hot spot 0, layer interface 0"));
+    // Sea state 0 carries 0.30·1e-6 / (0.30·1e-6 + 0.13758·4e-6) = 35 % of the fretting damage.
+    assert!(page.contains(">\n35%\n</text>"), "share label");
+    // Offline: no scripts, no external resources (the SVG namespace is not fetched).
+    assert!(!page.contains("<script"));
+    assert!(!page.contains("src=\"http") && !page.contains("href=\"http"));
+
+    let Some(browser) = chromium() else {
+        eprintln!(
+            "SKIPPED (screenshot): no chromium on PATH; install with apt-get install -y chromium"
+        );
+        return;
+    };
+    let png = dir.path().join("report.png");
+    screenshot(&browser, &page_path, &png, &dir.path().join("profile"));
+    // MOORFRET_KEEP_SCREENSHOT=path keeps a copy for inspection.
+    if let Ok(keep) = std::env::var("MOORFRET_KEEP_SCREENSHOT") {
+        std::fs::copy(&png, keep).unwrap();
+    }
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    // A rendered page of plots compresses to far more than a blank 1280 × 2000 image (< 10 kB).
+    assert!(bytes.len() > 30_000, "screenshot of {} bytes", bytes.len());
+}
