@@ -142,9 +142,8 @@ fn serial_and_parallel_runs_give_the_same_numbers() {
 
 /// The full paper-case sea state (50 s transient + 1000 s):
 /// `cargo test -p moorfret-solver --release --test verification_global -- --ignored
-/// --nocapture`. Known open problem: with seed 1 the coupling iterations stall at t = 54.9 s
-/// (scaled floater residual about 1e-2 after 25 iterations) although every line converges; a
-/// coupled step cut (not yet implemented) is the expected remedy.
+/// --nocapture` (the slack-rope events at t ≈ 55 s and 105 s of seed 1 are passed by coupled
+/// step cuts; README records the summary).
 #[test]
 #[ignore = "full 1050 s run; minutes in the dev profile"]
 fn paper_case_full_sea_state_summary() {
@@ -154,4 +153,26 @@ fn paper_case_full_sea_state_summary() {
     println!("{}", serde_json::to_string_pretty(&s).unwrap());
     let h = &s.hot_spots[0];
     assert!(h.tension_n.min > 0.0 && h.curvature_per_m.max.is_finite());
+}
+
+/// A coupled step that cannot converge is cut, and after the allowed halvings the run ends
+/// with the time of the failing sub-step and the number of halvings instead of writing
+/// anything: a tolerance far below round-off can never be met.
+#[test]
+fn unconverged_coupled_step_is_cut_then_reported() {
+    let c = short_case(2.0, 2.0);
+    let model = GlobalModel::new(&c, floater(), Some(2.0)).unwrap();
+    let mut params = RunParams::default();
+    params.dynamics.max_iterations = 2;
+    params.dynamics.tolerance = 1e-30;
+    params.dynamics.max_step_cuts = 2;
+    let err = run(&model, &params, |_, _| {}).unwrap_err().to_string();
+    // Δt = 0.1 s cut twice: the failing sub-step ends at 0.025 s.
+    assert!(
+        err.starts_with(
+            "coupled step ending at t = 0.025 s not converged after 2 iterations and 2 step \
+             halvings"
+        ),
+        "{err}"
+    );
 }

@@ -1,53 +1,48 @@
-//! Coupled implicit dynamics of the floater and its lines (DESIGN §4.2-4.3).
+//! Coupled implicit dynamics of the floater and its lines (DESIGN §4.2-4.3): the time loop.
 //!
 //! Both the floater and every line use the generalised-α method with the same step h and
-//! spectral radius ρ∞ (see [`crate::floater::dynamics`] and [`crate::mooring::dynamics`]). The
-//! floater unknown of a step is its true acceleration ν̇_{n+1}; per coupling iteration:
+//! spectral radius ρ∞ (see [`crate::floater::dynamics`] and [`crate::mooring::dynamics`]); one
+//! coupled step is solved by `coupling::coupled_step` (lines stepped with the trial
+//! fairlead motion, floater Newton against the lines' condensed fairlead stiffness, passes until
+//! the floater residual with the true line forces is below `tolerance`).
 //!
-//! 1. the trial floater state gives each fairlead's position, velocity and acceleration at
-//!    t_{n+1} ([`crate::floater::body::point_kinematics`]);
-//! 2. each line is stepped from its state at t_n with that fairlead motion (full Newton on its
-//!    banded system) and returns the force on the floater f_i and the condensed fairlead
-//!    stiffness K_i of its iteration matrix S = K + γ'C + β'M;
-//! 3. floater residual r = M(q) ν̇ − f(q, ν, t) − Σ F_i, with F_i = (f_i, r_i × f_i);
-//! 4. Newton update of ν̇ with S_f = M − β'h² (∂f/∂q + Σ ∂F_i/∂q) − γ'h ∂f/∂ν, where ∂F_i/∂q
-//!    comes from K_i ([`crate::floater::fairlead_load`]).
-//!
-//! This block Gauss–Seidel iteration with the exact Schur complement of every line is Newton's
-//! method on the monolithic system, so it converges like Newton. The floater Jacobians ∂f/∂q,
-//! ∂f/∂ν are evaluated once per step at the predictor (modified Newton for the floater part).
-//! The step is converged when every line meets its force tolerance and the floater residual,
-//! scaled by mg (forces) and 10 m·mg (moments), is below `tolerance`. A step that does not
-//! converge ends the run with an error naming time, iteration count and residual (or the line
-//! and node that failed); no non-finite value is ever committed.
+//! Step cut-back: the case's Δt is the step of the output grid. A coupled step that fails (no
+//! coupled convergence, or a line that fails even after its own halvings, as when the light rope
+//! under the clump mass goes slack and snaps taut) is retried from the same committed state with
+//! h/2, h/4, … up to `max_step_cuts` halvings; after a grid step completed without a failure the
+//! step doubles again (one level per grid step), so the run returns to Δt. Sub-steps always end
+//! exactly on the grid, so outputs stay on the requested times. If the smallest step still
+//! fails, the run ends with an error naming the time, the step size, the pass count, the
+//! residual and the failing line and node; no non-finite value is ever committed.
 //!
 //! Lines run in parallel on an explicit pool; each line's computation is independent and the
 //! loads are summed in line order, so serial and parallel runs give identical numbers.
 
 use std::time::Instant;
 
-use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
+use nalgebra::{Matrix3, Vector6};
 
+use super::coupling::{coupled_step, Alpha, FloaterStart, LineRun, StepContext};
 use super::error::GlobalError;
-use super::motion::StepMotion;
 use super::results::{FloaterSeries, GlobalResult, HotSpotResult, LineResult, RunStats};
 use super::sea::{LineSeaCache, Ramp, RampedSea};
-use super::system::{for_lines, FloaterModel, GlobalModel, StaticEquilibrium};
-use crate::beam::rotation::exp_so3;
-use crate::floater::body::point_kinematics;
-use crate::floater::{fairlead_load, BodyState};
+use super::system::{for_lines, GlobalModel, StaticEquilibrium};
+use crate::floater::BodyState;
 use crate::mooring::dynamics::{DynamicParams, LineIntegrator, LineState};
 use crate::mooring::hotspot::{node_values, LineRecorder};
-use crate::mooring::trajectory::PointMotion;
-use crate::waves::{SeaKinematics, SeriesParams};
+use crate::waves::SeriesParams;
 
 /// Settings of the coupled dynamics.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DynamicsParams {
     /// Scaled floater residual accepted.
     pub tolerance: f64,
-    /// Coupling iterations per step.
+    /// Coupling passes (line solves) per step before the step is cut.
     pub max_iterations: usize,
+    /// Floater Newton iterations per pass against the linearised line forces.
+    pub floater_iterations: usize,
+    /// Halvings of a coupled step tried before the run fails.
+    pub max_step_cuts: usize,
     /// Line integrator settings (its spectral radius is overridden by the case's).
     pub line: DynamicParams,
     /// Whether line kinematics are precomputed at the static quadrature points.
@@ -62,7 +57,9 @@ impl Default for DynamicsParams {
     fn default() -> Self {
         Self {
             tolerance: 1e-7,
-            max_iterations: 25,
+            max_iterations: 12,
+            floater_iterations: 4,
+            max_step_cuts: 6,
             // Slack events of the light rope under the clump mass make the line's Newton
             // iterations piecewise smooth: allow more iterations and step cuts than a line
             // driven alone needs.
@@ -83,27 +80,10 @@ impl Default for DynamicsParams {
     }
 }
 
-fn motion_of(k: &crate::floater::PointKinematics) -> PointMotion {
-    PointMotion {
-        position_m: k.position_m,
-        velocity_m_s: k.velocity_m_per_s,
-        acceleration_m_s2: k.acceleration_m_per_s2,
-    }
-}
-
 /// Roll, pitch, yaw (rad) of Λ = R_z(yaw) R_y(pitch) R_x(roll).
 fn angles(rotation: &Matrix3<f64>) -> [f64; 3] {
     let (r, p, y) = nalgebra::Rotation3::from_matrix_unchecked(*rotation).euler_angles();
     [r, p, y]
-}
-
-/// Per-line evolving data.
-struct LineRun<'m> {
-    integrator: LineIntegrator<'m>,
-    state: LineState,
-    trial: LineState,
-    force: Vector3<f64>,
-    stiffness: Matrix3<f64>,
 }
 
 /// Runs the coupled dynamics from the static equilibrium `eq` over the case's transient and
@@ -163,13 +143,14 @@ pub fn run_dynamics(
         let sol = &eq.line_solutions[k];
         let integrator = LineIntegrator::new(lm, line_params)
             .map_err(|e| GlobalError::from_line(model.lines[k].id, e))?;
-        runs.push(LineRun {
+        let at = nalgebra::Vector3::new(sol.q[0], sol.q[1], sol.q[2]);
+        runs.push(LineRun::new(
             integrator,
-            state: LineState::at_rest(sol, 0.0),
-            trial: LineState::at_rest(sol, 0.0),
-            force: sol.fairlead_force_n,
-            stiffness: sol.fairlead_stiffness_n_per_m,
-        });
+            LineState::at_rest(sol, 0.0),
+            sol.fairlead_force_n,
+            sol.fairlead_stiffness_n_per_m,
+            at,
+        ));
     }
 
     // Recorders.
@@ -215,195 +196,91 @@ pub fn run_dynamics(
         }
     };
 
-    let scale = model.residual_scale();
-    let rho = timing.spectral_radius;
-    let am = (2.0 * rho - 1.0) / (rho + 1.0);
-    let af = rho / (rho + 1.0);
-    let gamma = 0.5 - am + af;
-    let beta = 0.25 * (1.0 - am + af).powi(2);
-    let ratio = (1.0 - af) / (1.0 - am);
-
-    let mut body = eq.body;
-    let mut acc = Vector6::zeros();
-    let mut alg = Vector6::zeros();
-    let mut t = 0.0;
-    record_body(0, t, &body, &mut floater_series);
+    let ctx = StepContext {
+        model,
+        caches: &caches,
+        ramped: &ramped,
+        params,
+        pool,
+        scale: model.residual_scale(),
+        alpha: Alpha::new(timing.spectral_radius),
+    };
+    let mut now = FloaterStart {
+        time_s: 0.0,
+        body: eq.body,
+        acc: Vector6::zeros(),
+        alg: Vector6::zeros(),
+    };
+    record_body(0, now.time_s, &now.body, &mut floater_series);
     let clock = Instant::now();
+    // Current cut level: sub-steps of h / 2^level.
+    let mut level = 0usize;
     for step in 0..steps {
-        let t1 = if step + 1 == steps {
+        let t_grid0 = step as f64 * h;
+        let t_grid1 = if step + 1 == steps {
             t_end
         } else {
             (step + 1) as f64 * h
         };
-        let h = t1 - t;
-        let base_alg = (af * acc - am * alg) / (1.0 - am);
-        let advance = |acc1: &Vector6<f64>| -> BodyState {
-            let alg1 = base_alg + ratio * acc1;
-            let dq = body.velocity6() * h + alg * (h * h * (0.5 - beta)) + alg1 * (h * h * beta);
-            let nu1 = body.velocity6() + alg * (h * (1.0 - gamma)) + alg1 * (h * gamma);
-            BodyState {
-                position_m: body.position_m + dq.fixed_rows::<3>(0),
-                rotation: exp_so3(&Vector3::from(dq.fixed_rows::<3>(3))) * body.rotation,
-                velocity_m_per_s: nu1.fixed_rows::<3>(0).into_owned(),
-                angular_velocity_rad_per_s: nu1.fixed_rows::<3>(3).into_owned(),
+        let h_grid = t_grid1 - t_grid0;
+        // Sub-steps done in this grid step, at the current level.
+        let mut done = 0usize;
+        let mut clean = true;
+        loop {
+            let parts = 1usize << level;
+            if done >= parts {
+                break;
             }
-        };
-        let starts: Vec<PointMotion> = model
-            .lines
-            .iter()
-            .map(|l| motion_of(&point_kinematics(&body, &acc, &l.body_point_m)))
-            .collect();
-
-        let (mut acc1, mut trial) = match &model.floater {
-            FloaterModel::RigidBody(_) => (acc, advance(&acc)),
-            FloaterModel::Prescribed(m) => {
-                let s = m.sample(m.time_range().0 + t1)?;
-                (s.acceleration, s.state)
-            }
-        };
-        let floater_jac = match &model.floater {
-            FloaterModel::RigidBody(f) => {
-                let c = Instant::now();
-                let j = f.load_jacobians(&trial, &ramped, t1, model.thrust_n);
-                stats.floater_s += c.elapsed().as_secs_f64();
-                Some(j)
-            }
-            FloaterModel::Prescribed(_) => None,
-        };
-        let mut converged = false;
-        let mut residual = f64::INFINITY;
-        let mut previous_residual = f64::INFINITY;
-        let mut last_delta = Vector6::zeros();
-        let mut iterations = 0;
-        while iterations < params.max_iterations {
-            iterations += 1;
-            // Lines with the trial fairlead motion.
-            let c = Instant::now();
-            let ends: Vec<PointMotion> = model
-                .lines
-                .iter()
-                .map(|l| motion_of(&point_kinematics(&trial, &acc1, &l.body_point_m)))
-                .collect();
-            let outcomes = {
-                let runs_ref = &mut runs;
-                let jobs: Vec<(usize, &mut LineRun<'_>)> =
-                    runs_ref.iter_mut().enumerate().collect();
-                let step_line = |(k, run): (usize, &mut LineRun<'_>)| {
-                    run.trial.clone_from(&run.state);
-                    let motion = StepMotion {
-                        t0_s: t,
-                        t1_s: t1,
-                        start: starts[k],
-                        end: ends[k],
-                    };
-                    let sea: &dyn SeaKinematics = match &caches[k] {
-                        Some(c) => c,
-                        None => &ramped,
-                    };
-                    run.integrator
-                        .step(&mut run.trial, h, &motion, sea)
-                        .map(|r| {
-                            run.force = r.fairlead_force_n;
-                            if let Some(s) = r.fairlead_stiffness_n_per_m {
-                                run.stiffness = s;
-                            }
-                            r.iterations
-                        })
-                        .map_err(|e| GlobalError::from_line(model.lines[k].id, e))
-                };
-                match pool {
-                    Some(p) => {
-                        use rayon::prelude::*;
-                        p.install(|| jobs.into_par_iter().map(step_line).collect::<Vec<_>>())
+            let t1 = if done + 1 == parts {
+                t_grid1
+            } else {
+                t_grid0 + h_grid * (done + 1) as f64 / parts as f64
+            };
+            match coupled_step(&ctx, &mut runs, &now, t1, &mut stats) {
+                Ok(out) => {
+                    stats.coupling_iterations += out.passes;
+                    stats.max_coupling_iterations = stats.max_coupling_iterations.max(out.passes);
+                    if !out.end.body.position_m.iter().all(|x| x.is_finite()) {
+                        return Err(GlobalError::NonFinite {
+                            what: "floater position",
+                            time_s: t1,
+                        });
                     }
-                    None => jobs.into_iter().map(step_line).collect::<Vec<_>>(),
+                    now = out.end;
+                    for run in runs.iter_mut() {
+                        std::mem::swap(&mut run.state, &mut run.trial);
+                    }
+                    for (k, rec) in recorders.iter_mut().enumerate() {
+                        rec.observe(&eq.line_models[k], t1, &runs[k].state.q, &runs[k].force);
+                    }
+                    stats.steps += 1;
+                    done += 1;
                 }
-            };
-            stats.lines_s += c.elapsed().as_secs_f64();
-            for o in outcomes {
-                stats.line_iterations += o?;
-            }
-            let (f, jac) = match (&model.floater, &floater_jac) {
-                (FloaterModel::RigidBody(f), Some(j)) => (f, j),
-                _ => {
-                    converged = true;
-                    break;
+                Err(failure) => {
+                    stats.coupling_iterations += failure.passes;
+                    if level >= params.max_step_cuts {
+                        let h_sub = h_grid / parts as f64;
+                        tracing::warn!(
+                            t = t1,
+                            step_s = h_sub,
+                            "coupled step failed at the smallest step"
+                        );
+                        return Err(failure.into_error(t1, level));
+                    }
+                    tracing::debug!(t = t1, level, "coupled step cut");
+                    stats.cut_coupled_steps += 1;
+                    clean = false;
+                    level += 1;
+                    done *= 2;
+                    stats.deepest_cut = stats.deepest_cut.max(level);
                 }
-            };
-            let c = Instant::now();
-            let mut r =
-                f.mass_matrix(&trial) * acc1 - f.net_forces(&trial, &ramped, t1, model.thrust_n);
-            let mut kq: Matrix6<f64> = jac.position;
-            for (l, run) in model.lines.iter().zip(&runs) {
-                let (load, dload) =
-                    fairlead_load(&trial, &l.body_point_m, &run.force, &run.stiffness);
-                r -= load;
-                kq += dload;
-            }
-            residual = r.component_div(&scale).amax();
-            if !residual.is_finite() {
-                break;
-            }
-            if residual < params.tolerance {
-                converged = true;
-                stats.floater_s += c.elapsed().as_secs_f64();
-                break;
-            }
-            // A line switching between slack and taut makes the coupled residual piecewise
-            // smooth: when a correction increased the residual, take half of it back.
-            if iterations > 2 && residual > previous_residual {
-                last_delta *= 0.5;
-                acc1 -= last_delta;
-                trial = advance(&acc1);
-                stats.floater_s += c.elapsed().as_secs_f64();
-                continue;
-            }
-            previous_residual = residual;
-            let s = f.mass_matrix(&trial)
-                - kq * (beta * ratio * h * h)
-                - jac.velocity * (gamma * ratio * h);
-            let delta = s.lu().solve(&(-r));
-            stats.floater_s += c.elapsed().as_secs_f64();
-            match delta {
-                Some(d) if d.iter().all(|x| x.is_finite()) => {
-                    last_delta = d;
-                    acc1 += d;
-                    trial = advance(&acc1);
-                }
-                _ => break,
             }
         }
-        stats.coupling_iterations += iterations;
-        stats.max_coupling_iterations = stats.max_coupling_iterations.max(iterations);
-        if !converged {
-            return Err(GlobalError::StepDiverged {
-                time_s: t1,
-                iterations,
-                residual,
-                line: None,
-                node: None,
-            });
+        if clean && level > 0 {
+            level -= 1;
         }
-        // Commit.
-        alg = base_alg + ratio * acc1;
-        acc = acc1;
-        body = trial;
-        t = t1;
-        for run in runs.iter_mut() {
-            std::mem::swap(&mut run.state, &mut run.trial);
-        }
-        if !body.position_m.iter().all(|x| x.is_finite()) {
-            return Err(GlobalError::NonFinite {
-                what: "floater position",
-                time_s: t,
-            });
-        }
-        for (k, rec) in recorders.iter_mut().enumerate() {
-            rec.observe(&eq.line_models[k], t, &runs[k].state.q, &runs[k].force);
-        }
-        record_body(step + 1, t, &body, &mut floater_series);
-        stats.steps += 1;
-        progress(t, t_end);
+        record_body(step + 1, now.time_s, &now.body, &mut floater_series);
+        progress(now.time_s, t_end);
     }
     stats.dynamics_s = clock.elapsed().as_secs_f64();
     for run in &runs {

@@ -53,13 +53,15 @@ pub enum GlobalError {
     },
     /// A coupled time step did not converge.
     #[error(
-        "coupled step ending at t = {time_s} s not converged after {iterations} iterations: \
-         scaled floater residual {residual:e}{}",
+        "coupled step ending at t = {time_s} s not converged after {iterations} iterations \
+         and {step_cuts} step halvings: scaled floater residual {residual:e}{}",
         location(.line, .node)
     )]
     StepDiverged {
         /// Time (s) the step was aiming at.
         time_s: f64,
+        /// Halvings of the coupled step tried.
+        step_cuts: usize,
         /// Coupling iterations done.
         iterations: usize,
         /// Scaled floater residual (or the line residual in N when a line failed).
@@ -100,6 +102,7 @@ impl GlobalError {
                 ..
             } => GlobalError::StepDiverged {
                 time_s,
+                step_cuts: 0,
                 iterations: halvings,
                 residual: residual_norm,
                 line: Some(line),

@@ -12,6 +12,7 @@
 //! given, rotor thrust along +x; arc lengths from the fairlead.
 
 pub mod case;
+mod coupling;
 pub mod dynamics;
 pub mod error;
 pub mod motion;

@@ -60,14 +60,20 @@ pub struct RunStats {
     pub statics_iterations: usize,
     /// Time steps.
     pub steps: usize,
-    /// Coupling iterations over all steps.
+    /// Coupling passes (line solves) over all steps, failed attempts included.
     pub coupling_iterations: usize,
-    /// Largest coupling iteration count of a step.
+    /// Largest coupling pass count of a step.
     pub max_coupling_iterations: usize,
     /// Line Newton iterations (factorisations) over all lines and steps.
     pub line_iterations: usize,
     /// Line steps that had to be cut.
     pub cut_steps: usize,
+    /// Coupled steps that failed and were retried with half the step.
+    pub cut_coupled_steps: usize,
+    /// Deepest coupled step cut reached (the step was Δt / 2^deepest_cut).
+    pub deepest_cut: usize,
+    /// Evaluations of the floater residual (rigid-body loads).
+    pub floater_evaluations: usize,
     /// Cached kinematics queries answered by direct summation.
     pub cache_misses: usize,
     /// Wall time of the kinematics precomputation (s).

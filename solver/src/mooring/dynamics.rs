@@ -14,11 +14,15 @@
 //! converge is retried as 2, 4, … sub-steps; after the allowed halvings the error names the
 //! time, the node with the largest residual and the residual norm.
 //!
-//! The iterations are a modified Newton method: the factorised S of an earlier iteration of
-//! the step is reused as long as each correction reduces ‖R‖₂ at least tenfold; otherwise S is
-//! re-assembled at the current iterate and re-factorised. Iterations with a reused
-//! factorisation assemble only the residual. Convergence is still judged on the full residual,
-//! so the converged state satisfies the same tolerance.
+//! The iterations are a modified Newton method: the factorised S of an earlier iteration, or
+//! of an earlier step of the same size h, is reused as long as each correction reduces ‖R‖₂ at
+//! least tenfold; otherwise S is re-assembled at the current iterate and re-factorised.
+//! Iterations with a reused factorisation assemble only the residual. Convergence is still
+//! judged on the full residual, so the converged state satisfies the same tolerance.
+//!
+//! A step may start from a guess of the end state instead of the predictor (a warm start, used
+//! when a coupled step re-solves the line for a corrected fairlead motion); a guess that fails
+//! falls back to the predictor with step halving.
 //!
 //! Newton corrections of the nodal gradients are limited to 0.5 per iteration (a full
 //! correction can flip a gradient and converge to a looped, spurious cable shape), and a
@@ -26,8 +30,11 @@
 //! slack chain make R only piecewise smooth).
 //!
 //! After each step the integrator exposes the force of the line on the floater at the fairlead
-//! and the condensed fairlead stiffness of S (what a monolithic floater–line integration with
-//! the same h and ρ∞ needs); the force on the floater changes by −K_c dx.
+//! and the condensed fairlead stiffness of S, taken from the most recent factorisation (what a
+//! monolithic floater–line integration with the same h and ρ∞ needs); the force on the floater
+//! changes by −K_c dx. The same condensation gives the free DOFs' response to a fairlead
+//! displacement, Δq_i = −S_ii⁻¹ S_ip dx ([`LineIntegrator::shift_fairlead`]), a first-order
+//! update of a converged state for a corrected fairlead motion.
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -36,7 +43,7 @@ use super::error::LineError;
 use super::line::LineModel;
 use super::loads::Coefficients;
 use super::statics::StaticSolution;
-use super::trajectory::FairleadMotion;
+use super::trajectory::{FairleadMotion, PointMotion};
 use super::workspace::LineWorkspace;
 use crate::waves::SeaKinematics;
 
@@ -210,6 +217,8 @@ pub struct LineIntegrator<'m> {
     start: LineState,
     trial: LineState,
     stats: DynamicStats,
+    /// Step size whose iteration matrix the workspace holds factorised, if any.
+    factor_h: Option<f64>,
 }
 
 struct SubstepFailure {
@@ -237,6 +246,7 @@ impl<'m> LineIntegrator<'m> {
             start: empty.clone(),
             trial: empty,
             stats: DynamicStats::default(),
+            factor_h: None,
         })
     }
 
@@ -250,6 +260,42 @@ impl<'m> LineIntegrator<'m> {
         self.model
     }
 
+    /// Moves the fairlead of `state` (the end state of the last step) to `end` and updates the
+    /// free DOFs to first order, Δq_i = −S_ii⁻¹ S_ip Δx (with Δq̇ = γ' Δq, Δq̈ = β' Δq of the
+    /// step size `dt_s`), using the condensation of the last step. The result is a warm start
+    /// for [`LineIntegrator::step_from`]. Without a condensation (`condense_fairlead` off, or
+    /// before the first step) only the fairlead DOFs are moved.
+    pub fn shift_fairlead(&self, state: &mut LineState, dt_s: f64, end: &PointMotion) {
+        let Alpha {
+            am,
+            af,
+            beta,
+            gamma,
+            ..
+        } = self.alpha;
+        let beta_p = (1.0 - am) / ((1.0 - af) * beta * dt_s * dt_s);
+        let gamma_p = gamma / (beta * dt_s);
+        let dx = end.position_m - Vector3::new(state.q[0], state.q[1], state.q[2]);
+        if let Some(modes) = self.ws.fairlead_modes() {
+            for (j, mode) in modes.iter().enumerate() {
+                if dx[j] == 0.0 {
+                    continue;
+                }
+                for (i, m) in mode.iter().enumerate() {
+                    let d = -m * dx[j];
+                    state.q[i] += d;
+                    state.v[i] += gamma_p * d;
+                    state.acc[i] += beta_p * d;
+                }
+            }
+        }
+        for j in 0..3 {
+            state.q[j] = end.position_m[j];
+            state.v[j] = end.velocity_m_s[j];
+            state.acc[j] = end.acceleration_m_s2[j];
+        }
+    }
+
     /// Advances `state` by `dt_s`, cutting the step when Newton fails.
     pub fn step(
         &mut self,
@@ -257,6 +303,22 @@ impl<'m> LineIntegrator<'m> {
         dt_s: f64,
         motion: &dyn FairleadMotion,
         sea: &dyn SeaKinematics,
+    ) -> Result<StepReport, LineError> {
+        self.step_from(state, dt_s, motion, sea, None)
+    }
+
+    /// As [`LineIntegrator::step`], with Newton started from `guess` (a state at the end of
+    /// the step, e.g. from [`LineIntegrator::shift_fairlead`]) instead of the predictor. A
+    /// guess at another time is ignored; if the guessed start fails, the step is retried from
+    /// the predictor and cut as usual. A guess that already meets the tolerance returns with
+    /// zero iterations.
+    pub fn step_from(
+        &mut self,
+        state: &mut LineState,
+        dt_s: f64,
+        motion: &dyn FairleadMotion,
+        sea: &dyn SeaKinematics,
+        guess: Option<&LineState>,
     ) -> Result<StepReport, LineError> {
         if dt_s.is_nan() || dt_s <= 0.0 || state.q.len() != self.model.dof_count() {
             return Err(LineError::invalid(
@@ -271,7 +333,19 @@ impl<'m> LineIntegrator<'m> {
             residual: f64::INFINITY,
             dof: 0,
         };
-        for halving in 0..=self.params.max_halvings {
+        let guess = guess.filter(|g| {
+            g.q.len() == state.q.len() && (g.time_s - t_end).abs() <= 1e-9 * dt_s.max(1.0)
+        });
+        let attempts = self.params.max_halvings + 1 + usize::from(guess.is_some());
+        let mut guess_used = false;
+        for attempt in 0..attempts {
+            let start_guess = if guess.is_some() && !guess_used {
+                guess_used = true;
+                guess
+            } else {
+                None
+            };
+            let halving = attempt - usize::from(guess.is_some() && attempt > 0);
             let substeps = 1usize << halving;
             let h = dt_s / substeps as f64;
             state.copy_from(&self.start);
@@ -283,7 +357,7 @@ impl<'m> LineIntegrator<'m> {
                 } else {
                     self.start.time_s + h * (k + 1) as f64
                 };
-                match self.substep(state, t1 - state.time_s, motion, sea) {
+                match self.substep(state, t1 - state.time_s, motion, sea, start_guess) {
                     Ok(it) => iterations += it,
                     Err(f) => {
                         last_failure = f;
@@ -306,9 +380,13 @@ impl<'m> LineIntegrator<'m> {
                 let r = &self.ws.residual;
                 let force = -Vector3::new(r[0], r[1], r[2]);
                 let stiffness = if self.params.condense_fairlead {
-                    self.stats.factorizations += 1;
-                    self.ws
-                        .prepare_and_factorize(self.model, self.params.tiny_pivot)?;
+                    if self.factor_h.is_none() {
+                        // The workspace holds S assembled at the converged state.
+                        self.stats.factorizations += 1;
+                        self.ws
+                            .prepare_and_factorize(self.model, self.params.tiny_pivot)?;
+                        self.factor_h = Some(h);
+                    }
                     Some(self.ws.condense_fairlead(self.model))
                 } else {
                     None
@@ -331,14 +409,17 @@ impl<'m> LineIntegrator<'m> {
         })
     }
 
-    /// One generalised-α step of size h from `state` (modified in place). On success the
-    /// workspace holds the residual and iteration matrix of the converged state.
+    /// One generalised-α step of size h from `state` (modified in place), Newton started from
+    /// `guess` when given, else from the predictor. On success the workspace holds the residual
+    /// of the converged state and either a factorisation of S for step size h
+    /// (`factor_h == Some(h)`) or S assembled at the converged state (`factor_h == None`).
     fn substep(
         &mut self,
         state: &mut LineState,
         h: f64,
         motion: &dyn FairleadMotion,
         sea: &dyn SeaKinematics,
+        guess: Option<&LineState>,
     ) -> Result<usize, SubstepFailure> {
         let Alpha {
             am,
@@ -349,14 +430,22 @@ impl<'m> LineIntegrator<'m> {
         let model = self.model;
         let t1 = state.time_s + h;
         let trial = &mut self.trial;
-        // Predictor with q̈_{n+1} = q̈_n.
-        for i in 0..state.q.len() {
-            let acc1 = state.acc[i];
-            let a1 = (af * state.acc[i] - am * state.alg_acc[i] + (1.0 - af) * acc1) / (1.0 - am);
-            trial.q[i] =
-                state.q[i] + h * state.v[i] + h * h * ((0.5 - beta) * state.alg_acc[i] + beta * a1);
-            trial.v[i] = state.v[i] + h * ((1.0 - gamma) * state.alg_acc[i] + gamma * a1);
-            trial.acc[i] = acc1;
+        if let Some(g) = guess {
+            trial.q.copy_from_slice(&g.q);
+            trial.v.copy_from_slice(&g.v);
+            trial.acc.copy_from_slice(&g.acc);
+        } else {
+            // Predictor with q̈_{n+1} = q̈_n.
+            for i in 0..state.q.len() {
+                let acc1 = state.acc[i];
+                let a1 =
+                    (af * state.acc[i] - am * state.alg_acc[i] + (1.0 - af) * acc1) / (1.0 - am);
+                trial.q[i] = state.q[i]
+                    + h * state.v[i]
+                    + h * h * ((0.5 - beta) * state.alg_acc[i] + beta * a1);
+                trial.v[i] = state.v[i] + h * ((1.0 - gamma) * state.alg_acc[i] + gamma * a1);
+                trial.acc[i] = acc1;
+            }
         }
         let m = motion.at(t1);
         for j in 0..3 {
@@ -383,19 +472,21 @@ impl<'m> LineIntegrator<'m> {
         let mut previous_norm = f64::INFINITY;
         let mut step_fraction = 1.0;
         let mut backtracks = 0;
-        // Modified Newton: the factorisation of an earlier iteration of this step is reused
-        // while each correction reduces ‖R‖₂ by the factor `REUSE_CONTRACTION`; otherwise the
-        // tangent is re-assembled and re-factorised.
-        let mut have_factor = false;
+        // Modified Newton: the factorisation of an earlier iteration (or step of the same h) is
+        // reused while each correction reduces ‖R‖₂ by the factor `REUSE_CONTRACTION`;
+        // otherwise the tangent is re-assembled and re-factorised.
+        let mut have_factor = self.factor_h == Some(h);
         let mut last_correction_fresh = false;
-        let mut refresh;
         loop {
-            refresh = !have_factor;
+            let refresh = !have_factor;
             let view = StateView {
                 q: &trial.q,
                 v: &trial.v,
                 a: &trial.acc,
             };
+            if refresh {
+                self.factor_h = None;
+            }
             assemble(
                 model,
                 view,
@@ -460,6 +551,7 @@ impl<'m> LineIntegrator<'m> {
                         dof,
                     });
                 }
+                self.factor_h = Some(h);
                 have_factor = true;
             } else {
                 self.ws.load_rhs(model);
@@ -484,24 +576,6 @@ impl<'m> LineIntegrator<'m> {
                 trial.v[i] += gamma_p * dq;
                 trial.acc[i] += beta_p * dq;
             }
-        }
-        if self.params.condense_fairlead && !refresh {
-            // The condensed stiffness needs the iteration matrix of the converged state.
-            let view = StateView {
-                q: &trial.q,
-                v: &trial.v,
-                a: &trial.acc,
-            };
-            assemble(
-                model,
-                view,
-                &self.ws.water,
-                coef,
-                true,
-                &mut self.ws.residual,
-                Some(&mut self.ws.matrix),
-            );
-            self.stats.assemblies += 1;
         }
         for i in 0..state.q.len() {
             trial.alg_acc[i] = (af * state.acc[i] - am * state.alg_acc[i]

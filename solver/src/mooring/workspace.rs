@@ -27,6 +27,10 @@ pub struct LineWorkspace {
     fairlead_columns: [Vec<f64>; 3],
     /// Rows S_{p·} of the fairlead DOFs.
     fairlead_rows: [Vec<f64>; 3],
+    /// S_ii⁻¹ S_ip e_j of the last condensation (zero at prescribed DOFs).
+    fairlead_modes: [Vec<f64>; 3],
+    /// Whether `fairlead_modes` holds a condensation.
+    has_modes: bool,
 }
 
 impl LineWorkspace {
@@ -41,6 +45,8 @@ impl LineWorkspace {
             trial_q: vec![0.0; n],
             fairlead_columns: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             fairlead_rows: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            fairlead_modes: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
+            has_modes: false,
         }
     }
 
@@ -105,6 +111,7 @@ impl LineWorkspace {
                 };
             }
             self.matrix.solve_in_place(x);
+            self.fairlead_modes[j].copy_from_slice(x);
             for p in 0..3 {
                 let mut s = self.fairlead_rows[p][j];
                 for (i, xi) in x.iter().enumerate() {
@@ -115,6 +122,12 @@ impl LineWorkspace {
                 k[(p, j)] = s;
             }
         }
+        self.has_modes = true;
         k
+    }
+
+    /// The vectors S_ii⁻¹ S_ip e_j (j = x, y, z) of the last condensation, if any.
+    pub(crate) fn fairlead_modes(&self) -> Option<&[Vec<f64>; 3]> {
+        self.has_modes.then_some(&self.fairlead_modes)
     }
 }

@@ -1,0 +1,159 @@
+//! Convergence and speed study of the global stage on the paper case (Hs 8.75 m, Tp 16.5 s).
+//!
+//! Runs the case with its defaults and with one setting changed at a time, and prints the hot
+//! spot (line 1, s = 79 m) tension and curvature ranges and standard deviations with their
+//! relative change from the defaults, plus the wall time and work counts of each run:
+//!
+//! - `base`: the case as given (Δt = 0.1 s, rope elements 2 m / 1 m / 4 m);
+//! - `dt`: Δt halved (outputs still every 0.1 s);
+//! - `mesh`: every rope segment with twice the elements (element length halved);
+//! - `tight`: coupling tolerance and line force tolerance 100× tighter (the converged
+//!   coupling the defaults are compared with).
+//!
+//! ```text
+//! cargo run --release -p moorfret-solver --example global_convergence -- \
+//!     [--duration-s 300] [--transient-s 50] [--repeat 1] [base dt mesh tight]
+//! ```
+//!
+//! `--repeat N` runs each variant N times and reports the median wall time (one thread).
+
+use std::time::Instant;
+
+use moorfret_solver::floater::FloaterSpec;
+use moorfret_solver::global::results::SeriesSummary;
+use moorfret_solver::global::{run, CaseSpec, FloaterInput, GlobalModel, GlobalResult, RunParams};
+
+const CASE: &str = include_str!("../../campaigns/paper_case.json");
+const FLOATER: &str = include_str!("../../campaigns/data/oc4_semi_floater.json");
+
+struct Options {
+    duration_s: f64,
+    transient_s: f64,
+    repeat: usize,
+    variants: Vec<String>,
+}
+
+fn options() -> Result<Options, String> {
+    let mut o = Options {
+        duration_s: 300.0,
+        transient_s: 50.0,
+        repeat: 1,
+        variants: Vec::new(),
+    };
+    let mut args = std::env::args().skip(1);
+    while let Some(a) = args.next() {
+        let mut value = |name: &str| -> Result<f64, String> {
+            args.next()
+                .and_then(|v| v.parse::<f64>().ok())
+                .ok_or_else(|| format!("{name} needs a number"))
+        };
+        match a.as_str() {
+            "--duration-s" => o.duration_s = value("--duration-s")?,
+            "--transient-s" => o.transient_s = value("--transient-s")?,
+            "--repeat" => o.repeat = value("--repeat")?.max(1.0) as usize,
+            "base" | "dt" | "mesh" | "tight" => o.variants.push(a),
+            other => return Err(format!("unknown argument {other}")),
+        }
+    }
+    if o.variants.is_empty() {
+        o.variants = ["base", "dt", "mesh", "tight"].map(String::from).to_vec();
+    }
+    Ok(o)
+}
+
+fn case_for(variant: &str, o: &Options) -> Result<(CaseSpec, RunParams), String> {
+    let mut case = CaseSpec::from_json_str(CASE).map_err(|e| e.to_string())?;
+    case.timing.transient_s = o.transient_s;
+    case.timing.wave_ramp_s = case.timing.wave_ramp_s.min(o.transient_s);
+    case.timing.duration_s = o.duration_s;
+    let mut params = RunParams::default();
+    match variant {
+        "dt" => case.timing.time_step_s *= 0.5,
+        "mesh" => {
+            let types = case.mooring.line_types.clone();
+            for s in case.mooring.segments.iter_mut() {
+                let rope = types
+                    .get(&s.line_type)
+                    .is_some_and(|t| t.bending_stiffness_nm2 > 0.0);
+                if rope {
+                    s.elements *= 2;
+                }
+            }
+        }
+        "tight" => {
+            params.dynamics.tolerance *= 0.01;
+            params.dynamics.line.force_tolerance_n *= 0.01;
+        }
+        _ => {}
+    }
+    Ok((case, params))
+}
+
+fn run_case(case: &CaseSpec, params: &RunParams) -> Result<(GlobalResult, f64), String> {
+    let floater = FloaterInput::RigidBody(Box::new(
+        FloaterSpec::from_json_str(FLOATER).map_err(|e| e.to_string())?,
+    ));
+    let model = GlobalModel::new(case, floater, None).map_err(|e| e.to_string())?;
+    let clock = Instant::now();
+    let r = run(&model, params, |_, _| {}).map_err(|e| e.to_string())?;
+    Ok((r, clock.elapsed().as_secs_f64()))
+}
+
+fn main() -> Result<(), String> {
+    let o = options()?;
+    println!(
+        "paper case, hot spot line 1 s = 79 m, {} s after a {} s transient",
+        o.duration_s, o.transient_s
+    );
+    println!(
+        "{:<6} {:>12} {:>8} {:>12} {:>8} {:>11} {:>11} {:>9} {:>7} {:>8} {:>6} {:>6}",
+        "case",
+        "T range N",
+        "dT %",
+        "k range 1/m",
+        "dk %",
+        "T std N",
+        "k std 1/m",
+        "wall s",
+        "steps",
+        "passes",
+        "cuts",
+        "line it"
+    );
+    let mut base: Option<(SeriesSummary, SeriesSummary)> = None;
+    for v in &o.variants {
+        let (case, params) = case_for(v, &o)?;
+        let mut walls = Vec::new();
+        let mut last = None;
+        for _ in 0..o.repeat {
+            let (r, wall) = run_case(&case, &params)?;
+            walls.push(wall);
+            last = Some(r);
+        }
+        walls.sort_by(f64::total_cmp);
+        let wall = walls[walls.len() / 2];
+        let r = last.ok_or("no run")?;
+        let hs = r.hot_spots.first().ok_or("no hot spot")?;
+        let t = SeriesSummary::of(&hs.tension_n);
+        let k = SeriesSummary::of(&hs.curvature_per_m);
+        let (b_t, b_k) = *base.get_or_insert((t, k));
+        let s = r.stats;
+        println!(
+            "{:<6} {:>12.1} {:>8.3} {:>12.5e} {:>8.3} {:>11.1} {:>11.4e} {:>9.2} {:>7} {:>8} {:>6} {:>6}",
+            v,
+            t.range,
+            100.0 * (t.range / b_t.range - 1.0),
+            k.range,
+            100.0 * (k.range / b_k.range - 1.0),
+            t.std,
+            k.std,
+            wall,
+            s.steps,
+            s.coupling_iterations,
+            s.cut_coupled_steps,
+            s.line_iterations
+        );
+        eprintln!("{v}: {s:?}; T {t:?}; k {k:?}");
+    }
+    Ok(())
+}
