@@ -199,7 +199,7 @@ fn slip_histograms(
     Ok(out.into_values().collect())
 }
 
-/// Reads the `hotspots.csv` artifact of the done global job of the sea state with the largest
+/// Reads the hot-spot series artifacts of the done global job of the sea state with the largest
 /// fretting share (or of the first one holding it).
 async fn hot_spot_series(
     store: &Store,
@@ -218,21 +218,43 @@ async fn hot_spot_series(
     jobs.sort_by_key(|j| j.id.0);
     for job in jobs {
         let results = store.results_of(job.id).await?;
-        let Some(artifact) = results
-            .artifacts
-            .iter()
-            .find(|a| a.role.contains("hotspots"))
-        else {
-            continue;
-        };
-        let Ok(bytes) = artifacts.get(&artifact.sha256) else {
-            continue;
-        };
         let index = states
             .iter()
             .find(|s| Some(s.sea_state_id) == job.sea_state.map(|id| id.0))
             .map_or(-1, |s| s.sea_state_index);
-        let series = parse_hotspots_csv(&bytes, index)?;
+        // One artifact per hot spot (`hot_spot_<i>_series`) or one for all (`hotspots.csv`).
+        let mut parts: Vec<(usize, &str)> = results
+            .artifacts
+            .iter()
+            .filter_map(|a| {
+                let i = a.role.strip_prefix("hot_spot_")?.strip_suffix("_series")?;
+                Some((i.parse().ok()?, a.sha256.as_str()))
+            })
+            .collect();
+        parts.sort();
+        if parts.is_empty() {
+            if let Some(a) = results
+                .artifacts
+                .iter()
+                .find(|a| a.role.contains("hotspots"))
+            {
+                parts.push((0, a.sha256.as_str()));
+            }
+        }
+        let mut series: Option<HotSpotSeries> = None;
+        for (_, sha) in parts {
+            let Ok(bytes) = artifacts.get(sha) else {
+                continue;
+            };
+            let part = parse_hotspots_csv(&bytes, index)?;
+            match &mut series {
+                None => series = Some(part),
+                Some(s) => s.hot_spots.extend(part.hot_spots),
+            }
+        }
+        let Some(series) = series else {
+            continue;
+        };
         let share = fretting_share.get(&index).copied().unwrap_or(0.0);
         if best.as_ref().is_none_or(|(s, _)| share > *s) {
             best = Some((share, series));
@@ -241,15 +263,17 @@ async fn hot_spot_series(
     Ok(best.map(|(_, s)| s))
 }
 
-/// Parses the `hotspots.csv` layout: `time_s, tension_n_0, curvature_per_m_0, …`.
+/// Parses a hot-spot series CSV: `time_s` then (tension N, curvature 1/m) column pairs, as
+/// `run global` writes `hotspots.csv` (all hot spots) and a global job its
+/// `hot_spot_<i>_series` artifacts (one hot spot each).
 pub(crate) fn parse_hotspots_csv(
     bytes: &[u8],
     sea_state_index: i64,
 ) -> anyhow::Result<HotSpotSeries> {
     let mut reader = csv::Reader::from_reader(bytes);
-    let header = reader.headers().context("hotspots.csv header")?.clone();
+    let header = reader.headers().context("hot-spot series header")?.clone();
     if header.get(0) != Some("time_s") || header.len() % 2 != 1 {
-        anyhow::bail!("hotspots.csv: expected columns time_s, tension_n_i, curvature_per_m_i");
+        anyhow::bail!("hot-spot series: expected columns time_s, tension_n_i, curvature_per_m_i");
     }
     let n = (header.len() - 1) / 2;
     let mut series = HotSpotSeries {
@@ -258,12 +282,12 @@ pub(crate) fn parse_hotspots_csv(
         hot_spots: vec![(Vec::new(), Vec::new()); n],
     };
     for (line, record) in reader.records().enumerate() {
-        let record = record.with_context(|| format!("hotspots.csv line {}", line + 2))?;
+        let record = record.with_context(|| format!("hot-spot series line {}", line + 2))?;
         let value = |k: usize| -> anyhow::Result<f64> {
             record
                 .get(k)
                 .and_then(|t| t.trim().parse().ok())
-                .with_context(|| format!("hotspots.csv line {}, column {}", line + 2, k + 1))
+                .with_context(|| format!("hot-spot series line {}, column {}", line + 2, k + 1))
         };
         series.time_s.push(value(0)?);
         for (i, (t, k)) in series.hot_spots.iter_mut().enumerate() {

@@ -116,7 +116,7 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
             body += "</div>\n";
         }
         None => {
-            body += "<p class=\"empty\">No hot-spot series artifact (hotspots.csv of a global \
+            body += "<p class=\"empty\">No hot-spot series artifact (hot-spot series of a global \
                      job) found.</p>\n"
         }
     }

@@ -6,7 +6,7 @@
 //!   damage of the critical contact class (largest `fretting_max` annual damage in
 //!   `lifetime_class_damage`), and separately by its share of the annual T-N damage of that
 //!   hot spot (first T-N measure in name order);
-//! - the hot-spot tension and curvature series of one global job, read from its `hotspots.csv`
+//! - the hot-spot tension and curvature series of one global job, read from its series artifacts
 //!   artifact (the layout `run global` writes) when the artifact directory holds it;
 //! - slip-amplitude histograms per layer interface: cycles per hour of the year
 //!   (Σ over sea states of occurrence × seed-mean cycles per hour, summed over the angular
