@@ -41,12 +41,17 @@ struct Probe<'a> {
     current: Attempt,
     previous: Vec<Option<ContactStatus>>,
     log: Vec<Attempt>,
+    /// Print every bending-stage attempt as it ends.
+    stream: bool,
 }
 
 impl Probe<'_> {
     fn close(&mut self, accepted: bool) {
         let mut a = std::mem::take(&mut self.current);
         a.accepted = accepted;
+        if self.stream && a.from >= 1.0 {
+            print_attempt(self.log.len(), &a, true);
+        }
         self.log.push(a);
         self.previous.clear();
     }
@@ -132,9 +137,9 @@ fn print_attempt(i: usize, a: &Attempt, full: bool) {
         let r: Vec<String> = a
             .iterates
             .iter()
-            .map(|x| format!("{:.1e}/{}", x.0, x.4))
+            .map(|x| format!("{:.1e}/{}/{}:{}", x.0, x.4, x.2, x.3))
             .collect();
-        println!("        |r|/flips: {}", r.join(" "));
+        println!("        |r|/changes/slip:stick: {}", r.join(" "));
     }
 }
 
@@ -177,6 +182,7 @@ fn main() {
         current: Attempt::default(),
         previous: Vec::new(),
         log: Vec::new(),
+        stream: verbose,
     };
     let mut solver = SparseLu::new(&model.pattern).expect("symbolic analysis");
     let mut ws = NewtonWorkspace::new(&model.pattern);
@@ -257,8 +263,8 @@ fn main() {
         }
         if stage == 1 {
             for (i, a) in log.iter().enumerate() {
-                if verbose || i < 25 || i + 10 >= log.len() {
-                    print_attempt(i, a, verbose || i < 25);
+                if !verbose && (i < 25 || i + 10 >= log.len()) {
+                    print_attempt(i, a, i < 25);
                 }
             }
         }
