@@ -23,11 +23,11 @@ use super::model::{
     SweepReport, WorkerInfo,
 };
 use super::policy::QueuePolicy;
-use super::types::{AttemptId, AttemptOutcome, CampaignId, JobId, SeaStateId, WorkerId};
 use super::results::{
     ClassDamageInput, ContactRow, LifetimeClassDamage, SeaStateClassDamage, SeaStateDamage,
     SeaStateStatus,
 };
+use super::types::{AttemptId, AttemptOutcome, CampaignId, JobId, SeaStateId, WorkerId};
 use super::{postgres, sqlite};
 
 /// How to open a store.
