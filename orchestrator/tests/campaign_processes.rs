@@ -56,7 +56,10 @@ fn moorfret(args: &[&str]) -> Command {
     cmd
 }
 
-fn worker(db: &str) -> Child {
+/// A standalone worker on `db` whose log goes to `log` (read back by [`wait_until`] when a
+/// test times out, so that a worker that exited early shows why).
+fn worker(db: &str, log: &Path) -> Child {
+    let log = std::fs::File::create(log).unwrap();
     moorfret(&[
         "worker",
         "--db",
@@ -67,14 +70,21 @@ fn worker(db: &str) -> Child {
         "--poll-ms",
         "50",
     ])
-    .stderr(Stdio::null())
+    .stderr(log)
     .spawn()
     .unwrap()
 }
 
 /// Waits until `f` holds, polling the store through one connection pool (opening a store
-/// per poll would contend for the write lock with the workers under test).
-fn wait_until(db: &str, what: &str, f: impl Fn(&[JobState]) -> bool, id: CampaignId) {
+/// per poll would contend for the write lock with the workers under test). On timeout the
+/// worker log `log`, if any, is part of the message.
+fn wait_until(
+    db: &str,
+    what: &str,
+    f: impl Fn(&[JobState]) -> bool,
+    id: CampaignId,
+    log: Option<&Path>,
+) {
     let rt = rt();
     rt.block_on(async {
         let store = Store::open(db, StoreOptions::default()).await.unwrap();
@@ -85,10 +95,12 @@ fn wait_until(db: &str, what: &str, f: impl Fn(&[JobState]) -> bool, id: Campaig
             if f(&states) {
                 break;
             }
-            assert!(
-                Instant::now() < deadline,
-                "timed out waiting for {what}: {states:?}"
-            );
+            if Instant::now() >= deadline {
+                let log = log
+                    .map(|p| std::fs::read_to_string(p).unwrap_or_default())
+                    .unwrap_or_default();
+                panic!("timed out waiting for {what}: {states:?}\nworker log:\n{log}");
+            }
             tokio::time::sleep(Duration::from_millis(100)).await;
         }
         store.close().await;
@@ -123,25 +135,32 @@ fn assert_each_done_once(db: &str, id: CampaignId) {
 }
 
 #[test]
-#[ignore = "intermittent: a standalone `moorfret worker` sometimes never claims its first job here (seen 3 times in 8 runs); cause not found yet"]
+#[ignore = "intermittent after the other process tests in this binary: this process's store keeps reading the plan as stored (all jobs ready) while the worker claims and completes them, and the worker may hit SQLITE_IOERR_SHORT_READ or a malformed database (its log is shown on timeout); passes when run alone"]
 fn killed_worker_job_is_reclaimed_after_lease_expiry_and_completed_once() {
     let _serial = serial();
     let dir = tempfile::tempdir().unwrap();
     let mut payloads = vec![TestPayload::Sleep { duration_ms: 1500 }];
     payloads.extend((0..4).map(|_| TestPayload::Succeed));
     let (db, id) = store_with(dir.path(), "kill9", &payloads);
-    let mut first = worker(&db);
+    let first_log = dir.path().join("first.log");
+    let mut first = worker(&db, &first_log);
     wait_until(
         &db,
         "the sleeping job to run",
         |s| s[0] == JobState::Running,
         id,
+        Some(&first_log),
     );
     first.kill().unwrap(); // SIGKILL: no chance to release the lease
     first.wait().unwrap();
     assert_eq!(job_states(&db, id)[0], JobState::Running);
-    let status = worker(&db).wait().unwrap();
-    assert!(status.success());
+    let second_log = dir.path().join("second.log");
+    let status = worker(&db, &second_log).wait().unwrap();
+    assert!(
+        status.success(),
+        "{}",
+        std::fs::read_to_string(&second_log).unwrap_or_default()
+    );
     assert_each_done_once(&db, id);
     rt().block_on(async {
         let store = Store::open(&db, StoreOptions::default()).await.unwrap();
@@ -160,7 +179,7 @@ fn killed_worker_job_is_reclaimed_after_lease_expiry_and_completed_once() {
 }
 
 #[test]
-#[ignore = "intermittent: a standalone `moorfret worker` sometimes never claims its first job here (seen 3 times in 8 runs); cause not found yet"]
+#[ignore = "intermittent after the other process tests in this binary: this process's store keeps reading the plan as stored (all jobs ready) while the worker claims and completes them, and the worker may hit SQLITE_IOERR_SHORT_READ or a malformed database (its log is shown on timeout); passes when run alone"]
 fn stopped_worker_releases_its_lease_without_consuming_an_attempt() {
     let _serial = serial();
     let dir = tempfile::tempdir().unwrap();
@@ -171,8 +190,15 @@ fn stopped_worker_releases_its_lease_without_consuming_an_attempt() {
             duration_ms: 60_000,
         }],
     );
-    let mut w = worker(&db);
-    wait_until(&db, "the job to run", |s| s[0] == JobState::Running, id);
+    let log = dir.path().join("worker.log");
+    let mut w = worker(&db, &log);
+    wait_until(
+        &db,
+        "the job to run",
+        |s| s[0] == JobState::Running,
+        id,
+        Some(&log),
+    );
     let pid = w.id().to_string();
     assert!(Command::new("kill")
         .args(["-TERM", &pid])
@@ -220,6 +246,7 @@ fn killed_driver_then_resume_completes_every_job_once() {
         "some jobs done",
         |s| s.iter().filter(|&&x| x == JobState::Done).count() >= 3,
         id,
+        None,
     );
     let group = format!("-{}", driver.id());
     assert!(Command::new("kill")

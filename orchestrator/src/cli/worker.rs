@@ -9,7 +9,9 @@ use anyhow::Context;
 use clap::Args;
 use tokio::sync::watch;
 
-use crate::store::{ArtifactStore, QueuePolicy, Store, StoreLocation, StoreOptions};
+use crate::store::{
+    ArtifactStore, Clock, QueuePolicy, Store, StoreLocation, StoreOptions, WallTimeBudget,
+};
 use crate::worker::{self, WorkerConfig};
 
 /// Store location and queue timing shared by the campaign and worker commands.
@@ -38,9 +40,15 @@ impl StoreArgs {
         policy
     }
 
-    /// Opens the store.
+    /// Opens the store. A PostgreSQL store takes lease times from the server's clock, so
+    /// workers on hosts with skewed clocks agree on when a lease has expired.
     pub async fn open(&self) -> anyhow::Result<Store> {
+        let clock = match StoreLocation::parse(&self.db)? {
+            StoreLocation::Postgres(_) => Clock::Database,
+            StoreLocation::Sqlite(_) => Clock::System,
+        };
         let options = StoreOptions {
+            clock,
             policy: self.policy(),
             ..StoreOptions::default()
         };
@@ -98,15 +106,18 @@ pub struct WorkerArgs {
     /// to take longer than what remains.
     #[arg(long)]
     pub wall_time_s: Option<f64>,
+    /// Part of `--wall-time-s` kept for storing the last job's results, s.
+    #[arg(long, default_value_t = 30.0)]
+    pub wall_time_reserve_s: f64,
 }
 
 /// Runs the command: a worker until a signal (or idle, with `--exit-when-idle`).
 pub fn execute(args: WorkerArgs) -> anyhow::Result<()> {
-    if let Some(s) = args.wall_time_s {
-        if !(s.is_finite() && s > 0.0) {
-            anyhow::bail!("--wall-time-s must be a finite number > 0 (got {s})");
-        }
-    }
+    let wall_time = args
+        .wall_time_s
+        .map(|s| WallTimeBudget::new(s, args.wall_time_reserve_s, std::time::Instant::now()))
+        .transpose()
+        .context("--wall-time-s / --wall-time-reserve-s")?;
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -124,9 +135,7 @@ pub fn execute(args: WorkerArgs) -> anyhow::Result<()> {
         let config = WorkerConfig {
             exit_when_idle: args.exit_when_idle,
             idle_poll: Duration::from_millis(args.poll_ms),
-            deadline: args
-                .wall_time_s
-                .map(|s| std::time::Instant::now() + Duration::from_secs_f64(s)),
+            wall_time,
             ..WorkerConfig::default()
         };
         let summary = worker::run(store.clone(), artifacts, config, rx).await;

@@ -14,6 +14,11 @@
 //!
 //! Between claims the worker sweeps expired leases back to the queue, so crashed workers' jobs
 //! are picked up by the survivors without any coordinator.
+//!
+//! Every store call goes through the configured [`RetryPolicy`] (completion through
+//! [`complete_with_retry`]), so a database restart or a short network outage is waited out
+//! instead of ending the worker. With a [`WallTimeBudget`] only jobs whose expected cost fits
+//! in the remaining wall time are claimed.
 
 pub mod execute;
 pub mod global_stage;
@@ -28,8 +33,9 @@ use tokio::sync::watch;
 
 use crate::campaign::{stored_inputs, CampaignInputs};
 use crate::store::{
-    ArtifactStore, CampaignId, ClaimFilter, FailureDisposition, FailureKind, JobFailure, JobKind,
-    JobState, Lease, Store, StoreError, WorkerInfo,
+    complete_with_retry, ArtifactStore, CampaignId, ClaimFilter, FailureDisposition, FailureKind,
+    JobFailure, JobKind, JobState, Lease, RetryPolicy, Store, StoreError, WallTimeBudget,
+    WorkerInfo,
 };
 
 /// Settings of a worker.
@@ -41,9 +47,11 @@ pub struct WorkerConfig {
     pub idle_poll: Duration,
     /// Return once no campaign has ready, running or blocked jobs left.
     pub exit_when_idle: bool,
-    /// End of this worker's allocation (batch schedulers): jobs expected to run past it are
-    /// not claimed (DESIGN §3.5).
-    pub deadline: Option<std::time::Instant>,
+    /// Wall time of this worker's allocation (batch schedulers): jobs expected to run past
+    /// it are not claimed (DESIGN §3.5).
+    pub wall_time: Option<WallTimeBudget>,
+    /// How store calls are retried while the database is unreachable.
+    pub retry: RetryPolicy,
 }
 
 impl Default for WorkerConfig {
@@ -52,7 +60,8 @@ impl Default for WorkerConfig {
             kinds: Vec::new(),
             idle_poll: Duration::from_millis(500),
             exit_when_idle: false,
-            deadline: None,
+            wall_time: None,
+            retry: RetryPolicy::default(),
         }
     }
 }
@@ -103,9 +112,11 @@ pub fn this_process() -> WorkerInfo {
 }
 
 /// Whether any campaign still has work that may become claimable.
-async fn work_remains(store: &Store) -> Result<bool, StoreError> {
-    for campaign in store.campaigns().await? {
-        let progress = store.progress(campaign.id).await?;
+async fn work_remains(store: &Store, retry: &RetryPolicy) -> Result<bool, StoreError> {
+    for campaign in retry.run("list campaigns", || store.campaigns()).await? {
+        let progress = retry
+            .run("read progress", || store.progress(campaign.id))
+            .await?;
         let open = progress
             .jobs_by_state
             .iter()
@@ -127,9 +138,13 @@ pub async fn run(
     config: WorkerConfig,
     mut shutdown: watch::Receiver<bool>,
 ) -> Result<WorkerSummary, StoreError> {
-    let worker = store.register_worker(&this_process()).await?;
+    let retry = &config.retry;
+    let identity = this_process();
+    let worker = retry
+        .run("register worker", || store.register_worker(&identity))
+        .await?;
     tracing::info!(worker = %worker, "worker registered");
-    let mut filter = ClaimFilter {
+    let kinds = ClaimFilter {
         kinds: config.kinds.clone(),
         max_expected_cost_s: None,
     };
@@ -141,16 +156,21 @@ pub async fn run(
             summary.stopped_by_signal = true;
             return Ok(summary);
         }
-        filter.max_expected_cost_s = config.deadline.map(|d| {
-            d.saturating_duration_since(std::time::Instant::now())
-                .as_secs_f64()
-        });
-        let swept = store.sweep_expired().await?;
+        let filter = match &config.wall_time {
+            Some(budget) => budget.restrict(&kinds, std::time::Instant::now()),
+            None => kinds.clone(),
+        };
+        let swept = retry
+            .run("sweep expired leases", || store.sweep_expired())
+            .await?;
         if !swept.requeued.is_empty() || !swept.failed.is_empty() {
             tracing::warn!(requeued = ?swept.requeued, failed = ?swept.failed, "expired leases swept");
         }
-        let Some(lease) = store.claim(&worker, &filter).await? else {
-            if config.exit_when_idle && !work_remains(&store).await? {
+        let claimed = retry
+            .run("claim job", || store.claim(&worker, &filter))
+            .await?;
+        let Some(lease) = claimed else {
+            if config.exit_when_idle && !work_remains(&store, retry).await? {
                 return Ok(summary);
             }
             tokio::select! {
@@ -161,8 +181,16 @@ pub async fn run(
         };
         tracing::info!(job = %lease.job, kind = %lease.kind, attempt = lease.attempt, "claimed");
         if let Some(key) = &lease.cache_key {
-            if let Some(source) = store.lookup_cache(key).await? {
-                match store.complete_from_cache(&lease, source).await {
+            let cached = retry
+                .run("look up cache", || store.lookup_cache(key))
+                .await?;
+            if let Some(source) = cached {
+                let completed = retry
+                    .run("complete job from cache", || {
+                        store.complete_from_cache(&lease, source)
+                    })
+                    .await;
+                match completed {
                     Ok(()) => {
                         summary.cached += 1;
                         tracing::info!(job = %lease.job, source = %source, "completed from cache");
@@ -176,10 +204,10 @@ pub async fn run(
                 }
             }
         }
-        let campaign_inputs = match inputs_of(&store, &mut inputs, &lease).await {
+        let campaign_inputs = match inputs_of(&store, retry, &mut inputs, &lease).await {
             Ok(i) => i,
             Err(failure) => {
-                report_failure(&store, &lease, &failure, &mut summary).await?;
+                report_failure(&store, retry, &lease, &failure, &mut summary).await?;
                 continue;
             }
         };
@@ -203,7 +231,10 @@ pub async fn run(
             joined = job => joined.unwrap_or_else(|e| Err(transient("worker_panic", e))),
             _ = shutdown.changed() => {
                 heartbeat.abort();
-                match store.release(&lease, "worker stopped by signal").await {
+                let released = retry
+                    .run("release lease", || store.release(&lease, "worker stopped by signal"))
+                    .await;
+                match released {
                     Ok(()) => tracing::info!(job = %lease.job, "lease released on shutdown"),
                     Err(e) => tracing::warn!(job = %lease.job, error = %e, "release failed"),
                 }
@@ -213,7 +244,7 @@ pub async fn run(
         };
         heartbeat.abort();
         match outcome {
-            Ok(results) => match store.complete(&lease, &results).await {
+            Ok(results) => match complete_with_retry(&store, &lease, &results, retry).await {
                 Ok(()) => {
                     summary.completed += 1;
                     tracing::info!(job = %lease.job, "completed");
@@ -224,19 +255,20 @@ pub async fn run(
                 }
                 Err(e) => return Err(e),
             },
-            Err(failure) => report_failure(&store, &lease, &failure, &mut summary).await?,
+            Err(failure) => report_failure(&store, retry, &lease, &failure, &mut summary).await?,
         }
     }
 }
 
 async fn report_failure(
     store: &Store,
+    retry: &RetryPolicy,
     lease: &Lease,
     failure: &JobFailure,
     summary: &mut WorkerSummary,
 ) -> Result<(), StoreError> {
     summary.failed += 1;
-    match store.fail(lease, failure).await {
+    match retry.run("fail job", || store.fail(lease, failure)).await {
         Ok(FailureDisposition::Retry { not_before_ms }) => {
             tracing::warn!(job = %lease.job, class = %failure.error_class,
                 message = %failure.message, not_before_ms, "transient failure, will retry");
@@ -255,6 +287,7 @@ async fn report_failure(
 /// The stored inputs of the lease's campaign (cached per campaign); `None` for test jobs.
 async fn inputs_of(
     store: &Store,
+    retry: &RetryPolicy,
     cache: &mut HashMap<CampaignId, Arc<CampaignInputs>>,
     lease: &Lease,
 ) -> Result<Option<Arc<CampaignInputs>>, JobFailure> {
@@ -264,7 +297,10 @@ async fn inputs_of(
     if let Some(i) = cache.get(&lease.campaign) {
         return Ok(Some(Arc::clone(i)));
     }
-    let campaigns = store.campaigns().await.map_err(|e| transient("store", e))?;
+    let campaigns = retry
+        .run("list campaigns", || store.campaigns())
+        .await
+        .map_err(|e| transient("store", e))?;
     let record = campaigns
         .into_iter()
         .find(|c| c.id == lease.campaign)
