@@ -8,7 +8,6 @@
 //! first read, so a transaction never has to upgrade (the upgrade is what fails without waiting
 //! in WAL mode). A file on a network file system is refused ([`super::filesystem`]).
 
-use std::io::Read;
 use std::path::Path;
 use std::time::Duration;
 
@@ -72,28 +71,58 @@ pub(crate) async fn connect(path: &Path, max_connections: u32) -> Result<Pool<Db
         })
 }
 
+/// Files whose header this process has read, kept open for the life of the process.
+///
+/// SQLite locks database files with POSIX advisory locks, which belong to the process and the
+/// file, not to a descriptor: closing *any* descriptor of the file releases every lock the
+/// process's connections hold on it ("How To Corrupt An SQLite Database File", sqlite.org,
+/// §2.2). A header check that opened and closed the file while a pool of this process was
+/// connected to it silently dropped that pool's WAL locks, so other processes could checkpoint
+/// under its readers (stale reads) and corrupt the file. The descriptor used for the check is
+/// therefore never closed.
+static HEADER_FILES: std::sync::Mutex<Vec<(std::path::PathBuf, std::fs::File)>> =
+    std::sync::Mutex::new(Vec::new());
+
 /// Refuses a non-empty file that does not start with the SQLite header, before the engine
-/// touches it.
+/// touches it. The descriptor opened for the check stays open (see [`HEADER_FILES`]).
 fn check_header(path: &Path) -> Result<()> {
-    let mut file = match std::fs::File::open(path) {
-        Ok(file) => file,
-        Err(err) if err.kind() == std::io::ErrorKind::NotFound => return Ok(()),
-        Err(source) => {
-            return Err(StoreError::Io {
-                path: path.to_path_buf(),
-                source,
-            })
-        }
+    use std::os::unix::fs::FileExt;
+    let io = |source| StoreError::Io {
+        path: path.to_path_buf(),
+        source,
     };
-    let mut header = Vec::with_capacity(16);
-    file.by_ref()
-        .take(16)
-        .read_to_end(&mut header)
-        .map_err(|source| StoreError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-    if header.is_empty() || header.as_slice() == SQLITE_HEADER {
+    use std::os::unix::fs::MetadataExt;
+    let current = match std::fs::metadata(path) {
+        Ok(m) => (m.dev(), m.ino()),
+        Err(err) if err.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(source) => return Err(io(source)),
+    };
+    let mut files = HEADER_FILES.lock().unwrap_or_else(|e| e.into_inner());
+    // The same file (a path replaced by a new file is checked again).
+    let known = files
+        .iter()
+        .position(|(p, f)| p == path && f.metadata().is_ok_and(|m| (m.dev(), m.ino()) == current));
+    let index = match known {
+        Some(i) => i,
+        None => match std::fs::File::open(path) {
+            Ok(file) => {
+                files.push((path.to_path_buf(), file));
+                files.len() - 1
+            }
+            Err(err) if err.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+            Err(source) => return Err(io(source)),
+        },
+    };
+    let file = &files[index].1;
+    let mut header = [0_u8; 16];
+    let mut read = 0;
+    while read < header.len() {
+        match file.read_at(&mut header[read..], read as u64).map_err(io)? {
+            0 => break,
+            n => read += n,
+        }
+    }
+    if read == 0 || (read == header.len() && &header == SQLITE_HEADER) {
         Ok(())
     } else {
         Err(StoreError::NotADatabase {
