@@ -103,12 +103,10 @@ impl FatigueSpec {
             sn_law: self.sn_law,
             ..FrettingParams::default()
         };
-        params
-            .validate()
-            .map_err(|e| {
-                let value = format!("{:?} / {:?}", self.regime, self.sn_law);
-                invalid("fatigue.regime / fatigue.sn_law", value, e.to_string())
-            })?;
+        params.validate().map_err(|e| {
+            let value = format!("{:?} / {:?}", self.regime, self.sn_law);
+            invalid("fatigue.regime / fatigue.sn_law", value, e.to_string())
+        })?;
         let (run_in, duration) = (self.run_in_s, spec.simulation.duration_s);
         if !(run_in.is_finite() && run_in >= 0.0) {
             return Err(invalid("fatigue.run_in_s", run_in, "must be >= 0"));
@@ -135,11 +133,13 @@ impl FatigueSpec {
                     "must be a non-empty name, unique and not a fretting measure",
                 ));
             }
-            c.curve
-                .validate()
-                .map_err(|e| {
-                    invalid(&format!("{field}.curve"), format!("{:?}", c.curve), e.to_string())
-                })?;
+            c.curve.validate().map_err(|e| {
+                invalid(
+                    &format!("{field}.curve"),
+                    format!("{:?}", c.curve),
+                    e.to_string(),
+                )
+            })?;
         }
         Ok(())
     }
