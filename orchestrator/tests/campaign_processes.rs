@@ -315,7 +315,8 @@ fn always_crashing_job_fails_after_the_allowed_losses_and_the_rest_completes() {
 
 /// The real stages end to end: one short sea state of the demo campaign (10 s transient, 10 s
 /// recorded, 20 strand load samples) through `campaign launch`, global then strand, then
-/// `campaign status --json` (about 25 s in a debug build).
+/// `campaign status --json` (about 25 s in a debug build); then the damage inputs through
+/// `query damage-inputs` and `query lifetime`.
 #[test]
 fn demo_sea_state_runs_through_both_real_stages() {
     let _serial = serial();
@@ -361,7 +362,7 @@ fn demo_sea_state_runs_through_both_real_stages() {
     let status: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(status["jobs"]["done"], 2, "{status}");
     assert!((status["occurrence_covered"].as_f64().unwrap() - 0.01354).abs() < 1e-12);
-    rt().block_on(async {
+    let classes = rt().block_on(async {
         let store = Store::open(&db, StoreOptions::default()).await.unwrap();
         let id = store.campaign_by_name("demo").await.unwrap().unwrap();
         let jobs = store.jobs_of_campaign(id).await.unwrap();
@@ -373,6 +374,79 @@ fn demo_sea_state_runs_through_both_real_stages() {
             .artifacts
             .iter()
             .any(|a| a.role == "contact_records"));
+        // one class row per (layer interface, angular position) the contacts fall in
+        let mut classes: Vec<(i64, String)> = results
+            .contacts
+            .iter()
+            .map(|c| {
+                let position = c.statistics["position_class"].as_str().unwrap();
+                (c.layer_interface, position.to_owned())
+            })
+            .collect();
+        classes.sort();
+        classes.dedup();
+        let mut stored: Vec<(i64, String)> = results
+            .class_damage_inputs
+            .iter()
+            .map(|c| (c.layer_interface, c.angular_position.as_str().to_owned()))
+            .collect();
+        stored.sort();
+        assert_eq!(stored, classes);
         store.close().await;
+        classes
     });
+    let query = |kind: &str| -> Vec<serde_json::Value> {
+        let out = moorfret(&[
+            "query",
+            kind,
+            "--campaign",
+            "demo",
+            "--db",
+            &db,
+            "--format",
+            "json",
+        ])
+        .stdout(Stdio::piped())
+        .output()
+        .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    // the test scatter has one sea state: one row per contact class
+    let rows = query("damage-inputs");
+    let mut listed: Vec<(i64, String)> = rows
+        .iter()
+        .map(|r| {
+            assert_eq!(r["sea_state_index"], 0, "{r}");
+            assert_eq!(r["seeds"], 1, "{r}");
+            let rate = r["damage_rate_per_s"].as_f64().unwrap();
+            assert!(rate.is_finite() && rate >= 0.0, "{r}");
+            let position = r["angular_position"].as_str().unwrap().to_owned();
+            (r["layer_interface"].as_i64().unwrap(), position)
+        })
+        .collect();
+    listed.sort();
+    assert_eq!(listed, classes);
+    let lifetime = query("lifetime");
+    for r in &lifetime {
+        let d = r["annual_damage"].as_f64().unwrap();
+        assert!(d.is_finite() && d >= 0.0, "{r}");
+    }
+    let measures: Vec<&str> = lifetime
+        .iter()
+        .map(|r| r["measure"].as_str().unwrap())
+        .collect();
+    // T-N (default curves of the paper's rope line type) and fretting rows are all present
+    for m in [
+        "tn_dnv_spiral_rope",
+        "tn_api_spiral_strand",
+        "fretting_max",
+        "fretting_mean",
+    ] {
+        assert!(measures.contains(&m), "{m} missing from {measures:?}");
+    }
 }

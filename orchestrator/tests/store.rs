@@ -13,7 +13,8 @@ use moorfret_orchestrator::store::{
     HotSpotSummary, JobFailure, JobKind, JobResults, JobState, ManualClock, NewCampaign,
     NewSeaState, PlannedJob, QueuePolicy, Store, StoreError, StoreOptions, TestPayload, WorkerInfo,
 };
-use moorfret_orchestrator::store::{AttemptOutcome, CampaignId, WorkerId};
+use moorfret_orchestrator::store::{AttemptOutcome, CampaignId, ClassDamageInput, WorkerId};
+use moorfret_solver::fretting::AngularPosition;
 use serde_json::json;
 
 const T0_MS: i64 = 1_700_000_000_000;
@@ -148,6 +149,25 @@ fn strand_results(value: f64) -> JobResults {
             summary: json!({ "t_max_n": 1.0e6 }),
         }],
         damage_inputs: vec![damage(0, 0, value)],
+        // a class row too, so that cache copies are checked to carry it
+        class_damage_inputs: vec![ClassDamageInput {
+            hot_spot_index: 0,
+            layer_interface: 1,
+            angular_position: AngularPosition::OuterArc,
+            seed_index: 0,
+            effective_duration_s: 600.0,
+            contacts: 4,
+            fretting_damage_rate_max_per_s: value * 1e-9,
+            fretting_damage_rate_mean_per_s: value * 0.5e-9,
+            stick_cycles_per_hour: 0.0,
+            partial_slip_cycles_per_hour: 120.0,
+            gross_slip_cycles_per_hour: 6.0,
+            ruiz_f1_max: 2.5,
+            ruiz_f2_max: 1.0e9,
+            peak_pressure_max_pa: 1.2e9,
+            slip_amplitude_max_m: 3.0e-6,
+            histogram: json!({ "cycles": [] }),
+        }],
         ..JobResults::default()
     }
 }

@@ -12,6 +12,7 @@
 //! [`create`] stores a resolved campaign with its whole plan in one transaction.
 
 pub mod error;
+pub mod fatigue;
 pub mod payload;
 pub mod plan;
 pub mod resolve;

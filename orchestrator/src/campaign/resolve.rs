@@ -9,8 +9,10 @@
 use std::path::{Path, PathBuf};
 
 use moorfret_solver::floater::FloaterSpec;
+use moorfret_solver::fretting::HertzModel;
 use moorfret_solver::global::case::FloaterSource;
 use moorfret_solver::global::CaseSpec;
+use moorfret_solver::mooring::spec::LineTypeSpec;
 use moorfret_solver::strand::profile::{profile_from_json, profiles_from_json};
 use moorfret_solver::waves::scatter::{ScatterTable, TotalMismatch};
 use serde::Serialize;
@@ -18,6 +20,7 @@ use serde_json::Value;
 use sha2::{Digest, Sha256};
 
 use super::error::CampaignError;
+use super::fatigue::interface_geometry;
 use super::payload::{CampaignInputs, FloaterContent, SOLVER_VERSION};
 use super::spec::CampaignSpec;
 
@@ -160,9 +163,17 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
     if let Some(mu) = spec.strand.friction_coefficient {
         profile.friction_coefficient = Some(mu);
     }
-    profile
+    let strand = profile
         .validate()
         .map_err(|e| file_error("strand.profile", &profiles_path, e))?;
+    // The Hertz geometry of every layer interface must be valid for the fretting indicators.
+    for (i, pair) in interface_geometry(&strand).iter().enumerate() {
+        HertzModel::crossed_cylinders(pair).map_err(|e| CampaignError::Invalid {
+            field: format!("strand.profile.layers[{i}]"),
+            value: format!("crossing angle {} rad", pair.crossing_angle_rad),
+            reason: format!("gives no Hertz contact with the layer inside it: {e}"),
+        })?;
+    }
 
     let resolved = ResolvedCampaign {
         inputs: CampaignInputs {
@@ -192,6 +203,18 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
     Ok(resolved)
 }
 
+/// Line type of the segment holding arc length `arc_length_m` (from the fairlead), if any.
+pub fn hot_spot_line_type(case: &CaseSpec, arc_length_m: f64) -> Option<&LineTypeSpec> {
+    let mut start = 0.0;
+    for seg in &case.mooring.segments {
+        if arc_length_m <= start + seg.length_m {
+            return case.mooring.line_types.get(&seg.line_type);
+        }
+        start += seg.length_m;
+    }
+    None
+}
+
 /// EA of the segment holding each hot spot; checks the line id and the arc length.
 fn hot_spot_stiffness(spec: &CampaignSpec, case: &CaseSpec) -> Result<Vec<f64>, CampaignError> {
     let total: f64 = case.mooring.segments.iter().map(|s| s.length_m).sum();
@@ -211,19 +234,7 @@ fn hot_spot_stiffness(spec: &CampaignSpec, case: &CaseSpec) -> Result<Vec<f64>, 
                 reason: format!("must not exceed the line length {total} m"),
             });
         }
-        let mut start = 0.0;
-        let mut ea = None;
-        for seg in &case.mooring.segments {
-            if h.arc_length_m <= start + seg.length_m {
-                ea = case
-                    .mooring
-                    .line_types
-                    .get(&seg.line_type)
-                    .map(|t| t.axial_stiffness_n);
-                break;
-            }
-            start += seg.length_m;
-        }
+        let ea = hot_spot_line_type(case, h.arc_length_m).map(|t| t.axial_stiffness_n);
         out.push(ea.ok_or_else(|| CampaignError::Invalid {
             field: format!("hot_spots[{i}].arc_length_m"),
             value: h.arc_length_m.to_string(),

@@ -13,13 +13,15 @@
 //!   "simulation": {"transient_s": 50, "duration_s": 1000, "time_step_s": 0.1,
 //!                  "output_interval_s": 0.1, "seeds_per_sea_state": 1, "gamma": 1.3},
 //!   "hot_spots": [{"line": 1, "arc_length_m": 79}],
-//!   "strand": {"profiles_path": "data/strand_profiles.json", "profile": "paper_six_layer"} }
+//!   "strand": {"profiles_path": "data/strand_profiles.json", "profile": "paper_six_layer"},
+//!   "fatigue": {"run_in_s": 100} }
 //! ```
 
 use moorfret_solver::global::case::{GammaSpec, HotSpotSpec, WindSpec};
 use serde::{Deserialize, Serialize};
 
 use super::error::CampaignError;
+use super::fatigue::FatigueSpec;
 
 /// A whole campaign.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -44,6 +46,9 @@ pub struct CampaignSpec {
     pub hot_spots: Vec<HotSpotSpec>,
     /// Detailed strand model settings.
     pub strand: StrandSpec,
+    /// Fretting and fatigue settings of the damage inputs.
+    #[serde(default)]
+    pub fatigue: FatigueSpec,
     /// Job settings.
     #[serde(default)]
     pub jobs: JobSettings,
@@ -281,6 +286,7 @@ impl CampaignSpec {
             ));
         }
         positive("strand.checkpoint_interval_s", st.checkpoint_interval_s)?;
+        self.fatigue.validate(self)?;
         if self.jobs.max_attempts < 1 {
             return Err(invalid(
                 "jobs.max_attempts",

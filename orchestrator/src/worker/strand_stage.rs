@@ -7,7 +7,11 @@
 //! Results: the full per-contact records ([`ContactRecord`]: position, largest normal force,
 //! rainflow slip cycles with their forces) as one content-addressed JSON artifact
 //! (`contact_records`), and one small `contact_statistics` row per contact (class, cycle
-//! count, largest slip range, largest normal force).
+//! count, largest slip range, largest normal force). From the records and the hot-spot tension
+//! at the same samples, the per-sea-state damage inputs
+//! (`moorfret_solver::fretting::sea_state_damage_inputs`, configured by the campaign's
+//! `fatigue` settings, [`crate::campaign::fatigue`]): one `damage_inputs` row per T-N curve and
+//! one `class_damage_inputs` row per contact class, written with the job's completion.
 //!
 //! Checkpoints: the history run hands its full state over every few segments; at most every
 //! `checkpoint_interval_s` of wall time it is written to the artifact store and a pointer file
@@ -19,21 +23,27 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
-use moorfret_solver::fretting::ContactRecord;
+use moorfret_solver::fretting::{
+    sea_state_damage_inputs, ContactRecord, SeaStateInputs, TensionHistory,
+};
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
 use moorfret_solver::strand::history::{
     run_history_from, HistoryObserver, HistoryOptions, LoadSample,
 };
 use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
+use moorfret_solver::strand::profile::Strand;
 use serde_json::json;
 use tokio::runtime::Handle;
 
 use super::global_stage::series_role;
 use super::series::HotSpotSeries;
 use super::{permanent, transient};
+use crate::campaign::resolve::hot_spot_line_type;
 use crate::campaign::spec::StrandEnds;
 use crate::campaign::{CampaignInputs, StrandPayload};
-use crate::store::{ArtifactStore, ContactStatistics, JobFailure, JobResults, Lease, Store};
+use crate::store::{
+    damage_rows, ArtifactStore, ContactStatistics, JobFailure, JobResults, Lease, Store,
+};
 
 /// Segments between two checkpoints handed over by the solver.
 const CHECKPOINT_SEGMENTS: usize = 8;
@@ -255,6 +265,13 @@ pub fn run_strand(
         .enumerate()
         .map(|(i, c)| contact_row(payload.hot_spot_index, i, c))
         .collect();
+    let damage = damage_inputs(inputs, payload, &strand, &series, stride, &result.contacts)?;
+    let (damage_inputs, class_damage_inputs) = damage_rows(
+        payload.hot_spot_index as i64,
+        payload.global.seed_index as i64,
+        &damage,
+    )
+    .map_err(|e| permanent("serialise_results", e))?;
     let s = &result.stats;
     Ok(JobResults {
         result: json!({
@@ -264,6 +281,8 @@ pub fn run_strand(
             "slack_samples": slack_samples,
             "contacts": result.contacts.len(),
             "contact_records_sha256": artifact.sha256,
+            "effective_duration_s": damage.effective_duration_s,
+            "run_in_samples": damage.run_in_samples,
             "resumed_from_checkpoint": resume.is_some(),
             "work": {
                 "kept_samples": s.kept_samples,
@@ -274,9 +293,41 @@ pub fn run_strand(
             },
         }),
         contacts,
+        damage_inputs,
+        class_damage_inputs,
         artifacts: vec![artifact],
         ..JobResults::default()
     })
+}
+
+/// The damage inputs of the run (`moorfret_solver::fretting::sea_state_damage_inputs`): the
+/// contact records with the hot-spot tension at the same samples as the strand load (every
+/// `stride`-th global output sample), configured by the campaign's fatigue settings.
+fn damage_inputs(
+    inputs: &CampaignInputs,
+    payload: &StrandPayload,
+    strand: &Strand,
+    series: &HotSpotSeries,
+    stride: usize,
+    records: &[ContactRecord],
+) -> Result<SeaStateInputs, JobFailure> {
+    let spec = &inputs.spec;
+    let hot_spot = spec
+        .hot_spots
+        .get(payload.hot_spot_index)
+        .ok_or_else(|| permanent("bad_payload", "hot spot index out of range"))?;
+    let line_type = hot_spot_line_type(&inputs.base_case, hot_spot.arc_length_m)
+        .ok_or_else(|| permanent("bad_payload", "the hot spot lies on no defined line type"))?;
+    let ea = inputs.hot_spot_axial_stiffness_n[payload.hot_spot_index];
+    let config = spec.fatigue.damage_config(strand, line_type, ea);
+    let stride = stride.max(1);
+    let tension: Vec<f64> = series.tension_n.iter().step_by(stride).copied().collect();
+    let history = TensionHistory {
+        tension_n: &tension,
+        dt_s: stride as f64 * spec.simulation.output_interval_s,
+        run_in_samples: spec.fatigue.run_in_samples(spec.strand.load_interval_s),
+    };
+    sea_state_damage_inputs(records, &history, &config).map_err(|e| permanent("damage_inputs", e))
 }
 
 #[cfg(test)]

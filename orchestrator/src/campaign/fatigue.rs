@@ -1,0 +1,332 @@
+//! Fretting and fatigue settings of a campaign (`"fatigue"` in the campaign file, every field
+//! optional) and the damage-input configuration a strand job derives from them and from the
+//! strand profile (DESIGN §4.5, [`moorfret_solver::fretting::sea_state_damage_inputs`]).
+//!
+//! What comes from where:
+//! - Hertz geometry of each layer interface: the wire radii of the two layers and the angle
+//!   between their tangents at a contact. At a crossing the two wire axes are radially aligned
+//!   ([`moorfret_solver::strand::contacts`]), so both tangents lie in the same tangent plane of
+//!   the strand cross-section, at the signed lay angles h·α of their layers from the strand axis
+//!   (h = ±1 the hand, α = 0 for the straight core): the crossing angle is |h₂α₂ − h₁α₁|.
+//!   Elastic constants and the friction coefficient are the strand model's, so that the
+//!   indicators use the same contact as the finite-element run.
+//! - Wire axial stress σ = T / A with A = EA / E (the rope's axial stiffness at the hot spot over
+//!   the wire modulus): the stress of a straight wire at the strand strain ε = T / EA that the
+//!   strand stage applies.
+//! - T-N curves: the configured ones; by default the DNV-OS-E301 (2013, Ch.2 Sec.2 Table 6)
+//!   spiral-rope curve on the nominal area πD²/4 of the hot spot's line type and, when the line
+//!   type gives a minimum breaking load, the API RP 2SK spiral-strand curve on it. D is the line
+//!   type's hydrodynamic diameter, taken as the rope's nominal diameter: an assumption, since
+//!   a volume-equivalent diameter is somewhat smaller than the nominal one (the nominal stress
+//!   range, hence the DNV damage, is then on the high side).
+//! - Run-in: `run_in_s` of simulated time at the start of the strand history is left out of
+//!   every statistic (the seed's Fig. 22 shows a mean-slip drift over about the first 100 s).
+
+use moorfret_solver::fatigue::{rope_nominal_area_m2, ApiComponent, DnvComponent, TnCurve};
+use moorfret_solver::fretting::{
+    BinEdges, CrossedCylinders, DamageInputsConfig, ElasticMaterial, ForceMeasure, FrettingParams,
+    FrettingSnLaw, NamedTnCurve, RegimeCriterion,
+};
+use moorfret_solver::mooring::spec::LineTypeSpec;
+use moorfret_solver::strand::profile::Strand;
+use serde::{Deserialize, Serialize};
+
+use super::error::CampaignError;
+use super::spec::CampaignSpec;
+use crate::query::FRETTING_MEASURES;
+
+/// Fretting and fatigue settings; every field has a default.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FatigueSpec {
+    /// Slip amplitude bin edges of the per-class cycle histograms (m), increasing.
+    pub slip_amplitude_edges_m: Vec<f64>,
+    /// Normal force bin edges of the per-class cycle histograms (N), increasing.
+    pub normal_force_edges_n: Vec<f64>,
+    /// Fretting regime criterion (default: Mindlin, no stick range).
+    pub regime: RegimeCriterion,
+    /// Normal force of a cycle that sizes its Hertz contact.
+    pub force_measure: ForceMeasure,
+    /// Fretting S-N law (default: DNV spiral-rope curve on the wire stress range).
+    pub sn_law: FrettingSnLaw,
+    /// T-N curves on the hot-spot tension; the defaults of the module doc when absent.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tn_curves: Option<Vec<NamedTnCurve>>,
+    /// Simulated time at the start of each strand history left out of the statistics (s).
+    pub run_in_s: f64,
+}
+
+impl Default for FatigueSpec {
+    /// Slip edges from 0.5 µm to 1 mm and normal-force edges from 10 N to 100 kN, a few bins
+    /// per decade: they span the µm-scale slips and the N to kN contact forces of the seed's
+    /// strand results (Figs. 16-22).
+    fn default() -> Self {
+        let fretting = FrettingParams::default();
+        Self {
+            slip_amplitude_edges_m: vec![
+                0.0, 0.5e-6, 1e-6, 2e-6, 5e-6, 1e-5, 2e-5, 5e-5, 1e-4, 1e-3,
+            ],
+            normal_force_edges_n: vec![0.0, 10.0, 30.0, 100.0, 300.0, 1e3, 3e3, 1e4, 1e5],
+            regime: fretting.regime,
+            force_measure: fretting.force_measure,
+            sn_law: fretting.sn_law,
+            tn_curves: None,
+            run_in_s: 0.0,
+        }
+    }
+}
+
+fn invalid(field: &str, value: impl std::fmt::Display, reason: impl Into<String>) -> CampaignError {
+    CampaignError::Invalid {
+        field: field.to_owned(),
+        value: value.to_string(),
+        reason: reason.into(),
+    }
+}
+
+impl FatigueSpec {
+    /// Checks every value that needs neither the strand profile nor the global case.
+    pub fn validate(&self, spec: &CampaignSpec) -> Result<(), CampaignError> {
+        for (field, edges) in [
+            (
+                "fatigue.slip_amplitude_edges_m",
+                &self.slip_amplitude_edges_m,
+            ),
+            ("fatigue.normal_force_edges_n", &self.normal_force_edges_n),
+        ] {
+            BinEdges::new(edges.clone())
+                .map_err(|e| invalid(field, format!("{edges:?}"), e.to_string()))?;
+        }
+        let params = FrettingParams {
+            regime: self.regime,
+            force_measure: self.force_measure,
+            sn_law: self.sn_law,
+            ..FrettingParams::default()
+        };
+        params.validate().map_err(|e| {
+            let value = format!("{:?} / {:?}", self.regime, self.sn_law);
+            invalid("fatigue.regime / fatigue.sn_law", value, e.to_string())
+        })?;
+        let (run_in, duration) = (self.run_in_s, spec.simulation.duration_s);
+        if !(run_in.is_finite() && run_in >= 0.0) {
+            return Err(invalid("fatigue.run_in_s", run_in, "must be >= 0"));
+        }
+        if run_in + 2.0 * spec.strand.load_interval_s > duration {
+            return Err(invalid(
+                "fatigue.run_in_s",
+                run_in,
+                format!(
+                    "must leave at least two strand load intervals of \
+                     simulation.duration_s = {duration} s"
+                ),
+            ));
+        }
+        let curves = self.tn_curves.as_deref().unwrap_or_default();
+        for (i, c) in curves.iter().enumerate() {
+            let field = format!("fatigue.tn_curves[{i}]");
+            let taken = FRETTING_MEASURES.contains(&c.measure.as_str())
+                || curves[..i].iter().any(|o| o.measure == c.measure);
+            if c.measure.is_empty() || taken {
+                return Err(invalid(
+                    &format!("{field}.measure"),
+                    &c.measure,
+                    "must be a non-empty name, unique and not a fretting measure",
+                ));
+            }
+            c.curve.validate().map_err(|e| {
+                invalid(
+                    &format!("{field}.curve"),
+                    format!("{:?}", c.curve),
+                    e.to_string(),
+                )
+            })?;
+        }
+        Ok(())
+    }
+
+    /// The run-in in strand load samples.
+    pub fn run_in_samples(&self, load_interval_s: f64) -> usize {
+        (self.run_in_s / load_interval_s).round() as usize
+    }
+
+    /// The damage-input configuration of a hot spot on `line_type` with axial stiffness
+    /// `axial_stiffness_n` (N), for the strand model `strand`.
+    pub fn damage_config(
+        &self,
+        strand: &Strand,
+        line_type: &LineTypeSpec,
+        axial_stiffness_n: f64,
+    ) -> DamageInputsConfig {
+        DamageInputsConfig {
+            slip_amplitude_edges_m: self.slip_amplitude_edges_m.clone(),
+            normal_force_edges_n: self.normal_force_edges_n.clone(),
+            fretting: FrettingParams {
+                friction_coefficient: strand.friction_coefficient,
+                regime: self.regime,
+                force_measure: self.force_measure,
+                sn_law: self.sn_law,
+            },
+            interfaces: interface_geometry(strand),
+            metallic_area_m2: axial_stiffness_n / strand.young_modulus_pa,
+            tn_curves: self
+                .tn_curves
+                .clone()
+                .unwrap_or_else(|| default_tn_curves(line_type)),
+        }
+    }
+}
+
+/// The default T-N curves of a hot spot on `line_type` (module doc).
+pub fn default_tn_curves(line_type: &LineTypeSpec) -> Vec<NamedTnCurve> {
+    let mut curves = vec![NamedTnCurve {
+        measure: "tn_dnv_spiral_rope".into(),
+        curve: TnCurve::Dnv {
+            component: DnvComponent::SpiralRope,
+            nominal_area_m2: rope_nominal_area_m2(line_type.hydrodynamic_diameter_m),
+        },
+    }];
+    if let Some(mbl) = line_type.minimum_breaking_load_n {
+        curves.push(NamedTnCurve {
+            measure: "tn_api_spiral_strand".into(),
+            curve: TnCurve::Api {
+                component: ApiComponent::SpiralStrandRope,
+                reference_breaking_strength_n: mbl,
+                // replaced by each sea state's mean load ratio
+                mean_load_ratio: 0.0,
+            },
+        });
+    }
+    curves
+}
+
+/// Crossed-cylinder geometry of every layer interface (index 0: layer 1 on the core), with the
+/// crossing angle |h₂α₂ − h₁α₁| of the module doc.
+pub fn interface_geometry(strand: &Strand) -> Vec<CrossedCylinders> {
+    let material = ElasticMaterial {
+        youngs_modulus_pa: strand.young_modulus_pa,
+        poisson_ratio: strand.poisson_ratio,
+    };
+    let mut inner = (strand.core_wire_radius_m, 0.0);
+    strand
+        .layers
+        .iter()
+        .map(|layer| {
+            let signed = layer.hand.sign() * layer.lay_angle_rad;
+            let pair = CrossedCylinders {
+                radius_1_m: inner.0,
+                radius_2_m: layer.wire_radius_m,
+                crossing_angle_rad: (signed - inner.1).abs(),
+                material_1: material,
+                material_2: material,
+            };
+            inner = (layer.wire_radius_m, signed);
+            pair
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use moorfret_solver::strand::contacts::{find_contacts, ContactSearchParameters};
+    use moorfret_solver::strand::profile::profile_from_json;
+
+    use super::*;
+
+    fn benchmark() -> Strand {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../campaigns/benchmarks/strand_1_6_1.json"
+        );
+        let text = std::fs::read_to_string(path).unwrap();
+        profile_from_json(&text).unwrap().validate().unwrap()
+    }
+
+    /// The closed-form crossing angle equals the angle between the wire tangents at every
+    /// contact the geometric search finds (acos of a dot product: a few ulps of π).
+    #[test]
+    fn interface_crossing_angles_match_the_contact_search() {
+        let strand = benchmark();
+        let geometry = interface_geometry(&strand);
+        assert_eq!(geometry.len(), 2);
+        let set = find_contacts(&strand, &ContactSearchParameters::default()).unwrap();
+        assert!(!set.contacts.is_empty());
+        for c in &set.contacts {
+            let g = &geometry[c.outer_layer];
+            assert!(
+                (g.crossing_angle_rad - c.crossing_angle_rad).abs() < 1e-12,
+                "interface {}: {} vs {}",
+                c.outer_layer,
+                g.crossing_angle_rad,
+                c.crossing_angle_rad
+            );
+        }
+        // opposite hands, both 12°: 12° on the core, 24° between the layers
+        assert!((geometry[0].crossing_angle_rad - 12f64.to_radians()).abs() < 1e-15);
+        assert!((geometry[1].crossing_angle_rad - 24f64.to_radians()).abs() < 1e-15);
+    }
+
+    fn demo_spec(fatigue: serde_json::Value) -> CampaignSpec {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../campaigns/demo.json");
+        let mut spec: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        spec["fatigue"] = fatigue;
+        CampaignSpec::from_json_str(&spec.to_string()).unwrap()
+    }
+
+    #[test]
+    fn bad_fatigue_settings_are_refused_naming_the_field() {
+        assert!(demo_spec(serde_json::json!({})).validate().is_ok());
+        let cases = [
+            (serde_json::json!({"run_in_s": 29.5}), "fatigue.run_in_s"),
+            (serde_json::json!({"run_in_s": -1.0}), "fatigue.run_in_s"),
+            (
+                serde_json::json!({"slip_amplitude_edges_m": [0.0, 2e-6, 1e-6]}),
+                "fatigue.slip_amplitude_edges_m",
+            ),
+            (
+                serde_json::json!({"tn_curves": [{"measure": "fretting_max", "curve": {"Dnv":
+                    {"component": "SpiralRope", "nominal_area_m2": 2.9e-3}}}]}),
+                "fatigue.tn_curves[0].measure",
+            ),
+            (
+                serde_json::json!({"tn_curves": [{"measure": "tn", "curve": {"Dnv":
+                    {"component": "SpiralRope", "nominal_area_m2": 0.0}}}]}),
+                "fatigue.tn_curves[0].curve",
+            ),
+        ];
+        for (fatigue, field) in cases {
+            match demo_spec(fatigue.clone()).validate() {
+                Err(CampaignError::Invalid { field: f, .. }) => assert_eq!(f, field, "{fatigue}"),
+                other => panic!("{fatigue}: {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn wire_stress_area_gives_the_straight_wire_stress_of_the_applied_strain() {
+        let strand = benchmark();
+        let line: LineTypeSpec = serde_json::from_value(serde_json::json!({
+            "mass_kg_per_m": 16.5, "submerged_weight_n_per_m": 140.6,
+            "axial_stiffness_n": 3.6e8, "bending_stiffness_nm2": 8e4,
+            "hydrodynamic_diameter_m": 0.0604, "drag_normal": 1.2, "drag_tangential": 0.008,
+            "added_mass_normal": 1.0, "added_mass_tangential": 0.0,
+            "minimum_breaking_load_n": 3.2e6
+        }))
+        .unwrap();
+        let config = FatigueSpec::default().damage_config(&strand, &line, 3.6e8);
+        // σ = T / A = E T / EA = E ε
+        let (t, ea) = (7.2e5, 3.6e8);
+        let sigma = t / config.metallic_area_m2;
+        assert!((sigma - strand.young_modulus_pa * t / ea).abs() <= 1e-15 * sigma);
+        assert_eq!(
+            config.fretting.friction_coefficient,
+            strand.friction_coefficient
+        );
+        let names: Vec<_> = config
+            .tn_curves
+            .iter()
+            .map(|c| c.measure.as_str())
+            .collect();
+        assert_eq!(names, ["tn_dnv_spiral_rope", "tn_api_spiral_strand"]);
+    }
+}
