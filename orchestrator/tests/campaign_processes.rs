@@ -135,7 +135,6 @@ fn assert_each_done_once(db: &str, id: CampaignId) {
 }
 
 #[test]
-#[ignore = "intermittent after the other process tests in this binary: this process's store keeps reading the plan as stored (all jobs ready) while the worker claims and completes them, and the worker may hit SQLITE_IOERR_SHORT_READ or a malformed database (its log is shown on timeout); passes when run alone"]
 fn killed_worker_job_is_reclaimed_after_lease_expiry_and_completed_once() {
     let _serial = serial();
     let dir = tempfile::tempdir().unwrap();
@@ -179,7 +178,6 @@ fn killed_worker_job_is_reclaimed_after_lease_expiry_and_completed_once() {
 }
 
 #[test]
-#[ignore = "intermittent after the other process tests in this binary: this process's store keeps reading the plan as stored (all jobs ready) while the worker claims and completes them, and the worker may hit SQLITE_IOERR_SHORT_READ or a malformed database (its log is shown on timeout); passes when run alone"]
 fn stopped_worker_releases_its_lease_without_consuming_an_attempt() {
     let _serial = serial();
     let dir = tempfile::tempdir().unwrap();
