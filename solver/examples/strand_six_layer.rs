@@ -9,7 +9,7 @@
 use std::time::Instant;
 
 use moorfret_solver::linalg::{
-    solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace, SparseLu,
+    solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace, SplitSolver,
 };
 use moorfret_solver::strand::bending::{bending_stiffness_bounds, section_resultants};
 use moorfret_solver::strand::history::stiffness::straight_strand_stiffness;
@@ -75,14 +75,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     let t = Instant::now();
     let mut solver = TimedSolver {
-        inner: SparseLu::new(&model.pattern)?,
+        inner: model.linear_solver()?,
         times: WorkTimes::default(),
     };
     println!("symbolic analysis: {:.2} s", t.elapsed().as_secs_f64());
     let mut ws = NewtonWorkspace::new(&model.pattern);
     let mid = 0.5 * strand.model_length_m;
     let mut step = |problem: &mut StrandProblem<'_>,
-                    solver: &mut TimedSolver<SparseLu>,
+                    solver: &mut TimedSolver<SplitSolver>,
                     end: f64,
                     label: String|
      -> Result<(), Box<dyn std::error::Error>> {

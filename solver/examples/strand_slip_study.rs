@@ -10,7 +10,7 @@
 use moorfret_solver::beam::frame::FrameError;
 use moorfret_solver::contact::{ContactParameters, ContactStatus, NormalLaw, TangentialLaw};
 use moorfret_solver::linalg::{
-    solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace, NonlinearProblem, SparseLu,
+    solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace, NonlinearProblem,
 };
 use moorfret_solver::strand::driver::StrandRunParameters;
 use moorfret_solver::strand::loading::LoadPath;
@@ -115,6 +115,12 @@ impl NonlinearProblem for Probe<'_> {
         self.inner.restore();
         self.close(false);
     }
+    fn merit_weights(&self) -> Option<&[f64]> {
+        self.inner.merit_weights()
+    }
+    fn preconditioner(&self) -> Option<&[f64]> {
+        self.inner.preconditioner()
+    }
 }
 
 fn print_attempt(i: usize, a: &Attempt, full: bool) {
@@ -184,7 +190,7 @@ fn main() {
         log: Vec::new(),
         stream: verbose,
     };
-    let mut solver = SparseLu::new(&model.pattern).expect("symbolic analysis");
+    let mut solver = model.linear_solver().expect("symbolic analysis");
     let mut ws = NewtonWorkspace::new(&model.pattern);
     let mut stats = NewtonStats::default();
     for (stage, (from, inc)) in [(0.0, run.tension_increment), (1.0, run.bending_increment)]
@@ -268,5 +274,6 @@ fn main() {
                 }
             }
         }
+        println!("  linear solver: {:?}", solver.stats());
     }
 }

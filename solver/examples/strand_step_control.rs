@@ -44,12 +44,12 @@ fn main() {
     let mut variants: Vec<(String, StrandRunParameters)> = vec![("default".into(), base)];
     for halvings in [3usize, 6] {
         let mut p = base;
-        p.newton.line_search_halvings = halvings;
+        p.newton.line_search_trials = halvings;
         variants.push((format!("line search {halvings}"), p));
     }
     for (growth, easy) in [(2.0, 12usize), (3.0, 15)] {
         let mut p = base;
-        p.newton.line_search_halvings = 3;
+        p.newton.line_search_trials = 3;
         p.newton.growth_factor = growth;
         p.newton.easy_iterations = easy;
         variants.push((format!("ls 3, growth {growth}, easy {easy}"), p));

@@ -5,9 +5,7 @@
 //! `cargo run -p moorfret-solver --example strand_stick_study`
 
 use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
-use moorfret_solver::linalg::{
-    solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace, SparseLu,
-};
+use moorfret_solver::linalg::{solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace};
 use moorfret_solver::strand::analytical::stick_force_variation;
 use moorfret_solver::strand::contacts::ContactSearchParameters;
 use moorfret_solver::strand::driver::{plane_section_departures, StrandRunParameters};
@@ -138,7 +136,7 @@ fn study(v: &Variant, kappa: f64) {
         curvature_per_m: kappa,
     };
     let mut problem = StrandProblem::new(&model, path);
-    let mut solver = SparseLu::new(&model.pattern).expect("lu");
+    let mut solver = model.linear_solver().expect("symbolic analysis");
     let mut ws = NewtonWorkspace::new(&model.pattern);
     let mut stats = NewtonStats::default();
     let np = |inc: f64| NewtonParams {

@@ -225,7 +225,20 @@ fn bathe_bolourchi_bend_tip_matches_published_positions() {
         err.max() < 5e-4,
         "64 elements: {fine:?}, relative errors {err:?}"
     );
-    assert_eq!(stats.step_iterations, vec![7, 8, 6, 6, 6, 6, 6, 6]);
+    // work counts: eight accepted steps after three cut-backs, 6-8 full-Newton iterations
+    // each. The last iteration of a step can land either side of the tolerance with the
+    // rounding of the sparse factorisation (supernodal or simplicial kernels), so each count
+    // may exceed the reference [7, 8, 6, 6, 6, 6, 6, 6] by one, and the total by two at most.
+    let reference = [7, 8, 6, 6, 6, 6, 6, 6];
+    assert_eq!(stats.step_iterations.len(), reference.len());
+    for (got, want) in stats.step_iterations.iter().zip(reference) {
+        assert!(
+            (want..=want + 1).contains(got),
+            "{:?}",
+            stats.step_iterations
+        );
+    }
+    assert!(stats.step_iterations.iter().sum::<usize>() <= 53);
     assert_eq!(stats.cutbacks, 3);
 
     for (solver, iterations) in [(Solver::Lu, 12), (Solver::Cholesky, 9)] {

@@ -282,6 +282,37 @@ impl ContactPair {
         force: &mut ElementVector,
         tangent: &mut ElementMatrix,
     ) -> ContactResponse {
+        self.evaluate_with_tangent(history, node1, node2, force, tangent, None)
+    }
+
+    /// As [`Self::residual_and_tangent`], plus a symmetric positive semi-definite surrogate of
+    /// the tangent for preconditioning: P = k_N b_N b_Nᵀ + B_Tᵀ C B_T, with b_N = ∂g_N/∂q,
+    /// B_T = ∂g_T/∂q, k_N = ∂f_N/∂(−g_N) and C = k_T I in stick, (μ f_N/|g_T|)(I − ĝ ĝᵀ) in
+    /// slip (the symmetric part of the sliding law), 0 when open. It leaves out what makes the
+    /// tangent non-symmetric or indefinite: the dependence of the friction force on the normal
+    /// force (μ ∂f_N/∂g_N, as large as μ times the normal stiffness) and the curvature terms
+    /// f_N ∂²g_N/∂q², f_T·∂²g_T/∂q² of the contact geometry.
+    pub fn residual_tangent_and_surrogate(
+        &self,
+        history: &ContactHistory,
+        node1: &NodeKinematics,
+        node2: &NodeKinematics,
+        force: &mut ElementVector,
+        tangent: &mut ElementMatrix,
+        surrogate: &mut ElementMatrix,
+    ) -> ContactResponse {
+        self.evaluate_with_tangent(history, node1, node2, force, tangent, Some(surrogate))
+    }
+
+    fn evaluate_with_tangent(
+        &self,
+        history: &ContactHistory,
+        node1: &NodeKinematics,
+        node2: &NodeKinematics,
+        force: &mut ElementVector,
+        tangent: &mut ElementMatrix,
+        surrogate: Option<&mut ElementMatrix>,
+    ) -> ContactResponse {
         let (t1, t2) = (
             node1.rotation * self.tangent1,
             node2.rotation * self.tangent2,
@@ -304,6 +335,29 @@ impl ContactPair {
             force[i] = k.force[i].v;
             for j in 0..NDOF {
                 tangent[(i, j)] = k.force[i].d[j];
+            }
+        }
+        if let Some(p) = surrogate {
+            p.fill(0.0);
+            if k.status != ContactStatus::Open {
+                let pen = -k.gap.v;
+                let kn = match self.laws.normal {
+                    ResolvedNormal::Penalty(kp) => kp,
+                    ResolvedNormal::Hertz(kh) => 1.5 * kh * pen.max(0.0).sqrt(),
+                };
+                let bn = SVector::<f64, NDOF>::from_column_slice(&k.gap.d);
+                let bt = nalgebra::SMatrix::<f64, 3, NDOF>::from_fn(|i, j| k.gt.c[i].d[j]);
+                let c = match k.status {
+                    ContactStatus::Slip => {
+                        let g = k.gt.val();
+                        let gn = g.norm();
+                        let u = g / gn;
+                        (Matrix3::identity() - u * u.transpose())
+                            * (self.laws.friction_coefficient * k.normal_force.v / gn)
+                    }
+                    _ => Matrix3::identity() * k.kt,
+                };
+                *p = bn * bn.transpose() * kn + bt.transpose() * c * bt;
             }
         }
         self.respond(history, &k, node1, node2, &d, &t1, &t2)

@@ -411,3 +411,61 @@ fn tangent_matches_finite_differences_in_seeded_random_configurations() {
         "checked {checked}, slips {slips}"
     );
 }
+
+/// The preconditioning surrogate P = k_N b_N b_Nᵀ + B_Tᵀ C B_T, checked through the gap
+/// functions: for a perturbation δq, P δq = k_N b_N (δg_N) + B_Tᵀ C δg_T with δg_N, δg_T and the
+/// rows of b_N, B_T from central differences of [`ContactPair::gaps`]; symmetric and positive
+/// semi-definite in stick and in slip.
+#[test]
+fn preconditioning_surrogate_is_the_stiffness_of_the_gaps_without_coupling_or_curvature() {
+    for (gamma, slide, status) in [
+        (1e-4, 3e-7, ContactStatus::Stick),
+        (1e-7, 3e-6, ContactStatus::Slip),
+    ] {
+        let s = setup(&params(
+            NormalLaw::Penalty {
+                stiffness_n_per_m: 2e6,
+            },
+            TangentialLaw::ElasticSlip {
+                elastic_slip_m: gamma,
+            },
+        ));
+        let (h, a, b) = loaded(&s, slide, 1e-3);
+        let (mut f, mut k, mut p) = (
+            ElementVector::zeros(),
+            ElementMatrix::zeros(),
+            ElementMatrix::zeros(),
+        );
+        let r = s
+            .pair
+            .residual_tangent_and_surrogate(&h, &a, &b, &mut f, &mut k, &mut p);
+        assert_eq!(r.status, status);
+        assert!((p - p.transpose()).norm() <= 1e-12 * p.norm());
+        let eig = p.symmetric_eigenvalues();
+        assert!(eig.min() >= -1e-9 * eig.max(), "{eig}");
+        // gap Jacobians by central differences
+        let mut bn = ElementVector::zeros();
+        let mut bt = nalgebra::SMatrix::<f64, 3, 12>::zeros();
+        for j in 0..12 {
+            let hs = step_size(j);
+            let (ap, bp) = perturbed(&a, &b, j, hs);
+            let (am, bm) = perturbed(&a, &b, j, -hs);
+            let (gp, tp) = s.pair.gaps(&h, &ap, &bp);
+            let (gm, tm) = s.pair.gaps(&h, &am, &bm);
+            bn[j] = (gp - gm) / (2.0 * hs);
+            bt.set_column(j, &((tp - tm) / (2.0 * hs)));
+        }
+        let kn = 2e6;
+        let c = match status {
+            ContactStatus::Slip => {
+                let g = r.tangential_gap;
+                let u = g / g.norm();
+                (Matrix3::identity() - u * u.transpose()) * (0.3 * r.normal_force_n / g.norm())
+            }
+            _ => Matrix3::identity() * (0.3 * r.normal_force_n / gamma),
+        };
+        let expected = bn * bn.transpose() * kn + bt.transpose() * c * bt;
+        let err = (p - expected).norm() / expected.norm();
+        assert!(err < 1e-5, "{status:?}: relative difference {err:e}");
+    }
+}

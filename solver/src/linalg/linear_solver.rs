@@ -61,6 +61,18 @@ pub trait LinearSolver {
     /// Numeric factorisation of `values` (laid out on `pattern`, the pattern the solver was
     /// built for).
     fn factorize(&mut self, pattern: &SparsePattern, values: &[f64]) -> Result<(), LinalgError>;
+    /// As [`Self::factorize`], with a symmetric surrogate of the matrix (values on the same
+    /// pattern) that a preconditioned iterative solver may factorise instead of the matrix's
+    /// own symmetric part; direct solvers ignore it.
+    fn factorize_preconditioned(
+        &mut self,
+        pattern: &SparsePattern,
+        values: &[f64],
+        surrogate: Option<&[f64]>,
+    ) -> Result<(), LinalgError> {
+        let _ = surrogate;
+        self.factorize(pattern, values)
+    }
     /// Overwrites `rhs` with A⁻¹ rhs using the last factorisation.
     fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), LinalgError>;
 }

@@ -7,6 +7,7 @@ pub mod linear_solver;
 pub mod lu;
 pub mod newton;
 pub mod pattern;
+pub mod split;
 
 pub use cholesky::{CholeskyKind, SparseCholesky};
 pub use linear_solver::{LinalgError, LinearSolver};
@@ -15,3 +16,4 @@ pub use newton::{
     solve_load_path, NewtonError, NewtonParams, NewtonStats, NewtonWorkspace, NonlinearProblem,
 };
 pub use pattern::{Equation, PatternError, SparsePattern, Storage};
+pub use split::{GmresParams, SplitSolver, SplitStats};

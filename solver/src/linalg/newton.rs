@@ -48,6 +48,21 @@ pub trait NonlinearProblem {
 
     /// Discards the trial state and returns to the last committed one.
     fn restore(&mut self);
+
+    /// Weights W of the line-search merit ½ rᵀ W r, one per equation, making forces and
+    /// moments commensurate (e.g. 1 for a force equation, 1/ℓ² for a moment equation with ℓ a
+    /// length of the problem); `None` weighs every equation by 1.
+    fn merit_weights(&self) -> Option<&[f64]> {
+        None
+    }
+
+    /// A symmetric positive (semi-)definite surrogate of the tangent of the last evaluation
+    /// with tangent, as values on the driver's pattern, for solvers that precondition with a
+    /// symmetric factorisation ([`LinearSolver::factorize_preconditioned`]); `None`: the
+    /// solver uses the tangent's own symmetric part.
+    fn preconditioner(&self) -> Option<&[f64]> {
+        None
+    }
 }
 
 /// Parameters of the Newton driver.
@@ -79,9 +94,9 @@ pub struct NewtonParams {
     pub max_tangent_age: usize,
     /// With a reused factorisation, refactorise when ‖rₖ‖ > this × ‖rₖ₋₁‖.
     pub reuse_contraction: f64,
-    /// Backtracking halvings of a Newton correction allowed when it does not reduce ‖r‖
-    /// (0: plain Newton).
-    pub line_search_halvings: usize,
+    /// Backtracking trials allowed on a Newton correction that does not decrease the merit
+    /// ½ rᵀ W r enough (Armijo), see [`NonlinearProblem::merit_weights`] (0: plain Newton).
+    pub line_search_trials: usize,
 }
 
 impl Default for NewtonParams {
@@ -100,7 +115,7 @@ impl Default for NewtonParams {
             divergence_ratio: 1e8,
             max_tangent_age: 1,
             reuse_contraction: 0.25,
-            line_search_halvings: 0,
+            line_search_trials: 0,
         }
     }
 }
@@ -438,32 +453,64 @@ fn evaluate<P: NonlinearProblem>(
     Ok((norm, scale))
 }
 
-/// Backtracking on the residual norm after the correction δu has been applied: while ‖r‖ at the
-/// trial state is not below `norm` (the norm before the correction) or cannot be evaluated, the
-/// applied fraction a of δu is halved (applying −a/2 δu, exact for the additive and the
-/// left-multiplied rotation-vector updates along the same δu), at most `line_search_halvings`
-/// times. The last fraction tried is kept.
+/// Weighted merit ½ rᵀ W r of the residual in the workspace.
+fn merit(residual: &[f64], weights: Option<&[f64]>) -> f64 {
+    0.5 * match weights {
+        Some(w) => residual.iter().zip(w).map(|(r, w)| w * r * r).sum::<f64>(),
+        None => residual.iter().map(|r| r * r).sum::<f64>(),
+    }
+}
+
+/// Backtracking line search after the full correction δu has been applied (Armijo on the
+/// merit φ(a) = ½ r(u + a δu)ᵀ W r(u + a δu), whose slope at a = 0 is −2 φ(0) for the exact
+/// tangent): the fraction a is accepted when φ(a) ≤ (1 − 2c a) φ(0), c = 1e-4; otherwise the
+/// next fraction is the minimiser of the quadratic through φ(0), φ'(0) and φ(a), kept within
+/// [0.1 a, 0.5 a]. Moving between fractions applies (a_new − a) δu, exact for the additive and
+/// the left-multiplied rotation-vector updates along the same δu. After `line_search_trials`
+/// rejected fractions the best one seen is kept. This is what breaks the two-cycles of full
+/// Newton steps on frictional contact, where the slip direction g_T/|g_T| turns within one
+/// correction. Returns the fraction kept.
 fn line_search<P: NonlinearProblem>(
     problem: &mut P,
     load_factor: f64,
-    norm: f64,
+    phi0: f64,
     params: &NewtonParams,
     ws: &mut NewtonWorkspace,
     stats: &mut NewtonStats,
-) {
+) -> f64 {
+    const ARMIJO: f64 = 1e-4;
     let mut fraction = 1.0;
-    for _ in 0..params.line_search_halvings {
-        match evaluate(problem, load_factor, ws, false, stats) {
-            Ok((trial, _)) if trial.is_finite() && trial < norm => return,
-            _ => {}
+    let mut best = (f64::INFINITY, 1.0);
+    for trial in 0..=params.line_search_trials {
+        let phi = match evaluate(problem, load_factor, ws, false, stats) {
+            Ok((norm, _)) if norm.is_finite() => merit(&ws.residual, problem.merit_weights()),
+            _ => f64::INFINITY,
+        };
+        if phi < best.0 {
+            best = (phi, fraction);
         }
-        fraction *= 0.5;
-        ws.scratch
-            .iter_mut()
-            .zip(&ws.increment)
-            .for_each(|(s, d)| *s = -fraction * d);
-        problem.apply_increment(&ws.scratch);
+        if phi <= (1.0 - 2.0 * ARMIJO * fraction) * phi0 {
+            return fraction;
+        }
+        let next = if trial == params.line_search_trials {
+            best.1
+        } else if phi.is_finite() {
+            // φ(a) ≈ φ0 (1 − 2a) + c a² → minimiser a* = φ0 a² / (φ(a) − φ0 + 2 φ0 a)
+            let q = phi0 * fraction * fraction / (phi - phi0 + 2.0 * phi0 * fraction);
+            q.clamp(0.1 * fraction, 0.5 * fraction)
+        } else {
+            0.1 * fraction
+        };
+        if next != fraction {
+            ws.scratch
+                .iter_mut()
+                .zip(&ws.increment)
+                .for_each(|(s, d)| *s = (next - fraction) * d);
+            problem.apply_increment(&ws.scratch);
+            fraction = next;
+        }
     }
+    fraction
 }
 
 /// Newton iterations at a fixed load factor; returns the iteration count on convergence.
@@ -512,7 +559,7 @@ fn newton_step<P: NonlinearProblem, S: LinearSolver>(
         if fresh {
             stats.factorisations += 1;
             solver
-                .factorize(pattern, &ws.values)
+                .factorize_preconditioned(pattern, &ws.values, problem.preconditioner())
                 .map_err(|source| Failure::Linear { iteration, source })?;
             age = 0;
         }
@@ -538,8 +585,9 @@ fn newton_step<P: NonlinearProblem, S: LinearSolver>(
         } else if energy <= params.energy_tolerance * first_energy {
             return Ok(iteration + 1);
         }
-        if params.line_search_halvings > 0 {
-            line_search(problem, load_factor, norm, params, ws, stats);
+        if params.line_search_trials > 0 {
+            let phi0 = merit(&ws.residual, problem.merit_weights());
+            line_search(problem, load_factor, phi0, params, ws, stats);
         }
     }
     // the loop returns at iteration == max_iterations at the latest

@@ -176,6 +176,52 @@ impl SparsePattern {
         })
     }
 
+    /// The upper-triangle pattern of the structural symmetrisation A ∪ Aᵀ of this pattern (no
+    /// elements: values are filled through the returned map), with, for every nonzero k of this
+    /// pattern, the nonzero of the upper pattern that holds entry (min(i, j), max(i, j)).
+    pub fn symmetric_upper(&self) -> (SparsePattern, Vec<usize>) {
+        let mut pairs: Vec<(usize, usize)> = Vec::with_capacity(self.row_idx.len());
+        for col in 0..self.size {
+            for &row in &self.row_idx[self.col_ptr[col]..self.col_ptr[col + 1]] {
+                pairs.push((row.max(col), row.min(col)));
+            }
+        }
+        pairs.sort_unstable();
+        pairs.dedup();
+        let mut col_ptr = vec![0usize; self.size + 1];
+        for &(c, _) in &pairs {
+            col_ptr[c + 1] += 1;
+        }
+        for c in 0..self.size {
+            col_ptr[c + 1] += col_ptr[c];
+        }
+        let row_idx: Vec<usize> = pairs.iter().map(|&(_, r)| r).collect();
+        let mut map = Vec::with_capacity(self.row_idx.len());
+        for col in 0..self.size {
+            for &row in &self.row_idx[self.col_ptr[col]..self.col_ptr[col + 1]] {
+                let (r, c) = (row.min(col), row.max(col));
+                let rows = &row_idx[col_ptr[c]..col_ptr[c + 1]];
+                let k = rows
+                    .binary_search(&r)
+                    .expect("the symmetrised pattern holds every entry");
+                map.push(col_ptr[c] + k);
+            }
+        }
+        (
+            SparsePattern {
+                size: self.size,
+                storage: Storage::Upper,
+                col_ptr,
+                row_idx,
+                eq_ptr: vec![0],
+                equations: Vec::new(),
+                slot_ptr: vec![0],
+                slots: Vec::new(),
+            },
+            map,
+        )
+    }
+
     /// Number of equations.
     pub fn size(&self) -> usize {
         self.size

@@ -115,6 +115,26 @@ pub fn stick_force_variation(
         * angle_rad.sin()
 }
 
+/// Friction-limited (full slip) variation of a helical wire's axial force in a bent strand far
+/// past slip onset (κ ≫ κ_b): the wire slides everywhere except at the extremes φ = ±π/2, and
+/// along its length s the force changes by the friction of its radial line load q = T sin²β/R,
+/// dF/ds = ±μ q. With ds = R dφ / sin β the variation is a triangle wave in φ,
+/// ΔF = (π/2) μ T sin β · tri(φ), tri(φ) = 2φ/π on [−π/2, π/2], 2(π − φ)/π beyond (N).
+pub fn slip_force_variation(
+    friction_coefficient: f64,
+    lay_angle_rad: f64,
+    tension_n: f64,
+    angle_rad: f64,
+) -> f64 {
+    let phi = (angle_rad + 0.5 * PI).rem_euclid(2.0 * PI) - 0.5 * PI;
+    let tri = if phi <= 0.5 * PI {
+        2.0 * phi / PI
+    } else {
+        2.0 * (PI - phi) / PI
+    };
+    0.5 * PI * friction_coefficient * tension_n * lay_angle_rad.sin() * tri
+}
+
 /// Curvature at which a helical wire of tension T starts to slip,
 /// κ_b = μ sin β T / (EA cos²β R) (1/m).
 pub fn slip_onset_curvature(

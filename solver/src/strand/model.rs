@@ -26,7 +26,9 @@ use crate::beam::section::{BeamSection, SectionError};
 use crate::contact::{
     ContactError, ContactHistory, ContactPair, ContactParameters, NodeKinematics,
 };
-use crate::linalg::{Equation, PatternError, SparsePattern, Storage};
+use crate::linalg::{
+    Equation, GmresParams, LinalgError, PatternError, SparsePattern, SplitSolver, Storage,
+};
 
 /// Errors while building or solving a strand model.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -159,6 +161,10 @@ pub struct StrandModel {
     pub sections: Vec<BeamSection>,
     /// Whether each node is fully prescribed (core, anchored periodic ends).
     pub prescribed: Vec<bool>,
+    /// Line-search merit weight of every solved equation: 1 for a force, 1/r² for a moment of
+    /// a wire of radius r (a moment imbalance M weighs like the force M/r at the wire surface,
+    /// where the contacts act).
+    pub merit_weights: Vec<f64>,
 }
 
 impl StrandModel {
@@ -309,6 +315,22 @@ impl StrandModel {
                 (reduced, Some(p))
             }
         };
+        let mut merit_weights = vec![1.0; pattern.size()];
+        for (n, node) in mesh.nodes.iter().enumerate() {
+            let r = wires[node.wire.0].radius_m;
+            for k in 3..NODE_DOFS {
+                let Some(e) = dofs.equation(NodeId(n), k).index() else {
+                    continue;
+                };
+                let solved = match &periodic {
+                    None => Some(e),
+                    Some(p) => p.reduced_equation(e),
+                };
+                if let Some(i) = solved {
+                    merit_weights[i] = 1.0 / (r * r);
+                }
+            }
+        }
         Ok(Self {
             strand: strand.clone(),
             mesh,
@@ -321,6 +343,7 @@ impl StrandModel {
             ties,
             sections,
             prescribed,
+            merit_weights,
         })
     }
 
@@ -330,6 +353,13 @@ impl StrandModel {
         self.periodic
             .as_ref()
             .map_or(&self.pattern, |p| &p.extended)
+    }
+
+    /// The linear solver of the model's Newton iterations: LDLᵀ of the tangent's symmetric part
+    /// preconditioning GMRES on the full (frictional, non-symmetric) tangent
+    /// ([`SplitSolver`]); symbolic analysis of [`Self::pattern`] done here, once.
+    pub fn linear_solver(&self) -> Result<SplitSolver, LinalgError> {
+        SplitSolver::new(&self.pattern, GmresParams::default())
     }
 
     /// Pattern element index of contact `c`.

@@ -398,6 +398,14 @@ impl PeriodicEnds {
         }
     }
 
+    /// Reduced equation of an independent extended equation (`None` for a dependent one).
+    pub fn reduced_equation(&self, extended: usize) -> Option<usize> {
+        match self.expansions.get(extended)?.as_slice() {
+            [(r, 0)] => Some(*r),
+            _ => None,
+        }
+    }
+
     /// Expands a reduced increment onto the extended equations (dependent entries 0: the
     /// eliminated ends are placed exactly by [`Self::enforce`] afterwards).
     pub fn expand(&self, reduced: &[f64], extended: &mut [f64]) {

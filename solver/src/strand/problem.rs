@@ -53,6 +53,9 @@ pub struct StrandProblem<'a> {
     /// Scratch of the periodic elimination: extended residual, tangent values, increment,
     /// coefficients (empty without periodic ends).
     extended: ExtendedScratch,
+    /// Symmetric positive semi-definite surrogate of the last tangent, on [`StrandModel::pattern`]
+    /// (the preconditioner of [`crate::linalg::SplitSolver`]).
+    surrogate: Vec<f64>,
 }
 
 /// Buffers of the extended system assembled before the periodic elimination.
@@ -60,8 +63,11 @@ pub struct StrandProblem<'a> {
 struct ExtendedScratch {
     residual: Vec<f64>,
     values: Vec<f64>,
+    surrogate: Vec<f64>,
     increment: Vec<f64>,
     coefficients: Vec<f64>,
+    zeros: Vec<f64>,
+    discard: Vec<f64>,
 }
 
 impl<'a> StrandProblem<'a> {
@@ -83,9 +89,13 @@ impl<'a> StrandProblem<'a> {
                 .map_or_else(ExtendedScratch::default, |p| ExtendedScratch {
                     residual: vec![0.0; p.extended.size()],
                     values: vec![0.0; p.extended.nnz()],
+                    surrogate: vec![0.0; p.extended.nnz()],
                     increment: vec![0.0; p.extended.size()],
                     coefficients: Vec::new(),
+                    zeros: vec![0.0; p.extended.size()],
+                    discard: vec![0.0; model.pattern.size()],
                 }),
+            surrogate: vec![0.0; model.pattern.nnz()],
         }
     }
 
@@ -192,19 +202,30 @@ impl NonlinearProblem for StrandProblem<'_> {
             self.predict(load_factor);
         }
         let model = self.model;
+        let with_tangent = tangent.is_some();
         let Some(periodic) = &model.periodic else {
-            return self.assemble(load_factor, residual, tangent);
+            let mut surrogate = std::mem::take(&mut self.surrogate);
+            if with_tangent {
+                surrogate.fill(0.0);
+            }
+            let scale = self.assemble(
+                load_factor,
+                residual,
+                tangent.map(|t| (t, surrogate.as_mut_slice())),
+            );
+            self.surrogate = surrogate;
+            return scale;
         };
         let mut ext = std::mem::take(&mut self.extended);
         ext.residual.fill(0.0);
-        let with_tangent = tangent.is_some();
         if with_tangent {
             ext.values.fill(0.0);
+            ext.surrogate.fill(0.0);
         }
         let scale = self.assemble(
             load_factor,
             &mut ext.residual,
-            with_tangent.then_some(ext.values.as_mut_slice()),
+            with_tangent.then_some((ext.values.as_mut_slice(), ext.surrogate.as_mut_slice())),
         );
         if scale.is_ok() {
             periodic.coefficients(&self.path.at(load_factor), &mut ext.coefficients);
@@ -214,6 +235,15 @@ impl NonlinearProblem for StrandProblem<'_> {
                 residual,
                 tangent.map(|t| (ext.values.as_slice(), t)),
             );
+            if with_tangent {
+                self.surrogate.fill(0.0);
+                periodic.reduce(
+                    &ext.coefficients,
+                    &ext.zeros,
+                    &mut ext.discard,
+                    Some((ext.surrogate.as_slice(), self.surrogate.as_mut_slice())),
+                );
+            }
         }
         self.extended = ext;
         scale
@@ -246,15 +276,25 @@ impl NonlinearProblem for StrandProblem<'_> {
         self.trial.clone_from(&self.committed);
         self.trial_load_factor = self.committed_load_factor;
     }
+
+    fn merit_weights(&self) -> Option<&[f64]> {
+        Some(&self.model.merit_weights)
+    }
+
+    fn preconditioner(&self) -> Option<&[f64]> {
+        Some(&self.surrogate)
+    }
 }
 
 impl StrandProblem<'_> {
-    /// Residual and tangent of every element on the model's assembly pattern; the force scale.
+    /// Residual, and if asked the tangent and its symmetric surrogate (beams and ties as they
+    /// are, contacts by [`crate::contact::ContactPair::residual_tangent_and_surrogate`]), of
+    /// every element on the model's assembly pattern; the force scale.
     fn assemble(
         &mut self,
         load_factor: f64,
         residual: &mut [f64],
-        mut tangent: Option<&mut [f64]>,
+        mut tangent: Option<(&mut [f64], &mut [f64])>,
     ) -> Result<f64, FrameError> {
         let model = self.model;
         let pattern = model.assembly_pattern();
@@ -264,19 +304,33 @@ impl StrandProblem<'_> {
             pattern,
             0,
             residual,
-            tangent.as_deref_mut(),
+            tangent.as_mut().map(|(t, _)| &mut **t),
         )?;
+        if let Some((t, s)) = tangent.as_mut() {
+            s.copy_from_slice(t);
+        }
         let mut scale2 = 0.0;
-        let (mut fe, mut ke) = (ElementVector::zeros(), ElementMatrix::zeros());
+        let (mut fe, mut ke, mut pe_m) = (
+            ElementVector::zeros(),
+            ElementMatrix::zeros(),
+            ElementMatrix::zeros(),
+        );
         for (c, pair) in model.contacts.iter().enumerate() {
             let [a, b] = model.mesh.contacts[c].nodes;
             let (k1, k2) = (self.kinematics(a.0), self.kinematics(b.0));
             let pe = model.contact_pattern_element(c);
-            let response = match tangent.as_deref_mut() {
-                Some(values) => {
-                    let r =
-                        pair.residual_and_tangent(&self.histories[c], &k1, &k2, &mut fe, &mut ke);
+            let response = match tangent.as_mut() {
+                Some((values, surrogate)) => {
+                    let r = pair.residual_tangent_and_surrogate(
+                        &self.histories[c],
+                        &k1,
+                        &k2,
+                        &mut fe,
+                        &mut ke,
+                        &mut pe_m,
+                    );
                     pattern.add_element_matrix(values, pe, ke.as_slice());
+                    pattern.add_element_matrix(surrogate, pe, pe_m.as_slice());
                     r
                 }
                 None => pair.residual(&self.histories[c], &k1, &k2, &mut fe),
@@ -297,8 +351,9 @@ impl StrandProblem<'_> {
             );
             let pe = model.tie_pattern_element(t);
             pattern.add_element_vector(residual, pe, ft.as_slice());
-            if let Some(values) = tangent.as_deref_mut() {
+            if let Some((values, surrogate)) = tangent.as_mut() {
                 pattern.add_element_matrix(values, pe, kt.as_slice());
+                pattern.add_element_matrix(surrogate, pe, kt.as_slice());
             }
             scale2 += ft.fixed_rows::<3>(0).norm_squared();
         }

@@ -15,7 +15,7 @@ use super::{
     HistoryProgress, HistoryResult, HistoryStats, LoadSample,
 };
 use crate::fretting::{ContactCycleAccumulator, ContactRecord, ContactSample, SlipCycle};
-use crate::linalg::{solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace, SparseLu};
+use crate::linalg::{solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace, SplitSolver};
 use crate::strand::loading::{LoadSegment, SectionMotion};
 use crate::strand::model::StrandModel;
 use crate::strand::problem::StrandProblem;
@@ -49,7 +49,7 @@ impl Snapshot {
 pub(super) struct Runner<'a> {
     model: &'a StrandModel,
     pub(super) problem: StrandProblem<'a>,
-    solver: TimedSolver<SparseLu>,
+    solver: TimedSolver<SplitSolver>,
     workspace: NewtonWorkspace,
     newton: NewtonParams,
     max_strain: f64,
@@ -66,7 +66,7 @@ impl<'a> Runner<'a> {
             model,
             problem: reference_problem(model),
             solver: TimedSolver {
-                inner: SparseLu::new(&model.pattern)?,
+                inner: model.linear_solver()?,
                 times: WorkTimes::default(),
             },
             workspace: NewtonWorkspace::new(&model.pattern),

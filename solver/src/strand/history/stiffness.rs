@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 
 use super::{reference_problem, HistoryError, LoadSample};
-use crate::linalg::{solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace, SparseLu};
+use crate::linalg::{solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace};
 use crate::strand::loading::SectionMotion;
 use crate::strand::model::StrandModel;
 use crate::strand::problem::section_force_n;
@@ -32,7 +32,7 @@ pub fn measure_axial_stiffness_n(
         strain,
         curvature_per_m: 0.0,
     });
-    let mut solver = SparseLu::new(&model.pattern)?;
+    let mut solver = model.linear_solver()?;
     let mut ws = NewtonWorkspace::new(&model.pattern);
     let mut stats = NewtonStats::default();
     solve_load_path(

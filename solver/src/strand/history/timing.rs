@@ -45,6 +45,20 @@ impl<S: LinearSolver> LinearSolver for TimedSolver<S> {
         r
     }
 
+    fn factorize_preconditioned(
+        &mut self,
+        pattern: &SparsePattern,
+        values: &[f64],
+        surrogate: Option<&[f64]>,
+    ) -> Result<(), LinalgError> {
+        let t = Instant::now();
+        let r = self
+            .inner
+            .factorize_preconditioned(pattern, values, surrogate);
+        self.times.factorisation_s += t.elapsed().as_secs_f64();
+        r
+    }
+
     fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), LinalgError> {
         let t = Instant::now();
         let r = self.inner.solve_in_place(rhs);
@@ -87,5 +101,13 @@ impl<P: NonlinearProblem> NonlinearProblem for TimedProblem<'_, P> {
 
     fn restore(&mut self) {
         self.inner.restore();
+    }
+
+    fn merit_weights(&self) -> Option<&[f64]> {
+        self.inner.merit_weights()
+    }
+
+    fn preconditioner(&self) -> Option<&[f64]> {
+        self.inner.preconditioner()
     }
 }

@@ -1,0 +1,212 @@
+//! Cost of the linear algebra of one Newton iteration of the strand models: the tangent of a
+//! small tension step assembled, then factorised and solved with faer's sparse LU (automatic
+//! simplicial / supernodal choice, and forced supernodal), and with LDLᵀ of its symmetric part.
+//!
+//! `cargo run --release -p moorfret-solver --example linear_solver_study -- [benchmark|six_layer]`
+
+use std::time::Instant;
+
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::sparse::linalg::lu::{factorize_symbolic_lu, LuSymbolicParams, NumericLu};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::{Conj, MatMut, Par};
+use moorfret_solver::linalg::{
+    CholeskyKind, Equation, LinearSolver, NonlinearProblem, SparseCholesky, SparseLu,
+    SparsePattern, Storage,
+};
+use moorfret_solver::strand::loading::LoadPath;
+use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
+use moorfret_solver::strand::problem::StrandProblem;
+use moorfret_solver::strand::profile::{profile_from_json, profiles_from_json};
+
+const BENCHMARK: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../campaigns/benchmarks/strand_1_6_1.json"
+));
+const PROFILES: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../campaigns/data/strand_profiles.json"
+));
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let which = std::env::args()
+        .nth(1)
+        .unwrap_or_else(|| "benchmark".into());
+    let (strand, params) = if which == "six_layer" {
+        let profiles = profiles_from_json(PROFILES)?;
+        (
+            profiles
+                .get("paper_six_layer")
+                .ok_or("missing")?
+                .validate()?,
+            StrandModelParameters {
+                ends: EndKind::Periodic,
+                ..StrandModelParameters::default()
+            },
+        )
+    } else {
+        (
+            profile_from_json(BENCHMARK)?.validate()?,
+            StrandModelParameters::default(),
+        )
+    };
+    let model = StrandModel::new(&strand, &params)?;
+    let p = &model.pattern;
+    let n = p.size();
+    let mut problem = StrandProblem::new(
+        &model,
+        LoadPath {
+            strain: 1e-3,
+            curvature_per_m: 0.0,
+        },
+    );
+    let mut r = vec![0.0; n];
+    let mut k = vec![0.0; p.nnz()];
+    let t = Instant::now();
+    problem.evaluate(0.05, &mut r, Some(&mut k))?;
+    let assembly = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    r.fill(0.0);
+    problem.evaluate(0.05, &mut r, None)?;
+    let residual_only = t.elapsed().as_secs_f64();
+    println!(
+        "{which}: {n} equations, {} nonzeros; assembly with tangent {:.1} ms, residual only {:.1} ms",
+        p.nnz(),
+        1e3 * assembly,
+        1e3 * residual_only
+    );
+    let reps = if n > 20_000 { 3 } else { 15 };
+
+    // (a) faer LU, automatic choice
+    let t = Instant::now();
+    let mut lu = SparseLu::new(p)?;
+    let sym_auto = t.elapsed().as_secs_f64();
+    let mut times = Vec::new();
+    for _ in 0..reps {
+        let t = Instant::now();
+        lu.factorize(p, &k)?;
+        times.push(t.elapsed().as_secs_f64());
+    }
+    let mut x = r.clone();
+    let t = Instant::now();
+    lu.solve_in_place(&mut x)?;
+    println!(
+        "LU auto: symbolic {:.1} ms, factorise {:.1} ms (median of {reps}), solve {:.2} ms",
+        1e3 * sym_auto,
+        1e3 * median(times),
+        1e3 * t.elapsed().as_secs_f64()
+    );
+
+    // (b) faer LU, forced supernodal, numeric storage reused
+    let t = Instant::now();
+    let symbolic = factorize_symbolic_lu(
+        p.symbolic(),
+        LuSymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        },
+    )?;
+    let sym_sn = t.elapsed().as_secs_f64();
+    let mut numeric = NumericLu::<usize, f64>::new();
+    let par = Par::Seq;
+    let req = StackReq::or(
+        symbolic.factorize_numeric_lu_scratch::<f64>(par, Default::default()),
+        symbolic.solve_in_place_scratch::<f64>(1, par),
+    );
+    let mut buf = MemBuffer::try_new(req)?;
+    let mut times = Vec::new();
+    let mut y = r.clone();
+    for i in 0..reps {
+        let t = Instant::now();
+        let f = symbolic.factorize_numeric_lu(
+            &mut numeric,
+            p.matrix(&k),
+            par,
+            MemStack::new(&mut buf),
+            Default::default(),
+        )?;
+        times.push(t.elapsed().as_secs_f64());
+        if i == reps - 1 {
+            let t = Instant::now();
+            f.solve_in_place_with_conj(
+                Conj::No,
+                MatMut::from_column_major_slice_mut(&mut y, n, 1),
+                par,
+                MemStack::new(&mut buf),
+            );
+            println!(
+                "LU supernodal: symbolic {:.1} ms, factorise {:.1} ms (median), solve {:.2} ms; |x_auto - x_sn| / |x| = {:.1e}",
+                1e3 * sym_sn,
+                1e3 * median(times.clone()),
+                1e3 * t.elapsed().as_secs_f64(),
+                x.iter().zip(&y).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt()
+                    / x.iter().map(|a| a * a).sum::<f64>().sqrt()
+            );
+        }
+    }
+
+    // (c) LDLᵀ of the symmetric part (A + Aᵀ)/2
+    let mut pairs: Vec<[Equation; 2]> = Vec::with_capacity(p.nnz());
+    let (cp, ri) = (p.col_ptr(), p.row_idx());
+    for c in 0..n {
+        for &row in &ri[cp[c]..cp[c + 1]] {
+            if row <= c {
+                pairs.push([Equation::free(row)?, Equation::free(c)?]);
+            }
+        }
+    }
+    let up = SparsePattern::new(n, Storage::Upper, &pairs)?;
+    let mut kv = vec![0.0; up.nnz()];
+    let mut e = 0;
+    let mut kfull = std::collections::HashMap::new();
+    for c in 0..n {
+        for (j, &row) in ri[cp[c]..cp[c + 1]].iter().enumerate() {
+            kfull.insert((row, c), k[cp[c] + j]);
+        }
+    }
+    for c in 0..n {
+        for &row in &ri[cp[c]..cp[c + 1]] {
+            if row <= c {
+                let v = if row == c {
+                    kfull[&(row, c)]
+                } else {
+                    0.5 * (kfull[&(row, c)] + kfull.get(&(c, row)).copied().unwrap_or(0.0))
+                };
+                // element [row, c]: column-major 2×2, the (0,1) entry is (row, c)
+                let ke = if row == c {
+                    [v, 0.0, 0.0, 0.0]
+                } else {
+                    [0.0, v, 0.0, 0.0]
+                };
+                up.add_element_matrix(&mut kv, e, &ke);
+                e += 1;
+            }
+        }
+    }
+    let t = Instant::now();
+    let mut ldlt = SparseCholesky::new(&up, CholeskyKind::Ldlt, Par::Seq)?;
+    let sym_ch = t.elapsed().as_secs_f64();
+    let mut times = Vec::new();
+    for _ in 0..reps {
+        let t = Instant::now();
+        ldlt.factorize(&up, &kv)?;
+        times.push(t.elapsed().as_secs_f64());
+    }
+    let mut z = r.clone();
+    let t = Instant::now();
+    ldlt.solve_in_place(&mut z)?;
+    println!(
+        "LDLt of the symmetric part: symbolic {:.1} ms, factorise {:.1} ms (median), solve {:.2} ms, supernodal {}, factor {} values",
+        1e3 * sym_ch,
+        1e3 * median(times),
+        1e3 * t.elapsed().as_secs_f64(),
+        ldlt.is_supernodal(),
+        ldlt.factor_len()
+    );
+    Ok(())
+}
