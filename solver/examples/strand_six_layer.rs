@@ -87,6 +87,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     label: String|
      -> Result<(), Box<dyn std::error::Error>> {
         let before = solver.times;
+        let split_before = solver.inner.stats();
         let mut timed = TimedProblem {
             inner: problem,
             times: WorkTimes::default(),
@@ -116,6 +117,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             stats.iterations,
             stats.step_iterations,
             stats.factorisations
+        );
+        let split = solver.inner.stats();
+        let solves = split.solves - split_before.solves;
+        println!(
+            "  linear solves: {solves}, GMRES iterations {} ({:.1} per solve), LU fallbacks {}",
+            split.iterations - split_before.iterations,
+            (split.iterations - split_before.iterations) as f64 / solves.max(1) as f64,
+            split.lu_fallbacks - split_before.lu_fallbacks
         );
         Ok(())
     };

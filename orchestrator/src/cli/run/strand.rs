@@ -9,8 +9,9 @@
 //! - `summary.json`: per case the Newton statistics, stage timings, largest contact normal
 //!   force, largest slip and contact status counts, plus the model sizes;
 //! - `outer_helix_axial_force.svg`: FE force against θ per case with the stick solution
-//!   T₀ + EA cos²β R κ sin θ and the friction-limited (full slip) solution T₀ + μ T₀ sin β sin θ
-//!   (|dF/ds| = μ q with q = T₀ sin²β/R and dθ/ds = sin β/R), as the seed's Fig. 4.
+//!   T₀ + EA cos²β R κ sin θ and the friction-limited (full slip) solution, the triangle wave
+//!   T₀ + (π/2) μ T₀ sin β · tri(θ) (|dF/ds| = μ q with q = T₀ sin²β/R and dθ/ds = sin β/R,
+//!   [`slip_force_variation`]), as the seed's Fig. 4.
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -18,7 +19,7 @@ use std::path::PathBuf;
 use anyhow::{anyhow, Context};
 use clap::Args;
 use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
-use moorfret_solver::strand::analytical::stick_force_variation;
+use moorfret_solver::strand::analytical::{slip_force_variation, stick_force_variation};
 use moorfret_solver::strand::driver::{run_case, CaseResult, StrandRunParameters};
 use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::profile_from_json;
@@ -172,7 +173,7 @@ pub fn execute(args: StrandArgs) -> anyhow::Result<()> {
         let forces = outer_forces(&r);
         let stick =
             |theta: f64| t0 + stick_force_variation(ea, beta, layer.helix_radius_m, kappa, theta);
-        let slip = |theta: f64| t0 + mu * t0 * beta.sin() * theta.sin();
+        let slip = |theta: f64| t0 + slip_force_variation(mu, beta, t0, theta);
         let mut rows = Vec::with_capacity(forces.len());
         for f in &forces {
             csv.write_record([
@@ -246,13 +247,10 @@ fn plot(path: &std::path::Path, curves: &[(f64, Vec<Row>)]) -> anyhow::Result<()
             .label("stick")
             .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLUE));
         chart
-            .draw_series(
-                rows.iter()
-                    .map(|r| Circle::new((r.0, r.3), 2, GREEN.filled())),
-            )
+            .draw_series(LineSeries::new(sorted.iter().map(|r| (r.0, r.3)), &GREEN))
             .map_err(|e| anyhow!("{e}"))?
             .label("friction-limited slip")
-            .legend(|(x, y)| Circle::new((x + 10, y), 2, GREEN.filled()));
+            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], GREEN));
         chart
             .draw_series(
                 rows.iter()
