@@ -29,7 +29,7 @@ use super::dynamics::DynamicsParams;
 use super::error::GlobalError;
 use super::motion::StepMotion;
 use super::results::RunStats;
-use super::sea::{LineSeaCache, RampedSea};
+use super::sea::{LineSeaCache, PassSea, RampedSea};
 use super::system::{FloaterModel, GlobalModel};
 use crate::beam::rotation::exp_so3;
 use crate::floater::body::point_kinematics;
@@ -122,6 +122,8 @@ pub(crate) struct StepContext<'a> {
     pub(crate) model: &'a GlobalModel,
     pub(crate) caches: &'a [Option<LineSeaCache<'a>>],
     pub(crate) ramped: &'a RampedSea<'a, crate::waves::IrregularSea>,
+    /// The floater's sea samples, held over the inner iterations of a pass.
+    pub(crate) floater_sea: &'a PassSea<'a>,
     pub(crate) params: &'a DynamicsParams,
     pub(crate) pool: Option<&'a rayon::ThreadPool>,
     pub(crate) scale: Vector6<f64>,
@@ -291,7 +293,7 @@ fn floater_residual(
 ) -> (Vector6<f64>, Matrix6<f64>) {
     let model = ctx.model;
     let mut r = floater.mass_matrix(trial) * acc1
-        - floater.net_forces(trial, ctx.ramped, t1, model.thrust_n);
+        - floater.net_forces(trial, ctx.floater_sea, t1, model.thrust_n);
     let mut kq = jac.position;
     for (l, run) in model.lines.iter().zip(runs) {
         let x = trial.position_m + trial.rotation * l.body_point_m;
@@ -358,7 +360,10 @@ pub(crate) fn coupled_step(
             });
         };
         let c = std::time::Instant::now();
+        // The pass residual samples the sea directly; the inner iterations reuse its samples.
+        ctx.floater_sea.record();
         let (mut r, mut kq) = floater_residual(ctx, f, jac, runs, &trial, &acc1, t1);
+        ctx.floater_sea.replay();
         stats.floater_evaluations += 1;
         residual = r.component_div(&ctx.scale).amax();
         if !residual.is_finite() {

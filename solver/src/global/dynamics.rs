@@ -25,7 +25,7 @@ use nalgebra::{Matrix3, Vector6};
 use super::coupling::{coupled_step, Alpha, FloaterStart, LineRun, StepContext};
 use super::error::GlobalError;
 use super::results::{FloaterSeries, GlobalResult, HotSpotResult, LineResult, RunStats};
-use super::sea::{LineSeaCache, Ramp, RampedSea};
+use super::sea::{LineSeaCache, PassSea, Ramp, RampedSea};
 use super::system::{for_lines, GlobalModel, StaticEquilibrium};
 use crate::floater::BodyState;
 use crate::mooring::dynamics::{DynamicParams, LineIntegrator, LineState};
@@ -79,6 +79,10 @@ impl Default for DynamicsParams {
         }
     }
 }
+
+/// Largest distance (m) between a floater strip's point and the point its sea sample was taken
+/// at for the sample to be reused by the floater iterations inside a coupling pass.
+const FLOATER_SEA_HOLD_M: f64 = 0.05;
 
 /// Roll, pitch, yaw (rad) of Λ = R_z(yaw) R_y(pitch) R_x(roll).
 fn angles(rotation: &Matrix3<f64>) -> [f64; 3] {
@@ -196,10 +200,12 @@ pub fn run_dynamics(
         }
     };
 
+    let floater_sea = PassSea::new(&ramped, FLOATER_SEA_HOLD_M);
     let ctx = StepContext {
         model,
         caches: &caches,
         ramped: &ramped,
+        floater_sea: &floater_sea,
         params,
         pool,
         scale: model.residual_scale(),

@@ -167,6 +167,123 @@ impl SeaKinematics for LineSeaCache<'_> {
     }
 }
 
+/// Sea samples of the floater held over one coupling pass.
+///
+/// The floater's hydrodynamic loads sample the sea at its strip centres (direct summation over
+/// every wave component, the dominant cost of a floater evaluation). Inside a coupling pass the
+/// floater Newton iterations move the body by millimetres, so [`PassSea`] records the samples of
+/// the pass's first evaluation and answers the queries of the following inner iterations, in
+/// the same order, with them. A query at another time or farther than `tolerance_m` from its
+/// recorded point (a strip that became wet or dry changes the order) is answered directly.
+/// Only the inner iterations see held samples: every pass starts by recording, so the residual
+/// that decides convergence is always the exact one.
+pub(crate) struct PassSea<'a> {
+    sea: &'a dyn SeaKinematics,
+    tolerance_m: f64,
+    held: Mutex<Held>,
+}
+
+#[derive(Default)]
+struct Held {
+    replay: bool,
+    time_s: f64,
+    kinematics: Vec<(Vector3<f64>, FluidKinematics)>,
+    elevations: Vec<([f64; 2], f64)>,
+    next_kinematics: usize,
+    next_elevation: usize,
+}
+
+impl<'a> PassSea<'a> {
+    /// Direct sampling of `sea`, held samples used within `tolerance_m` of their point.
+    pub(crate) fn new(sea: &'a dyn SeaKinematics, tolerance_m: f64) -> Self {
+        PassSea {
+            sea,
+            tolerance_m,
+            held: Mutex::new(Held::default()),
+        }
+    }
+
+    fn with_held<R>(&self, f: impl FnOnce(&mut Held) -> R) -> R {
+        match self.held.lock() {
+            Ok(mut h) => f(&mut h),
+            Err(poisoned) => f(&mut poisoned.into_inner()),
+        }
+    }
+
+    /// The next evaluation samples the sea directly and records the samples.
+    pub(crate) fn record(&self) {
+        self.with_held(|h| {
+            h.replay = false;
+            h.kinematics.clear();
+            h.elevations.clear();
+        });
+    }
+
+    /// The next evaluation reuses the recorded samples.
+    pub(crate) fn replay(&self) {
+        self.with_held(|h| {
+            h.replay = true;
+            h.next_kinematics = 0;
+            h.next_elevation = 0;
+        });
+    }
+}
+
+impl SeaKinematics for PassSea<'_> {
+    fn kinematics(&self, x: &Vector3<f64>, t: f64) -> FluidKinematics {
+        let held = self.with_held(|h| {
+            if !h.replay {
+                return None;
+            }
+            let i = h.next_kinematics;
+            h.next_kinematics += 1;
+            match h.kinematics.get(i) {
+                Some((p, k)) if h.time_s == t && (p - x).norm() <= self.tolerance_m => Some(*k),
+                _ => None,
+            }
+        });
+        if let Some(k) = held {
+            return k;
+        }
+        let k = self.sea.kinematics(x, t);
+        self.with_held(|h| {
+            if !h.replay {
+                h.time_s = t;
+                h.kinematics.push((*x, k));
+            }
+        });
+        k
+    }
+    fn elevation(&self, x: f64, y: f64, t: f64) -> f64 {
+        let held = self.with_held(|h| {
+            if !h.replay {
+                return None;
+            }
+            let i = h.next_elevation;
+            h.next_elevation += 1;
+            match h.elevations.get(i) {
+                Some((p, e))
+                    if h.time_s == t && (p[0] - x).hypot(p[1] - y) <= self.tolerance_m =>
+                {
+                    Some(*e)
+                }
+                _ => None,
+            }
+        });
+        if let Some(e) = held {
+            return e;
+        }
+        let e = self.sea.elevation(x, y, t);
+        self.with_held(|h| {
+            if !h.replay {
+                h.time_s = t;
+                h.elevations.push(([x, y], e));
+            }
+        });
+        e
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

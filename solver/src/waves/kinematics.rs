@@ -59,6 +59,8 @@ pub fn stretched_height(z: f64, eta: f64, depth_m: f64) -> Option<f64> {
 #[derive(Debug, Clone, PartialEq)]
 pub struct AiryField {
     components: Vec<WaveComponent>,
+    /// Per-component constants of the direct summation (see [`SummationTerm`]).
+    terms: Vec<SummationTerm>,
     depth_m: f64,
     heading_rad: f64,
     direction: (f64, f64),
@@ -73,8 +75,13 @@ impl AiryField {
         heading_rad: f64,
         water_density_kg_m3: f64,
     ) -> Self {
+        let terms = components
+            .iter()
+            .map(|c| SummationTerm::new(c, depth_m))
+            .collect();
         Self {
             components,
+            terms,
             depth_m,
             heading_rad,
             direction: (heading_rad.cos(), heading_rad.sin()),
@@ -127,21 +134,49 @@ impl AiryField {
 
     /// Kinematics at point `p` and time `t` by direct summation, with Wheeler stretching.
     pub fn kinematics(&self, p: &Vector3<f64>, t: f64) -> FluidKinematics {
+        PHASORS.with(|buffer| {
+            let mut phasors = buffer.borrow_mut();
+            self.kinematics_with(p, t, &mut phasors)
+        })
+    }
+
+    /// [`AiryField::kinematics`] with a scratch buffer for the phasors. Each component costs
+    /// one `sin_cos` (its phasor, shared by η and the kinematics) and one `exp` (the depth
+    /// profiles, with e^{−k(s+d)} = e^{−2kd} / e^{k(s−d)} and 1/(1 − e^{−2kd}) precomputed).
+    fn kinematics_with(
+        &self,
+        p: &Vector3<f64>,
+        t: f64,
+        phasors: &mut Vec<Complex<f64>>,
+    ) -> FluidKinematics {
         let xb = self.along(p.x, p.y);
-        let eta = self.elevation(p.x, p.y, t);
+        phasors.clear();
+        let mut eta = 0.0;
+        for c in &self.components {
+            let e = Self::phasor(c, xb, t);
+            eta += e.re;
+            phasors.push(e);
+        }
         let Some(s) = stretched_height(p.z, eta, self.depth_m) else {
             return FluidKinematics::default();
         };
         let (mut uh, mut w, mut ah, mut az, mut pd) = (0.0, 0.0, 0.0, 0.0, 0.0);
-        for c in &self.components {
-            let e = Self::phasor(c, xb, t);
-            let (cp, sp) = depth_profiles(c.wavenumber_rad_m, s, self.depth_m);
-            let om = c.omega_rad_s;
-            uh += om * cp * e.re;
-            w += om * sp * e.im;
-            ah -= om * om * cp * e.im;
-            az += om * om * sp * e.re;
-            pd += om * om / c.wavenumber_rad_m * cp * e.re;
+        let lift = s - self.depth_m;
+        for (term, e) in self.terms.iter().zip(phasors.iter()) {
+            let up = (term.k * lift).exp();
+            // e^{−2kd} / e^{k(s−d)} unless that quotient could lose range (very short waves).
+            let down = if up > 1e-100 {
+                term.exp_m2kd / up
+            } else {
+                (-term.k * (s + self.depth_m)).exp()
+            };
+            let cp = (up + down) * term.inv_denom;
+            let sp = (up - down) * term.inv_denom;
+            uh += term.omega * cp * e.re;
+            w += term.omega * sp * e.im;
+            ah -= term.omega2 * cp * e.im;
+            az += term.omega2 * sp * e.re;
+            pd += term.omega2_over_k * cp * e.re;
         }
         let (cx, cy) = self.direction;
         FluidKinematics {
@@ -150,6 +185,39 @@ impl AiryField {
             dynamic_pressure_pa: self.water_density_kg_m3 * pd,
         }
     }
+}
+
+/// Constants of one component in the direct summation of [`AiryField::kinematics`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct SummationTerm {
+    k: f64,
+    omega: f64,
+    omega2: f64,
+    omega2_over_k: f64,
+    /// e^{−2kd}.
+    exp_m2kd: f64,
+    /// 1 / (1 − e^{−2kd}).
+    inv_denom: f64,
+}
+
+impl SummationTerm {
+    fn new(c: &WaveComponent, depth_m: f64) -> Self {
+        let k = c.wavenumber_rad_m;
+        let om = c.omega_rad_s;
+        SummationTerm {
+            k,
+            omega: om,
+            omega2: om * om,
+            omega2_over_k: om * om / k,
+            exp_m2kd: (-2.0 * k * depth_m).exp(),
+            inv_denom: 1.0 / -(-2.0 * k * depth_m).exp_m1(),
+        }
+    }
+}
+
+thread_local! {
+    /// Scratch phasors of [`AiryField::kinematics`] (grows to the component count once).
+    static PHASORS: std::cell::RefCell<Vec<Complex<f64>>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
 #[cfg(test)]
