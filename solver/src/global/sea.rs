@@ -262,9 +262,7 @@ impl SeaKinematics for PassSea<'_> {
             let i = h.next_elevation;
             h.next_elevation += 1;
             match h.elevations.get(i) {
-                Some((p, e))
-                    if h.time_s == t && (p[0] - x).hypot(p[1] - y) <= self.tolerance_m =>
-                {
+                Some((p, e)) if h.time_s == t && (p[0] - x).hypot(p[1] - y) <= self.tolerance_m => {
                     Some(*e)
                 }
                 _ => None,
