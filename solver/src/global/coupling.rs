@@ -336,7 +336,10 @@ pub(crate) fn coupled_step(
     let floater = match &model.floater {
         FloaterModel::RigidBody(f) => {
             let c = std::time::Instant::now();
-            let jac = f.load_jacobians(&trial, ctx.ramped, t1, model.thrust_n);
+            // The sea samples of the Jacobian's evaluation are those of the first pass's
+            // residual (same pose, same time): recorded here, replayed there.
+            ctx.floater_sea.record();
+            let jac = f.load_jacobians(&trial, ctx.floater_sea, t1, model.thrust_n);
             stats.floater_s += c.elapsed().as_secs_f64();
             Some((f, jac))
         }
@@ -360,8 +363,13 @@ pub(crate) fn coupled_step(
             });
         };
         let c = std::time::Instant::now();
-        // The pass residual samples the sea directly; the inner iterations reuse its samples.
-        ctx.floater_sea.record();
+        // The pass residual samples the sea directly (the first pass replays the samples of
+        // the Jacobian, taken at the same pose); the inner iterations reuse its samples.
+        if passes == 1 {
+            ctx.floater_sea.replay();
+        } else {
+            ctx.floater_sea.record();
+        }
         let (mut r, mut kq) = floater_residual(ctx, f, jac, runs, &trial, &acc1, t1);
         ctx.floater_sea.replay();
         stats.floater_evaluations += 1;
