@@ -5,11 +5,12 @@
 //!
 //! Run (release): `cargo run --release -p moorfret-solver --example strand_six_layer -- \
 //!   [strain] [curvature 1/m ...]` (defaults: 2.5e-3, then 2e-3 5e-3 1e-2 2e-2 4e-2).
+//! `STRAND_REUSE_MARGIN=none|N` overrides the preconditioner reuse of the split solver.
 
 use std::time::Instant;
 
 use moorfret_solver::linalg::{
-    solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace, SplitSolver,
+    solve_load_path, GmresParams, NewtonParams, NewtonStats, NewtonWorkspace, SplitSolver,
 };
 use moorfret_solver::strand::bending::{bending_stiffness_bounds, section_resultants};
 use moorfret_solver::strand::history::stiffness::straight_strand_stiffness;
@@ -75,7 +76,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     let t = Instant::now();
     let mut solver = TimedSolver {
-        inner: model.linear_solver()?,
+        inner: match std::env::var("STRAND_REUSE_MARGIN").as_deref() {
+            Ok("none") => model.linear_solver_with(GmresParams::default())?,
+            Ok(m) => model.linear_solver_with(GmresParams {
+                reuse_margin: Some(m.parse()?),
+                ..GmresParams::default()
+            })?,
+            Err(_) => model.linear_solver()?,
+        },
         times: WorkTimes::default(),
     };
     println!("symbolic analysis: {:.2} s", t.elapsed().as_secs_f64());
@@ -121,9 +129,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let split = solver.inner.stats();
         let solves = split.solves - split_before.solves;
         println!(
-            "  linear solves: {solves}, GMRES iterations {} ({:.1} per solve), LU fallbacks {}",
+            "  linear solves: {solves}, GMRES iterations {} ({:.1} per solve), LDLᵀ \
+             factorisations {}, reuses {}, LU fallbacks {}",
             split.iterations - split_before.iterations,
             (split.iterations - split_before.iterations) as f64 / solves.max(1) as f64,
+            split.factorisations - split_before.factorisations,
+            split.reuses - split_before.reuses,
             split.lu_fallbacks - split_before.lu_fallbacks
         );
         Ok(())

@@ -34,6 +34,11 @@ pub struct GmresParams {
     /// After a solve fell back to LU, this many further solves go straight to LU (their
     /// matrices, from the next Newton iterations, are alike).
     pub lu_streak: usize,
+    /// Preconditioner reuse: a new matrix keeps the LDLᵀ factorisation of an earlier one as
+    /// long as the last solve needed at most this many GMRES iterations more than the first
+    /// solve after that factorisation (`None`: factorise every matrix). GMRES still solves the
+    /// new matrix to its tolerance; only the preconditioner is older.
+    pub reuse_margin: Option<usize>,
 }
 
 impl Default for GmresParams {
@@ -43,6 +48,7 @@ impl Default for GmresParams {
             restart: 60,
             max_iterations: 60,
             lu_streak: 3,
+            reuse_margin: None,
         }
     }
 }
@@ -56,6 +62,10 @@ pub struct SplitStats {
     pub iterations: usize,
     /// Solves that fell back to LU.
     pub lu_fallbacks: usize,
+    /// LDLᵀ factorisations of the preconditioner.
+    pub factorisations: usize,
+    /// Matrices solved with the preconditioner of an earlier one.
+    pub reuses: usize,
 }
 
 /// LDLᵀ of the symmetric part as preconditioner of GMRES on the full matrix.
@@ -75,6 +85,11 @@ pub struct SplitSolver {
     lu: Option<SparseLu>,
     /// Whether the last factorisation of S succeeded (otherwise solves go to LU).
     ldlt_ok: bool,
+    /// Whether the factorisation is of the current surrogate (not of an earlier matrix's).
+    ldlt_current: bool,
+    /// GMRES iterations of the first solve after the factorisation, and of the last solve.
+    fresh_iterations: Option<usize>,
+    last_iterations: usize,
     lu_current: bool,
     /// Solves still to go straight to LU.
     skip_gmres: usize,
@@ -115,6 +130,9 @@ impl SplitSolver {
             params,
             lu: None,
             ldlt_ok: false,
+            ldlt_current: false,
+            fresh_iterations: None,
+            last_iterations: 0,
             lu_current: false,
             skip_gmres: 0,
             stats: SplitStats::default(),
@@ -130,6 +148,19 @@ impl SplitSolver {
         self.stats
     }
 
+    /// Forgets every factorisation and the reuse and fallback history, as in a new solver:
+    /// the next matrix is factorised afresh. A run resumed from a checkpoint with a new solver
+    /// repeats the uninterrupted run to the bit when that run resets its solver at the same
+    /// point.
+    pub fn reset(&mut self) {
+        self.ldlt_ok = false;
+        self.ldlt_current = false;
+        self.fresh_iterations = None;
+        self.last_iterations = 0;
+        self.lu_current = false;
+        self.skip_gmres = 0;
+    }
+
     fn lu_solve(&mut self, rhs: &mut [f64]) -> Result<(), LinalgError> {
         if self.lu.is_none() {
             self.lu = Some(SparseLu::new(&self.full)?);
@@ -141,6 +172,34 @@ impl SplitSolver {
         }
         self.stats.lu_fallbacks += 1;
         lu.solve_in_place(rhs)
+    }
+
+    /// LDLᵀ of the current symmetric surrogate.
+    fn refactorize(&mut self) -> Result<(), LinalgError> {
+        self.stats.factorisations += 1;
+        self.fresh_iterations = None;
+        self.ldlt_current = true;
+        self.ldlt_ok = match self.ldlt.factorize(&self.upper, &self.symmetric) {
+            Ok(()) => true,
+            Err(LinalgError::BadPivot { .. }) => false,
+            Err(e) => return Err(e),
+        };
+        Ok(())
+    }
+
+    /// GMRES on `rhs` (a copy of which is in `b`), counting its iterations; false when it
+    /// did not converge, with `rhs` restored.
+    fn try_gmres(&mut self, rhs: &mut [f64], b: &[f64]) -> Result<bool, LinalgError> {
+        let before = self.stats.iterations;
+        self.stats.solves += 1;
+        let converged = self.gmres(rhs)? && rhs.iter().all(|v| v.is_finite());
+        self.last_iterations = self.stats.iterations - before;
+        if converged {
+            self.fresh_iterations.get_or_insert(self.last_iterations);
+        } else {
+            rhs.copy_from_slice(b);
+        }
+        Ok(converged)
     }
 
     /// Right-preconditioned restarted GMRES from x = 0; returns x in `rhs` when converged.
@@ -286,23 +345,35 @@ impl LinearSolver for SplitSolver {
         {
             self.symmetric[u] += if d { v } else { 0.5 * v };
         }
-        self.ldlt_ok = match self.ldlt.factorize(&self.upper, &self.symmetric) {
-            Ok(()) => true,
-            Err(LinalgError::BadPivot { .. }) => false,
-            Err(e) => return Err(e),
+        let reuse = match (self.params.reuse_margin, self.fresh_iterations) {
+            (Some(margin), Some(fresh)) => {
+                self.ldlt_ok && self.skip_gmres == 0 && self.last_iterations <= fresh + margin
+            }
+            _ => false,
         };
-        Ok(())
+        if reuse {
+            self.ldlt_current = false;
+            self.stats.reuses += 1;
+            Ok(())
+        } else {
+            self.refactorize()
+        }
     }
 
     fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), LinalgError> {
         check_len("right-hand side", self.full.size(), rhs.len())?;
         if self.ldlt_ok && self.skip_gmres == 0 {
             let b = rhs.to_vec();
-            self.stats.solves += 1;
-            if self.gmres(rhs)? && rhs.iter().all(|v| v.is_finite()) {
+            if self.try_gmres(rhs, &b)? {
                 return Ok(());
             }
-            rhs.copy_from_slice(&b);
+            if !self.ldlt_current {
+                // the preconditioner of an earlier matrix: refresh it before giving up
+                self.refactorize()?;
+                if self.ldlt_ok && self.try_gmres(rhs, &b)? {
+                    return Ok(());
+                }
+            }
             self.skip_gmres = self.params.lu_streak;
         } else {
             self.skip_gmres = self.skip_gmres.saturating_sub(1);
@@ -363,6 +434,79 @@ mod tests {
         let mut xs = b.clone();
         solver.ldlt.solve_in_place(&mut xs).unwrap();
         assert!(residual(&p, &values, &xs, &b) > 1e-3);
+    }
+
+    /// `values` with `shift` added to every diagonal entry.
+    fn shifted(p: &SparsePattern, values: &[f64], shift: f64) -> Vec<f64> {
+        let mut v = values.to_vec();
+        for c in 0..p.size() {
+            let range = p.col_ptr()[c]..p.col_ptr()[c + 1];
+            let k = range.start + p.row_idx()[range].iter().position(|&r| r == c).unwrap();
+            v[k] += shift;
+        }
+        v
+    }
+
+    #[test]
+    fn a_reused_preconditioner_still_solves_the_new_matrix() {
+        let params = GmresParams {
+            reuse_margin: Some(10),
+            ..GmresParams::default()
+        };
+        let (p, first) = chain(300, 0.6);
+        let second = shifted(&p, &first, 0.01);
+        let mut solver = SplitSolver::new(&p, params).unwrap();
+        let b: Vec<f64> = (0..300).map(|i| 1.0 + (i % 7) as f64).collect();
+        for values in [&first, &second] {
+            solver.factorize(&p, values).unwrap();
+            let mut x = b.clone();
+            solver.solve_in_place(&mut x).unwrap();
+            // the second matrix, solved with the first one's factorisation, to the tolerance
+            assert!(residual(&p, values, &x, &b) < 1e-9);
+        }
+        let s = solver.stats();
+        assert_eq!(
+            (s.factorisations, s.reuses, s.lu_fallbacks),
+            (1, 1, 0),
+            "{s:?}"
+        );
+        // without reuse: one factorisation per matrix
+        let mut fresh = SplitSolver::new(&p, GmresParams::default()).unwrap();
+        for values in [&first, &second] {
+            fresh.factorize(&p, values).unwrap();
+            let mut x = b.clone();
+            fresh.solve_in_place(&mut x).unwrap();
+        }
+        assert_eq!((fresh.stats().factorisations, fresh.stats().reuses), (2, 0));
+    }
+
+    #[test]
+    fn a_stale_preconditioner_that_fails_is_refreshed_before_lu() {
+        // the factorisation of a nearly symmetric chain (a few GMRES iterations) preconditions
+        // the chain shifted by 5 I badly
+        // (eigenvalues of M⁻¹A from 1 to ~100): 30 iterations are not enough, so the solver
+        // refactorises the current matrix and GMRES converges without LU
+        let params = GmresParams {
+            reuse_margin: Some(1000),
+            max_iterations: 30,
+            ..GmresParams::default()
+        };
+        let (p, first) = chain(300, 0.05);
+        let second = shifted(&p, &first, 5.0);
+        let mut solver = SplitSolver::new(&p, params).unwrap();
+        let b: Vec<f64> = (0..300).map(|i| (0.1 * i as f64).cos()).collect();
+        for values in [&first, &second] {
+            solver.factorize(&p, values).unwrap();
+            let mut x = b.clone();
+            solver.solve_in_place(&mut x).unwrap();
+            assert!(residual(&p, values, &x, &b) < 1e-9);
+        }
+        let s = solver.stats();
+        assert_eq!(
+            (s.reuses, s.factorisations, s.lu_fallbacks, s.solves),
+            (1, 2, 0, 3),
+            "{s:?}"
+        );
     }
 
     #[test]

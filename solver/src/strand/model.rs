@@ -30,6 +30,13 @@ use crate::linalg::{
     Equation, GmresParams, LinalgError, PatternError, SparsePattern, SplitSolver, Storage,
 };
 
+/// GMRES iterations a reused preconditioner may cost beyond a fresh one before the solver
+/// refactorises ([`GmresParams::reuse_margin`]): one LDLᵀ factorisation costs about as much as
+/// 20 preconditioned GMRES iterations on both the 1+6+1 and the six-layer strand
+/// (`solver/examples/linear_solver_study.rs`), so ten extra iterations per solve are cheaper
+/// than refactorising as long as the pattern of stick and slip holds.
+pub const PRECONDITIONER_REUSE_MARGIN: usize = 10;
+
 /// Errors while building or solving a strand model.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum StrandModelError {
@@ -355,11 +362,21 @@ impl StrandModel {
             .map_or(&self.pattern, |p| &p.extended)
     }
 
-    /// The linear solver of the model's Newton iterations: LDLᵀ of the tangent's symmetric part
-    /// preconditioning GMRES on the full (frictional, non-symmetric) tangent
-    /// ([`SplitSolver`]); symbolic analysis of [`Self::pattern`] done here, once.
+    /// The linear solver of the model's Newton iterations: LDLᵀ of the tangent's symmetric
+    /// surrogate preconditioning GMRES on the full (frictional, non-symmetric) tangent
+    /// ([`SplitSolver`]), the factorisation kept over later tangents while GMRES needs at most
+    /// [`PRECONDITIONER_REUSE_MARGIN`] iterations more than with a fresh one; symbolic
+    /// analysis of [`Self::pattern`] done here, once.
     pub fn linear_solver(&self) -> Result<SplitSolver, LinalgError> {
-        SplitSolver::new(&self.pattern, GmresParams::default())
+        self.linear_solver_with(GmresParams {
+            reuse_margin: Some(PRECONDITIONER_REUSE_MARGIN),
+            ..GmresParams::default()
+        })
+    }
+
+    /// [`Self::linear_solver`] with other GMRES settings.
+    pub fn linear_solver_with(&self, params: GmresParams) -> Result<SplitSolver, LinalgError> {
+        SplitSolver::new(&self.pattern, params)
     }
 
     /// Pattern element index of contact `c`.

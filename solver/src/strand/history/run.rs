@@ -377,6 +377,11 @@ pub fn run_history_from(
                 stats: runner.stats(),
             });
         }
+        if interval > 0 && done % interval == 0 {
+            // a resumed run starts here with a new solver: keep the preconditioner history
+            // of both runs alike from this point on
+            runner.solver.inner.reset();
+        }
         if done < segments && observer.should_stop() {
             return Err(HistoryError::Stopped {
                 segment: done,
