@@ -123,7 +123,7 @@ fn read_load(path: &Path, slack_as_zero: bool) -> anyhow::Result<LoadTable> {
         .clone();
     // column index of time, load value, curvature
     let mut columns: [Option<usize>; 3] = [None; 3];
-    let mut kind = None;
+    let mut kind: Option<LoadKind> = None;
     for (i, name) in header.iter().enumerate() {
         let slot = match name {
             "time_s" => 0,
