@@ -151,7 +151,7 @@ pub struct StrandSpec {
 }
 
 /// End conditions of the helical wires of the strand model.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "snake_case")]
 pub enum StrandEnds {
     /// Periodic constraints between the two ends (seed Sec. 2.3).
@@ -159,6 +159,17 @@ pub enum StrandEnds {
     Periodic,
     /// Penalty ties of the helical wire ends to the core end sections (seed Sec. 2.2).
     PenaltyTies,
+}
+
+impl StrandEnds {
+    /// The solver's end condition.
+    pub fn end_kind(self) -> moorfret_solver::strand::model::EndKind {
+        use moorfret_solver::strand::model::EndKind;
+        match self {
+            Self::Periodic => EndKind::Periodic,
+            Self::PenaltyTies => EndKind::PenaltyTies,
+        }
+    }
 }
 
 fn default_checkpoint_interval() -> f64 {

@@ -31,8 +31,23 @@ pub(crate) fn panel<DB: DrawingBackend>(
 where
     DB::ErrorType: 'static,
 {
+    panel_curves(area, title, y_label, t, &[("", BLUE, y)])
+}
+
+/// One panel with several curves `(label, colour, y(t))`; a legend when any label is given.
+pub(crate) fn panel_curves<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    title: &str,
+    y_label: &str,
+    t: &[f64],
+    curves: &[(&str, RGBColor, &[f64])],
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
     let (t0, t1) = bounds(t);
-    let (y0, y1) = bounds(y);
+    let all: Vec<f64> = curves.iter().flat_map(|c| c.2.iter().copied()).collect();
+    let (y0, y1) = bounds(&all);
     let mut chart = ChartBuilder::on(area)
         .caption(title, ("sans-serif", 16))
         .margin(10)
@@ -46,12 +61,27 @@ where
         .y_desc(y_label)
         .draw()
         .map_err(plot_err)?;
-    chart
-        .draw_series(LineSeries::new(
-            t.iter().copied().zip(y.iter().copied()),
-            &BLUE,
-        ))
-        .map_err(plot_err)?;
+    for &(label, color, y) in curves {
+        let series = chart
+            .draw_series(LineSeries::new(
+                t.iter().copied().zip(y.iter().copied()),
+                color,
+            ))
+            .map_err(plot_err)?;
+        if !label.is_empty() {
+            series
+                .label(label)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
+        }
+    }
+    if curves.iter().any(|c| !c.0.is_empty()) {
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(plot_err)?;
+    }
     Ok(())
 }
 

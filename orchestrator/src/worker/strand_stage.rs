@@ -39,7 +39,6 @@ use super::global_stage::series_role;
 use super::series::HotSpotSeries;
 use super::{permanent, transient};
 use crate::campaign::resolve::hot_spot_line_type;
-use crate::campaign::spec::StrandEnds;
 use crate::campaign::{CampaignInputs, StrandPayload};
 use crate::store::{
     damage_rows, ArtifactStore, ContactStatistics, JobFailure, JobResults, Lease, Store,
@@ -155,46 +154,75 @@ fn read_checkpoint(artifacts: &ArtifactStore, pointer: &PathBuf) -> Option<Histo
     HistoryCheckpoint::from_bytes(&bytes).ok()
 }
 
-/// The model parameters of the campaign's strand settings.
-fn model_parameters(inputs: &CampaignInputs) -> StrandModelParameters {
-    let st = &inputs.spec.strand;
+/// Strand model parameters of a contact regularisation (normal penalty ε_N, elastic slip γ_e)
+/// and an end condition; the rest at the defaults. Shared by the campaign stage and
+/// `moorfret run strand`.
+pub(crate) fn strand_model_parameters(
+    normal_penalty_n_per_m: f64,
+    elastic_slip_m: f64,
+    ends: EndKind,
+) -> StrandModelParameters {
     StrandModelParameters {
         contact: ContactParameters {
             normal: NormalLaw::Penalty {
-                stiffness_n_per_m: st.normal_penalty_n_per_m,
+                stiffness_n_per_m: normal_penalty_n_per_m,
             },
-            tangential: TangentialLaw::ElasticSlip {
-                elastic_slip_m: st.elastic_slip_m,
-            },
+            tangential: TangentialLaw::ElasticSlip { elastic_slip_m },
             ..ContactParameters::default()
         },
-        ends: match st.ends {
-            StrandEnds::Periodic => EndKind::Periodic,
-            StrandEnds::PenaltyTies => EndKind::PenaltyTies,
-        },
+        ends,
         ..StrandModelParameters::default()
     }
 }
 
+/// The model parameters of the campaign's strand settings.
+fn model_parameters(inputs: &CampaignInputs) -> StrandModelParameters {
+    let st = &inputs.spec.strand;
+    strand_model_parameters(
+        st.normal_penalty_n_per_m,
+        st.elastic_slip_m,
+        st.ends.end_kind(),
+    )
+}
+
+/// What one contact record amounts to: its position class, the slip cycles counted (half
+/// cycles as 0.5) and the largest slip range (m).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct ContactSummary {
+    /// Neutral axis, between or outer arc.
+    pub(crate) position_class: &'static str,
+    /// Counted slip cycles.
+    pub(crate) slip_cycles: f64,
+    /// Largest slip range (m).
+    pub(crate) max_slip_range_m: f64,
+}
+
+/// The [`ContactSummary`] of `c`.
+pub(crate) fn contact_summary(c: &ContactRecord) -> ContactSummary {
+    ContactSummary {
+        position_class: c.class().position.as_str(),
+        slip_cycles: c.cycles.iter().map(|k| k.slip.count).sum(),
+        max_slip_range_m: c
+            .cycles
+            .iter()
+            .map(|k| k.slip.range)
+            .fold(0.0_f64, f64::max),
+    }
+}
+
 fn contact_row(hot_spot_index: usize, index: usize, c: &ContactRecord) -> ContactStatistics {
-    let class = c.class();
-    let max_slip_range_m = c
-        .cycles
-        .iter()
-        .map(|k| k.slip.range)
-        .fold(0.0_f64, f64::max);
-    let cycles: f64 = c.cycles.iter().map(|k| k.slip.count).sum();
+    let s = contact_summary(c);
     ContactStatistics {
         hot_spot_index: hot_spot_index as i64,
         contact_index: index as i64,
         layer_interface: c.interface as i64,
         angular_position_rad: c.theta_rad,
         statistics: json!({
-            "position_class": class.position.as_str(),
+            "position_class": s.position_class,
             "z_m": c.z_m,
             "max_normal_force_n": c.max_normal_force_n,
-            "slip_cycles": cycles,
-            "max_slip_range_m": max_slip_range_m,
+            "slip_cycles": s.slip_cycles,
+            "max_slip_range_m": s.max_slip_range_m,
         }),
     }
 }

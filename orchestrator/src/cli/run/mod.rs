@@ -5,6 +5,7 @@ use clap::Subcommand;
 pub mod catenary;
 pub mod global;
 pub mod strand;
+pub mod strand_history;
 
 /// Single-stage runs.
 #[derive(Debug, Subcommand)]
@@ -14,7 +15,8 @@ pub enum RunCommand {
     /// Coupled floater + mooring lines in one irregular sea state: writes hot-spot T(t), κ(t),
     /// fairlead tensions, envelopes, floater motions, a summary and plots.
     Global(global::GlobalArgs),
-    /// Detailed strand FE model: tension, then each curvature of the profile's loading.
+    /// Detailed strand FE model: tension, then each curvature of the profile's loading; with
+    /// `--load LOAD.csv`, a tension (or strain) and curvature history instead.
     Strand(strand::StrandArgs),
 }
 

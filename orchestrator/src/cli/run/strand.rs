@@ -12,24 +12,30 @@
 //!   T₀ + EA cos²β R κ sin θ and the friction-limited (full slip) solution, the triangle wave
 //!   T₀ + (π/2) μ T₀ sin β · tri(θ) (|dF/ds| = μ q with q = T₀ sin²β/R and dθ/ds = sin β/R,
 //!   [`slip_force_variation`]), as the seed's Fig. 4.
+//!
+//! With `--load LOAD.csv` the same profile is driven through a load history instead
+//! ([`super::strand_history`]).
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use anyhow::{anyhow, Context};
 use clap::Args;
-use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
 use moorfret_solver::strand::analytical::{slip_force_variation, stick_force_variation};
 use moorfret_solver::strand::driver::{run_case, CaseResult, StrandRunParameters};
-use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
-use moorfret_solver::strand::profile::profile_from_json;
+use moorfret_solver::strand::model::StrandModel;
+use moorfret_solver::strand::profile::{profile_from_json, Regularisation, Strand, StrandProfile};
 use plotters::prelude::*;
 use serde::Serialize;
+
+use crate::campaign::spec::StrandEnds;
+use crate::worker::strand_stage::strand_model_parameters;
 
 /// Arguments of `moorfret run strand`.
 #[derive(Debug, Args)]
 pub struct StrandArgs {
-    /// Strand profile JSON with `loading` and `regularisation` blocks.
+    /// Strand profile JSON (as `campaigns/benchmarks/strand_1_6_1.json`): geometry, material,
+    /// `regularisation` sets and, without `--load`, the `loading` block.
     pub profile: PathBuf,
     /// Output directory (created if missing).
     #[arg(long)]
@@ -37,6 +43,76 @@ pub struct StrandArgs {
     /// Name of the regularisation set of the profile.
     #[arg(long, default_value = "vs_analytical")]
     pub regularisation: String,
+    /// Normal penalty ε_N (N/m) and elastic slip γ_e (m), instead of a named regularisation set.
+    #[arg(long, num_args = 2, value_names = ["NORMAL_PENALTY_N_PER_M", "ELASTIC_SLIP_M"])]
+    pub contact_regularisation: Option<Vec<f64>>,
+    /// End conditions of the helical wires.
+    #[arg(long, value_enum, default_value_t = StrandEnds::PenaltyTies)]
+    pub ends: StrandEnds,
+    /// Load history CSV: `time_s,tension_n,curvature_per_m` or
+    /// `time_s,axial_strain,curvature_per_m`. Without it, the profile's `loading` block.
+    #[arg(long)]
+    pub load: Option<PathBuf>,
+    #[command(flatten)]
+    pub history: super::strand_history::HistoryArgs,
+}
+
+/// Sizes of a strand model.
+#[derive(Debug, Serialize)]
+pub(crate) struct ModelSizes {
+    nodes: usize,
+    elements: usize,
+    contacts: usize,
+    free_dofs: usize,
+}
+
+impl ModelSizes {
+    pub(crate) fn of(model: &StrandModel) -> Self {
+        Self {
+            nodes: model.mesh.stats.nodes,
+            elements: model.mesh.stats.elements,
+            contacts: model.mesh.stats.contacts,
+            free_dofs: model.dofs.free_count(),
+        }
+    }
+}
+
+/// The profile of `args`, its validated strand and the model with the chosen regularisation
+/// and ends.
+pub(crate) fn load_model(
+    args: &StrandArgs,
+) -> anyhow::Result<(StrandProfile, Strand, StrandModel)> {
+    let text = std::fs::read_to_string(&args.profile)
+        .with_context(|| format!("reading strand profile {}", args.profile.display()))?;
+    let profile = profile_from_json(&text)
+        .with_context(|| format!("in strand profile {}", args.profile.display()))?;
+    let strand = profile
+        .validate()
+        .with_context(|| format!("in strand profile {}", args.profile.display()))?;
+    let reg = match args.contact_regularisation.as_deref() {
+        Some(&[normal_penalty_n_per_m, elastic_slip_m]) => Regularisation {
+            normal_penalty_n_per_m,
+            elastic_slip_m,
+        },
+        _ => *profile
+            .regularisation
+            .as_ref()
+            .and_then(|m| m.get(&args.regularisation))
+            .ok_or_else(|| {
+                anyhow!(
+                    "profile has no regularisation named {:?} (give one with \
+                     --contact-regularisation NORMAL_PENALTY_N_PER_M ELASTIC_SLIP_M)",
+                    args.regularisation
+                )
+            })?,
+    };
+    let params = strand_model_parameters(
+        reg.normal_penalty_n_per_m,
+        reg.elastic_slip_m,
+        args.ends.end_kind(),
+    );
+    let model = StrandModel::new(&strand, &params)?;
+    Ok((profile, strand, model))
 }
 
 #[derive(Debug, Serialize)]
@@ -61,10 +137,8 @@ struct CaseSummary {
 #[derive(Debug, Serialize)]
 struct Summary {
     regularisation: String,
-    nodes: usize,
-    elements: usize,
-    contacts: usize,
-    free_dofs: usize,
+    #[serde(flatten)]
+    sizes: ModelSizes,
     straight_case: CaseSummary,
     cases: Vec<CaseSummary>,
 }
@@ -102,37 +176,14 @@ type Row = (f64, f64, f64, f64);
 
 /// Execute `moorfret run strand`.
 pub fn execute(args: StrandArgs) -> anyhow::Result<()> {
-    let text = std::fs::read_to_string(&args.profile)
-        .with_context(|| format!("reading strand profile {}", args.profile.display()))?;
-    let profile = profile_from_json(&text)?;
-    let strand = profile.validate()?;
+    if let Some(load) = &args.load {
+        return super::strand_history::execute(&args, load);
+    }
+    let (profile, strand, model) = load_model(&args)?;
     let loading = profile
         .loading
         .clone()
         .ok_or_else(|| anyhow!("profile has no `loading` block"))?;
-    let reg = profile
-        .regularisation
-        .as_ref()
-        .and_then(|m| m.get(&args.regularisation))
-        .ok_or_else(|| {
-            anyhow!(
-                "profile has no regularisation named {:?}",
-                args.regularisation
-            )
-        })?;
-    let params = StrandModelParameters {
-        contact: ContactParameters {
-            normal: NormalLaw::Penalty {
-                stiffness_n_per_m: reg.normal_penalty_n_per_m,
-            },
-            tangential: TangentialLaw::ElasticSlip {
-                elastic_slip_m: reg.elastic_slip_m,
-            },
-            ..ContactParameters::default()
-        },
-        ..StrandModelParameters::default()
-    };
-    let model = StrandModel::new(&strand, &params)?;
     let run = StrandRunParameters::default();
     let outer_layer = strand
         .layers
@@ -196,10 +247,7 @@ pub fn execute(args: StrandArgs) -> anyhow::Result<()> {
     csv.flush()?;
     let summary = Summary {
         regularisation: args.regularisation.clone(),
-        nodes: model.mesh.stats.nodes,
-        elements: model.mesh.stats.elements,
-        contacts: model.mesh.stats.contacts,
-        free_dofs: model.dofs.free_count(),
+        sizes: ModelSizes::of(&model),
         straight_case: summarise(&straight, t0),
         cases,
     };

@@ -1,0 +1,681 @@
+//! `moorfret run strand PROFILE --load LOAD.csv --out DIR`: the strand FE model of a profile
+//! driven through a load history (`moorfret_solver::strand::history`).
+//!
+//! LOAD.csv has a header naming three columns, in any order: `time_s`, `curvature_per_m` and
+//! either `tension_n` or `axial_strain`. A tension history becomes the axial strain
+//! ε = T / EA with EA measured on the model itself by a tension step
+//! (`measure_axial_stiffness_n`, at `--stiffness-strain`); slack samples (T < 0) are refused
+//! unless `--slack-as-zero` loads them as ε = 0. The whole history is checked before anything
+//! is solved or written: an unknown or missing column, a value that is not a finite number,
+//! a time that does not increase, a negative load or a curvature beyond the strand's
+//! admissible fibre strain ends the run naming the sample (its index from 0 and its line in
+//! the file) and the column.
+//!
+//! Writes into DIR:
+//! - `monitors.csv`: `time_s,strain,curvature_per_m`, then one column per monitor channel
+//!   (quantity, layer or layer interface, neutral axis / outer arc / ring angle), one row per
+//!   sample;
+//! - `contacts.csv`: one row per contact: layer interface, θ from the neutral axis, z, largest
+//!   normal force, largest slip range, counted slip cycles, position class;
+//! - `contact_records.json`: the full per-contact records with their slip cycles;
+//! - `summary.json`: model sizes, the EA used, the history statistics with the split of the
+//!   Newton work, peak slip range and normal force per layer interface, wall time;
+//! - SVG plots as the seed's Figs. 19-22 ([`crate::plot::strand_history_svgs`]) and of the load.
+//!
+//! `--checkpoint FILE` writes the solver's full state every `--checkpoint-every` segments (temp
+//! file, then rename); with `--resume` a run starts from FILE if it exists, and gives results
+//! identical to the bit to an uninterrupted run.
+
+use std::collections::BTreeMap;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{anyhow, bail, Context};
+use clap::Args;
+use moorfret_solver::fretting::ContactRecord;
+use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
+use moorfret_solver::strand::history::monitors::{MonitorChannel, MonitorGroup, MonitorTarget};
+use moorfret_solver::strand::history::stiffness::{
+    measure_axial_stiffness_n, straight_strand_stiffness,
+};
+use moorfret_solver::strand::history::{
+    run_history_from, validate_samples, HistoryError, HistoryObserver, HistoryOptions,
+    HistoryProgress, HistoryResult, HistoryStats, LoadSample,
+};
+use moorfret_solver::strand::model::StrandModel;
+use serde::Serialize;
+
+use super::strand::{load_model, ModelSizes, StrandArgs};
+use crate::plot::{strand_history_svgs, LoadPlot};
+use crate::worker::series::HotSpotSeries;
+use crate::worker::strand_stage::{contact_summary, strand_load};
+
+/// Options of a history run (`--load`).
+#[derive(Debug, Args)]
+pub struct HistoryArgs {
+    /// Load slack samples (negative tension) as zero strain instead of refusing them.
+    #[arg(long)]
+    pub slack_as_zero: bool,
+    /// Turning-point tolerance of the history reduction, as a fraction of each channel's range.
+    #[arg(long)]
+    pub turning_point_tolerance: Option<f64>,
+    /// Axial strain of the tension step that measures EA.
+    #[arg(long, default_value_t = 1e-3)]
+    pub stiffness_strain: f64,
+    /// Checkpoint file of the history run (written every `--checkpoint-every` segments).
+    #[arg(long)]
+    pub checkpoint: Option<PathBuf>,
+    /// History segments between two checkpoints.
+    #[arg(long, default_value_t = 8)]
+    pub checkpoint_every: usize,
+    /// Start from the checkpoint file if it exists.
+    #[arg(long, requires = "checkpoint")]
+    pub resume: bool,
+    /// Stop after this many segments, as an interrupted run would (tests of `--resume`).
+    #[arg(long, hide = true)]
+    pub stop_after_segments: Option<usize>,
+}
+
+/// What the second column of the load file holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum LoadKind {
+    Tension,
+    Strain,
+}
+
+impl LoadKind {
+    fn column(self) -> &'static str {
+        match self {
+            Self::Tension => "tension_n",
+            Self::Strain => "axial_strain",
+        }
+    }
+}
+
+/// The load file as read: times, tension or strain, curvatures.
+#[derive(Debug)]
+struct LoadTable {
+    kind: LoadKind,
+    time_s: Vec<f64>,
+    value: Vec<f64>,
+    curvature_per_m: Vec<f64>,
+}
+
+/// "LOAD.csv sample i (line l), column c".
+fn at(path: &Path, index: usize, column: &str) -> String {
+    format!(
+        "{}: sample {index} (line {}), column {column}",
+        path.display(),
+        index + 2
+    )
+}
+
+/// Reads and checks the load file (module docs); the error names the sample and the column.
+fn read_load(path: &Path, slack_as_zero: bool) -> anyhow::Result<LoadTable> {
+    let mut reader = csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .from_path(path)
+        .with_context(|| format!("reading load history {}", path.display()))?;
+    let header = reader
+        .headers()
+        .with_context(|| format!("reading the header of {}", path.display()))?
+        .clone();
+    // column index of time, load value, curvature
+    let mut columns: [Option<usize>; 3] = [None; 3];
+    let mut kind: Option<LoadKind> = None;
+    for (i, name) in header.iter().enumerate() {
+        let slot = match name {
+            "time_s" => 0,
+            "tension_n" | "axial_strain" => {
+                let k = if name == "tension_n" {
+                    LoadKind::Tension
+                } else {
+                    LoadKind::Strain
+                };
+                if let Some(other) = kind.filter(|&o| o != k) {
+                    bail!(
+                        "{}: column {name}: the file already has {}; give tension_n or \
+                         axial_strain, not both",
+                        path.display(),
+                        other.column()
+                    );
+                }
+                kind = Some(k);
+                1
+            }
+            "curvature_per_m" => 2,
+            _ => bail!(
+                "{}: unknown column {name:?} (expected time_s, tension_n or axial_strain, \
+                 curvature_per_m)",
+                path.display()
+            ),
+        };
+        if columns[slot].replace(i).is_some() {
+            bail!("{}: column {name} appears twice", path.display());
+        }
+    }
+    let names = ["time_s", "tension_n or axial_strain", "curvature_per_m"];
+    for (slot, name) in names.iter().enumerate() {
+        if columns[slot].is_none() {
+            bail!("{}: missing column {name}", path.display());
+        }
+    }
+    let kind = kind.unwrap_or(LoadKind::Tension);
+    let columns = columns.map(|c| c.unwrap_or(0));
+    let column_names = ["time_s", kind.column(), "curvature_per_m"];
+    let mut table = LoadTable {
+        kind,
+        time_s: Vec::new(),
+        value: Vec::new(),
+        curvature_per_m: Vec::new(),
+    };
+    for (index, record) in reader.records().enumerate() {
+        let record = record
+            .with_context(|| format!("{}: sample {index} (line {})", path.display(), index + 2))?;
+        let mut v = [0.0; 3];
+        for (slot, x) in v.iter_mut().enumerate() {
+            let name = column_names[slot];
+            let text = record.get(columns[slot]).unwrap_or("");
+            *x = text
+                .parse::<f64>()
+                .map_err(|_| anyhow!("{}: {text:?} is not a number", at(path, index, name)))?;
+            if !x.is_finite() {
+                bail!("{}: {x} is not a finite number", at(path, index, name));
+            }
+        }
+        if kind == LoadKind::Tension && v[1] < 0.0 && !slack_as_zero {
+            bail!(
+                "{}: negative tension {} N (slack); pass --slack-as-zero to load slack samples \
+                 as zero strain",
+                at(path, index, "tension_n"),
+                v[1]
+            );
+        }
+        table.time_s.push(v[0]);
+        table.value.push(v[1]);
+        table.curvature_per_m.push(v[2]);
+    }
+    if table.time_s.is_empty() {
+        bail!("{}: no samples", path.display());
+    }
+    Ok(table)
+}
+
+/// Progress bar on a terminal (log lines otherwise) and checkpoint writer.
+struct Observer {
+    bar: Option<indicatif::ProgressBar>,
+    next_log: usize,
+    checkpoint: Option<PathBuf>,
+    written: usize,
+    done: usize,
+    stop_after: Option<usize>,
+}
+
+impl Observer {
+    fn write(&self, path: &Path, checkpoint: &HistoryCheckpoint) -> anyhow::Result<()> {
+        let bytes = checkpoint.to_bytes()?;
+        let mut tmp = path.as_os_str().to_owned();
+        tmp.push(".tmp");
+        let tmp = PathBuf::from(tmp);
+        std::fs::write(&tmp, bytes).with_context(|| format!("writing {}", tmp.display()))?;
+        std::fs::rename(&tmp, path).with_context(|| format!("renaming to {}", path.display()))
+    }
+}
+
+impl HistoryObserver for Observer {
+    fn progress(&mut self, p: &HistoryProgress) {
+        self.done = p.segment;
+        let msg = format!(
+            "segment {}/{}, t = {} s, {:.1} s",
+            p.segment, p.segments, p.time_s, p.elapsed_s
+        );
+        if let Some(b) = &self.bar {
+            b.set_length(p.segments as u64);
+            b.set_position(p.segment as u64);
+            b.set_message(msg);
+        } else if p.segment >= self.next_log || p.segment == p.segments {
+            tracing::info!("{msg}");
+            self.next_log = p.segment + (p.segments / 10).max(1);
+        }
+    }
+
+    fn checkpoint(&mut self, checkpoint: &HistoryCheckpoint) {
+        let Some(path) = &self.checkpoint else {
+            return;
+        };
+        match self.write(path, checkpoint) {
+            Ok(()) => self.written += 1,
+            // a missed checkpoint costs only recomputation after an interruption
+            Err(e) => tracing::warn!("strand checkpoint not written: {e:#}"),
+        }
+    }
+
+    fn should_stop(&mut self) -> bool {
+        self.stop_after.is_some_and(|n| self.done >= n)
+    }
+}
+
+/// The EA used for a tension history.
+#[derive(Debug, Serialize)]
+struct AxialStiffness {
+    /// Measured on the model (N).
+    measured_n: f64,
+    /// Strain of the measuring step.
+    measured_at_strain: f64,
+    /// Straight-strand estimates for comparison (N).
+    straight_strand_simple_n: f64,
+    straight_strand_costello_n: f64,
+}
+
+#[derive(Debug, Default, Serialize)]
+struct InterfacePeaks {
+    contacts: usize,
+    max_slip_range_m: f64,
+    max_normal_force_n: f64,
+    slip_cycles: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct Summary<'a> {
+    profile: String,
+    regularisation: String,
+    ends: String,
+    #[serde(flatten)]
+    sizes: ModelSizes,
+    load: String,
+    load_kind: &'static str,
+    samples: usize,
+    slack_samples: usize,
+    axial_stiffness: Option<AxialStiffness>,
+    turning_point_tolerance: f64,
+    resumed_from_checkpoint: bool,
+    checkpoints_written: usize,
+    history: &'a HistoryStats,
+    peaks_by_interface: BTreeMap<String, InterfacePeaks>,
+    wall_time_s: f64,
+}
+
+/// Readable name of an interface: "layer2_on_layer1", "layer1_on_core".
+fn interface_name(interface: usize) -> String {
+    if interface == 0 {
+        "layer1_on_core".into()
+    } else {
+        format!("layer{}_on_layer{interface}", interface + 1)
+    }
+}
+
+/// Column name of a monitor channel.
+fn channel_name(ch: &MonitorChannel) -> String {
+    let place = match ch.target {
+        MonitorTarget::Element(_) => format!("layer{}", ch.layer + 1),
+        MonitorTarget::Contact(_) => interface_name(ch.layer),
+    };
+    let group = match ch.group {
+        MonitorGroup::NeutralAxis => "neutral_axis".to_string(),
+        MonitorGroup::OuterArc => "outer_arc".to_string(),
+        MonitorGroup::Ring => format!("ring_theta_{:.0}deg", ch.theta_rad.to_degrees()),
+    };
+    format!("{}_{place}_{group}", ch.quantity.as_str())
+}
+
+/// Unique column names of the channels (a clash gets the target index appended).
+fn channel_names(channels: &[MonitorChannel]) -> Vec<String> {
+    let mut seen = std::collections::BTreeSet::new();
+    channels
+        .iter()
+        .map(|ch| {
+            let mut name = channel_name(ch);
+            if !seen.insert(name.clone()) {
+                let index = match ch.target {
+                    MonitorTarget::Element(i) => format!("_element{i}"),
+                    MonitorTarget::Contact(i) => format!("_contact{i}"),
+                };
+                name.push_str(&index);
+                seen.insert(name.clone());
+            }
+            name
+        })
+        .collect()
+}
+
+fn write_monitors(path: &Path, r: &HistoryResult) -> anyhow::Result<()> {
+    let m = &r.monitors;
+    let mut w = csv::Writer::from_path(path)?;
+    let mut header = vec![
+        "time_s".to_string(),
+        "strain".into(),
+        "curvature_per_m".into(),
+    ];
+    header.extend(channel_names(&m.channels));
+    w.write_record(&header)?;
+    for i in 0..m.time_s.len() {
+        let mut row = vec![
+            m.time_s[i].to_string(),
+            m.strain[i].to_string(),
+            m.curvature_per_m[i].to_string(),
+        ];
+        row.extend(m.channels.iter().map(|c| c.values[i].to_string()));
+        w.write_record(&row)?;
+    }
+    w.flush()?;
+    Ok(())
+}
+
+fn write_contacts(path: &Path, contacts: &[ContactRecord]) -> anyhow::Result<()> {
+    let mut w = csv::Writer::from_path(path)?;
+    w.write_record([
+        "contact",
+        "layer_interface",
+        "theta_rad",
+        "z_m",
+        "max_normal_force_n",
+        "max_slip_range_m",
+        "slip_cycles",
+        "position_class",
+    ])?;
+    for (i, c) in contacts.iter().enumerate() {
+        let s = contact_summary(c);
+        w.write_record([
+            i.to_string(),
+            c.interface.to_string(),
+            c.theta_rad.to_string(),
+            c.z_m.to_string(),
+            c.max_normal_force_n.to_string(),
+            s.max_slip_range_m.to_string(),
+            s.slip_cycles.to_string(),
+            s.position_class.to_string(),
+        ])?;
+    }
+    w.flush()?;
+    Ok(())
+}
+
+fn peaks_by_interface(contacts: &[ContactRecord]) -> BTreeMap<String, InterfacePeaks> {
+    let mut out: BTreeMap<String, InterfacePeaks> = BTreeMap::new();
+    for c in contacts {
+        let s = contact_summary(c);
+        let p = out.entry(interface_name(c.interface)).or_default();
+        p.contacts += 1;
+        p.max_slip_range_m = p.max_slip_range_m.max(s.max_slip_range_m);
+        p.max_normal_force_n = p.max_normal_force_n.max(c.max_normal_force_n);
+        p.slip_cycles += s.slip_cycles;
+    }
+    out
+}
+
+/// The load samples of `table` on `model`, with the EA used and the slack sample count.
+fn samples_of(
+    table: &LoadTable,
+    model: &StrandModel,
+    args: &HistoryArgs,
+    options: &HistoryOptions,
+) -> anyhow::Result<(Vec<LoadSample>, Option<AxialStiffness>, usize)> {
+    match table.kind {
+        LoadKind::Strain => {
+            let samples = (0..table.time_s.len())
+                .map(|i| LoadSample {
+                    time_s: table.time_s[i],
+                    strain: table.value[i],
+                    curvature_per_m: table.curvature_per_m[i],
+                })
+                .collect();
+            Ok((samples, None, 0))
+        }
+        LoadKind::Tension => {
+            let ea = measure_axial_stiffness_n(model, args.stiffness_strain, &options.newton)
+                .context("measuring the axial stiffness EA of the strand model")?;
+            let estimate = straight_strand_stiffness(&model.strand);
+            println!(
+                "axial stiffness EA = {ea:.6e} N (measured on the model at ε = {}; straight \
+                 strand {:.6e} N, Costello-corrected {:.6e} N)",
+                args.stiffness_strain, estimate.simple_n, estimate.corrected_n
+            );
+            let series = HotSpotSeries {
+                time_s: table.time_s.clone(),
+                tension_n: table.value.clone(),
+                curvature_per_m: table.curvature_per_m.clone(),
+            };
+            let (samples, slack) = strand_load(&series, ea, 1);
+            let stiffness = AxialStiffness {
+                measured_n: ea,
+                measured_at_strain: args.stiffness_strain,
+                straight_strand_simple_n: estimate.simple_n,
+                straight_strand_costello_n: estimate.corrected_n,
+            };
+            Ok((samples, Some(stiffness), slack))
+        }
+    }
+}
+
+/// A refused sample in the words of the load file: its line and column.
+fn refused(path: &Path, kind: LoadKind, e: HistoryError) -> anyhow::Error {
+    match e {
+        HistoryError::InvalidSample {
+            index,
+            field,
+            value,
+            reason,
+            ..
+        } => {
+            let column = match field {
+                "strain" => kind.column(),
+                other => other,
+            };
+            let shown = if field == "strain" && kind == LoadKind::Tension {
+                format!("strain T/EA = {value:e}")
+            } else {
+                format!("{value}")
+            };
+            anyhow!("{}: {shown}: {reason}", at(path, index, column))
+        }
+        other => anyhow!(other),
+    }
+}
+
+/// Runs the history mode of `moorfret run strand`.
+pub(super) fn execute(args: &StrandArgs, load: &Path) -> anyhow::Result<()> {
+    let start = Instant::now();
+    let h = &args.history;
+    if h.checkpoint_every == 0 {
+        bail!("--checkpoint-every must be >= 1");
+    }
+    let table = read_load(load, h.slack_as_zero)?;
+    let (_, _, model) = load_model(args)?;
+    let mut options = HistoryOptions {
+        checkpoint_interval_segments: if h.checkpoint.is_some() || h.stop_after_segments.is_some() {
+            h.checkpoint_every
+        } else {
+            0
+        },
+        ..HistoryOptions::default()
+    };
+    if let Some(t) = h.turning_point_tolerance {
+        options.turning_point_tolerance = t;
+    }
+    let options = options.validated()?;
+    let (samples, stiffness, slack_samples) = samples_of(&table, &model, h, &options)?;
+    validate_samples(&model, &samples, &options).map_err(|e| refused(load, table.kind, e))?;
+    let resume = match (&h.checkpoint, h.resume) {
+        (Some(path), true) if path.exists() => {
+            let bytes =
+                std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
+            let cp = HistoryCheckpoint::from_bytes(&bytes)
+                .with_context(|| format!("reading checkpoint {}", path.display()))?;
+            Some(cp)
+        }
+        _ => None,
+    };
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+
+    let bar = std::io::stderr().is_terminal().then(|| {
+        let b = indicatif::ProgressBar::new(1);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {msg}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    });
+    let mut observer = Observer {
+        bar,
+        next_log: 0,
+        checkpoint: h.checkpoint.clone(),
+        written: 0,
+        done: 0,
+        stop_after: h.stop_after_segments,
+    };
+    if let Some(cp) = &resume {
+        tracing::info!(
+            "resuming from segment {} of checkpoint {}",
+            cp.next_segment,
+            h.checkpoint.as_deref().unwrap_or(Path::new("")).display()
+        );
+    }
+    let result = run_history_from(&model, &samples, &options, resume.as_ref(), &mut observer);
+    if let Some(b) = &observer.bar {
+        b.finish_and_clear();
+    }
+    let result = match result {
+        Ok(r) => r,
+        Err(HistoryError::Checkpoint { reason }) if resume.is_some() => bail!(
+            "checkpoint {} does not belong to this profile and load history ({reason}); \
+             remove it or run without --resume",
+            h.checkpoint.as_deref().unwrap_or(Path::new("")).display()
+        ),
+        Err(e @ HistoryError::Stopped { .. }) => {
+            bail!("{e}; continue with --resume")
+        }
+        Err(e) => return Err(anyhow!(e).context("strand history run failed")),
+    };
+
+    write_monitors(&args.out.join("monitors.csv"), &result)?;
+    write_contacts(&args.out.join("contacts.csv"), &result.contacts)?;
+    std::fs::write(
+        args.out.join("contact_records.json"),
+        serde_json::to_vec(&result.contacts)?,
+    )?;
+    let load_plot = LoadPlot {
+        tension_n: (table.kind == LoadKind::Tension).then_some(table.value.as_slice()),
+    };
+    strand_history_svgs(&result.monitors, &load_plot, &args.out)?;
+    let summary = Summary {
+        profile: args.profile.display().to_string(),
+        regularisation: match &args.contact_regularisation {
+            Some(v) => format!("normal penalty {} N/m, elastic slip {} m", v[0], v[1]),
+            None => args.regularisation.clone(),
+        },
+        ends: format!("{:?}", args.ends.end_kind()),
+        sizes: ModelSizes::of(&model),
+        load: load.display().to_string(),
+        load_kind: table.kind.column(),
+        samples: samples.len(),
+        slack_samples,
+        axial_stiffness: stiffness,
+        turning_point_tolerance: options.turning_point_tolerance,
+        resumed_from_checkpoint: resume.is_some(),
+        checkpoints_written: observer.written,
+        history: &result.stats,
+        peaks_by_interface: peaks_by_interface(&result.contacts),
+        wall_time_s: start.elapsed().as_secs_f64(),
+    };
+    std::fs::write(
+        args.out.join("summary.json"),
+        serde_json::to_string_pretty(&summary)?,
+    )?;
+    let s = &result.stats;
+    tracing::info!(
+        samples = s.samples,
+        kept = s.kept_samples,
+        substeps = s.substeps,
+        iterations = s.iterations,
+        wall_s = summary.wall_time_s,
+        "strand history done; outputs in {}",
+        args.out.display()
+    );
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(text: &str) -> anyhow::Result<LoadTable> {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("load.csv");
+        std::fs::write(&p, text).unwrap();
+        read_load(&p, false)
+    }
+
+    #[test]
+    fn load_columns_are_named_by_the_header_in_any_order() {
+        let t = table("curvature_per_m,time_s,axial_strain\n0.01,0,1e-3\n0.02,1,2e-3\n").unwrap();
+        assert_eq!(t.kind, LoadKind::Strain);
+        assert_eq!(t.time_s, [0.0, 1.0]);
+        assert_eq!(t.value, [1e-3, 2e-3]);
+        assert_eq!(t.curvature_per_m, [0.01, 0.02]);
+        let e = table("time_s,tension_n,axial_strain,curvature_per_m\n").unwrap_err();
+        assert!(e.to_string().contains("column axial_strain"), "{e}");
+        let e = table("time_s,curvature_per_m\n0,0\n").unwrap_err();
+        assert!(e.to_string().contains("missing column tension_n"), "{e}");
+        let e = table("time_s,tension_n,curvature_per_m\n0,1e4,0\n1,x,0\n").unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("sample 1 (line 3), column tension_n"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn channel_names_say_quantity_place_and_group() {
+        let ch = |quantity, target, group, layer, theta_rad| MonitorChannel {
+            quantity,
+            target,
+            group,
+            layer,
+            theta_rad,
+            z_m: 0.1,
+            values: Vec::new(),
+        };
+        use moorfret_solver::strand::history::monitors::MonitorQuantity as Q;
+        let names = channel_names(&[
+            ch(
+                Q::Slip,
+                MonitorTarget::Contact(3),
+                MonitorGroup::OuterArc,
+                1,
+                1.5,
+            ),
+            ch(
+                Q::WireAxialForce,
+                MonitorTarget::Element(7),
+                MonitorGroup::NeutralAxis,
+                0,
+                0.0,
+            ),
+            ch(
+                Q::NormalForce,
+                MonitorTarget::Contact(4),
+                MonitorGroup::Ring,
+                0,
+                -1.5708,
+            ),
+            ch(
+                Q::NormalForce,
+                MonitorTarget::Contact(5),
+                MonitorGroup::Ring,
+                0,
+                -1.5708,
+            ),
+        ]);
+        assert_eq!(
+            names,
+            [
+                "slip_m_layer2_on_layer1_outer_arc",
+                "wire_axial_force_n_layer1_neutral_axis",
+                "normal_force_n_layer1_on_core_ring_theta_-90deg",
+                "normal_force_n_layer1_on_core_ring_theta_-90deg_contact5",
+            ]
+        );
+    }
+}
