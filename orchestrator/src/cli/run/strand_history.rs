@@ -658,14 +658,14 @@ mod tests {
                 MonitorTarget::Contact(4),
                 MonitorGroup::Ring,
                 0,
-                -1.5708,
+                -std::f64::consts::FRAC_PI_2,
             ),
             ch(
                 Q::NormalForce,
                 MonitorTarget::Contact(5),
                 MonitorGroup::Ring,
                 0,
-                -1.5708,
+                -std::f64::consts::FRAC_PI_2,
             ),
         ]);
         assert_eq!(
