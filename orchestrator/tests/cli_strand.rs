@@ -108,10 +108,11 @@ fn fit(x1: &[f64], x2: &[f64], y: &[f64]) -> (f64, f64) {
 }
 
 #[test]
-#[ignore = "open: the outer-arc wire-force monitor of the outer helix gives dF/dκ = −0.53 of \
-            EA cos²β R (measured −13 246 N m): the magnitude is the benchmark's stick ratio, the \
-            sign is opposite, so the monitor's outer arc and the curvature sign disagree \
-            (strand::history::monitors θ = atan2(−x, y) against the driver's helix angle)"]
+#[ignore = "open: the default 'outer arc' monitors take the site of smallest |cos θ|, which \
+            can be the inner arc θ = −π/2: here the outer helix's element at mid-length, \
+            dF/dκ = −0.53 of EA cos²β R (measured −13 246 N m); selecting θ = +π/2 instead finds \
+            no such element within a quarter length of mid-length (the single outer wire is at \
+            the outer arc only at its ends) and gave the neutral axis (−0.010)"]
 fn a_tension_history_writes_physical_outputs_and_resumes_identically() {
     let dir = tempfile::tempdir().unwrap();
     let load = dir.path().join("load.csv");
