@@ -400,14 +400,7 @@ mod tests {
             let c = peclet;
             p.add_element_matrix(&mut values, e, &[2.0 + c, -2.0 - c, -2.0 + c, 2.0 - c]);
         }
-        for c in 0..n {
-            let k = p.col_ptr()[c]
-                + p.row_idx()[p.col_ptr()[c]..p.col_ptr()[c + 1]]
-                    .iter()
-                    .position(|&r| r == c)
-                    .unwrap();
-            values[k] += 0.05;
-        }
+        let values = shifted(&p, &values, 0.05);
         (p, values)
     }
 
@@ -447,6 +440,16 @@ mod tests {
         v
     }
 
+    /// Factorises and solves A x = b for every matrix in turn, asserting each residual.
+    fn solve_each(solver: &mut SplitSolver, p: &SparsePattern, matrices: &[&[f64]], b: &[f64]) {
+        for values in matrices {
+            solver.factorize(p, values).unwrap();
+            let mut x = b.to_vec();
+            solver.solve_in_place(&mut x).unwrap();
+            assert!(residual(p, values, &x, b) < 1e-9);
+        }
+    }
+
     #[test]
     fn a_reused_preconditioner_still_solves_the_new_matrix() {
         let params = GmresParams {
@@ -457,13 +460,8 @@ mod tests {
         let second = shifted(&p, &first, 0.01);
         let mut solver = SplitSolver::new(&p, params).unwrap();
         let b: Vec<f64> = (0..300).map(|i| 1.0 + (i % 7) as f64).collect();
-        for values in [&first, &second] {
-            solver.factorize(&p, values).unwrap();
-            let mut x = b.clone();
-            solver.solve_in_place(&mut x).unwrap();
-            // the second matrix, solved with the first one's factorisation, to the tolerance
-            assert!(residual(&p, values, &x, &b) < 1e-9);
-        }
+        // the second matrix, solved with the first one's factorisation, to the tolerance
+        solve_each(&mut solver, &p, &[&first, &second], &b);
         let s = solver.stats();
         assert_eq!(
             (s.factorisations, s.reuses, s.lu_fallbacks),
@@ -472,20 +470,16 @@ mod tests {
         );
         // without reuse: one factorisation per matrix
         let mut fresh = SplitSolver::new(&p, GmresParams::default()).unwrap();
-        for values in [&first, &second] {
-            fresh.factorize(&p, values).unwrap();
-            let mut x = b.clone();
-            fresh.solve_in_place(&mut x).unwrap();
-        }
+        solve_each(&mut fresh, &p, &[&first, &second], &b);
         assert_eq!((fresh.stats().factorisations, fresh.stats().reuses), (2, 0));
     }
 
     #[test]
     fn a_stale_preconditioner_that_fails_is_refreshed_before_lu() {
         // the factorisation of a nearly symmetric chain (a few GMRES iterations) preconditions
-        // the chain shifted by 5 I badly
-        // (eigenvalues of M⁻¹A from 1 to ~100): 30 iterations are not enough, so the solver
-        // refactorises the current matrix and GMRES converges without LU
+        // the chain shifted by 5 I badly (eigenvalues of M⁻¹A from 1 to ~100): 30 iterations
+        // are not enough, so the solver refactorises the current matrix and GMRES converges
+        // without LU
         let params = GmresParams {
             reuse_margin: Some(1000),
             max_iterations: 30,
@@ -495,12 +489,7 @@ mod tests {
         let second = shifted(&p, &first, 5.0);
         let mut solver = SplitSolver::new(&p, params).unwrap();
         let b: Vec<f64> = (0..300).map(|i| (0.1 * i as f64).cos()).collect();
-        for values in [&first, &second] {
-            solver.factorize(&p, values).unwrap();
-            let mut x = b.clone();
-            solver.solve_in_place(&mut x).unwrap();
-            assert!(residual(&p, values, &x, &b) < 1e-9);
-        }
+        solve_each(&mut solver, &p, &[&first, &second], &b);
         let s = solver.stats();
         assert_eq!(
             (s.reuses, s.factorisations, s.lu_fallbacks, s.solves),
