@@ -5,10 +5,15 @@
 //!
 //! Run (release): `cargo run --release -p moorfret-solver --example strand_six_layer -- \
 //!   [strain] [curvature 1/m ...]` (defaults: 2.5e-3, then 2e-3 5e-3 1e-2 2e-2 4e-2).
-//! `STRAND_REUSE_MARGIN=none|N` overrides the preconditioner reuse of the split solver.
+//! Contact regularisation: the campaigns' set (ε_N = 2e6 N/m, γ_e = 1e-5 m) unless
+//! `STRAND_CONTACT=ε_N,γ_e` gives another. `STRAND_LOAD_INCREMENT=Δλ` sets the first load increment of every step (default 1);
+//! `STRAND_REUSE_MARGIN=none|N` overrides the preconditioner reuse of the split solver;
+//! `RUST_LOG=moorfret_solver=trace` prints every Newton iteration (residual, tolerance), line
+//! search and GMRES solve.
 
 use std::time::Instant;
 
+use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
 use moorfret_solver::linalg::{
     solve_load_path, GmresParams, NewtonParams, NewtonStats, NewtonWorkspace, SplitSolver,
 };
@@ -27,6 +32,12 @@ const PROFILES: &str = include_str!(concat!(
 ));
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    tracing_subscriber::fmt()
+        .with_env_filter(tracing_subscriber::EnvFilter::from_default_env())
+        .with_writer(std::io::stderr)
+        .with_ansi(false)
+        .with_timer(tracing_subscriber::fmt::time::uptime())
+        .init();
     let args: Vec<f64> = std::env::args()
         .skip(1)
         .map(|a| a.parse::<f64>())
@@ -43,8 +54,44 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .ok_or("profile paper_six_layer missing")?
         .validate()?;
     let t = Instant::now();
+    // contact regularisation: the campaigns' set (seed Sec. 2.2 'vs_surface_model') unless
+    // STRAND_CONTACT=penalty_n_per_m,elastic_slip_m says otherwise
+    let (normal, tangential) = match std::env::var("STRAND_CONTACT") {
+        Ok(v) => {
+            let (a, b) = v
+                .split_once(',')
+                .ok_or("STRAND_CONTACT: (penalty|hertz),(elastic_slip|mindlin)")?;
+            let normal = match a {
+                "hertz" => NormalLaw::Hertz,
+                _ => NormalLaw::Penalty {
+                    stiffness_n_per_m: a.parse()?,
+                },
+            };
+            let tangential = match b {
+                "mindlin" => TangentialLaw::Mindlin,
+                _ => TangentialLaw::ElasticSlip {
+                    elastic_slip_m: b.parse()?,
+                },
+            };
+            (normal, tangential)
+        }
+        Err(_) => (
+            NormalLaw::Penalty {
+                stiffness_n_per_m: 2e6,
+            },
+            TangentialLaw::ElasticSlip {
+                elastic_slip_m: 1e-5,
+            },
+        ),
+    };
+    println!("contact: {normal:?}, {tangential:?}");
     let params = StrandModelParameters {
         ends: EndKind::Periodic,
+        contact: ContactParameters {
+            normal,
+            tangential,
+            ..ContactParameters::default()
+        },
         ..StrandModelParameters::default()
     };
     let model = StrandModel::new(&strand, &params)?;
@@ -64,7 +111,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         t.elapsed().as_secs_f64()
     );
     let newton = NewtonParams {
-        initial_load_increment: 1.0,
+        initial_load_increment: match std::env::var("STRAND_LOAD_INCREMENT") {
+            Ok(v) => v.parse()?,
+            Err(_) => 1.0,
+        },
+        pseudo_transient_shift: match std::env::var("STRAND_PTC") {
+            Ok(v) => v.parse()?,
+            Err(_) => HistoryOptions::default().newton.pseudo_transient_shift,
+        },
         ..HistoryOptions::default().newton
     };
     let mut problem = StrandProblem::new(
@@ -130,15 +184,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let solves = split.solves - split_before.solves;
         println!(
             "  linear solves: {solves}, GMRES iterations {} ({:.1} per solve), LDLᵀ \
-             factorisations {}, reuses {}, LU fallbacks {}",
+             factorisations {}, reuses {} ({} refreshed), LU fallbacks {}",
             split.iterations - split_before.iterations,
             (split.iterations - split_before.iterations) as f64 / solves.max(1) as f64,
             split.factorisations - split_before.factorisations,
             split.reuses - split_before.reuses,
+            split.refreshes - split_before.refreshes,
             split.lu_fallbacks - split_before.lu_fallbacks
         );
         Ok(())
     };
+    if let Ok(v) = std::env::var("STRAND_PROBE") {
+        probe(&model, &mut problem, &mut solver.inner, v.parse()?)?;
+        return Ok(());
+    }
     step(
         &mut problem,
         &mut solver,
@@ -184,6 +243,73 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             secant / bounds.max_n_m2,
             r.force_n.z
         );
+    }
+    Ok(())
+}
+
+/// `STRAND_PROBE=λ`: plain Newton corrections of the tension step at load factor λ from the
+/// reference state, each with its residual, contact status changes and the directional finite
+/// difference (r(u + h δu) − r(u))/h against K δu.
+fn probe(
+    model: &StrandModel,
+    problem: &mut StrandProblem<'_>,
+    solver: &mut SplitSolver,
+    load_factor: f64,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use moorfret_solver::contact::ContactStatus;
+    use moorfret_solver::linalg::{LinearSolver, NonlinearProblem};
+    let p = &model.pattern;
+    let n = p.size();
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let statuses = |problem: &StrandProblem<'_>| -> Vec<Option<ContactStatus>> {
+        problem.responses().iter().map(|r| r.map(|r| r.status)).collect()
+    };
+    let mut r = vec![0.0; n];
+    let mut k = vec![0.0; p.nnz()];
+    for it in 0..8 {
+        r.fill(0.0);
+        k.fill(0.0);
+        problem.evaluate(load_factor, &mut r, Some(&mut k))?;
+        let status = statuses(problem);
+        let count = |s: ContactStatus| status.iter().filter(|x| **x == Some(s)).count();
+        solver.factorize_preconditioned(p, &k, problem.preconditioner())?;
+        let mut du: Vec<f64> = r.iter().map(|v| -v).collect();
+        solver.solve_in_place(&mut du)?;
+        let mut kdu = vec![0.0; n];
+        p.mul_vec(&k, &du, &mut kdu);
+        let mut line = format!(
+            "it {it}: |r| {:.3e}, open/stick/slip {}/{}/{}, max|du| {:.2e}",
+            norm(&r),
+            count(ContactStatus::Open),
+            count(ContactStatus::Stick),
+            count(ContactStatus::Slip),
+            du.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+        );
+        for h in [1.0, 1e-1, 1e-2, 1e-4, 1e-6] {
+            let mut trial = problem.clone();
+            let step: Vec<f64> = du.iter().map(|v| v * h).collect();
+            trial.apply_increment(&step);
+            let mut rh = vec![0.0; n];
+            trial.evaluate(load_factor, &mut rh, None)?;
+            let flips = statuses(&trial)
+                .iter()
+                .zip(&status)
+                .filter(|(a, b)| a != b)
+                .count();
+            let diff: Vec<f64> = rh
+                .iter()
+                .zip(&r)
+                .zip(&kdu)
+                .map(|((a, b), c)| (a - b) / h - c)
+                .collect();
+            line += &format!(
+                "; h {h:.0e}: |r_h| {:.2e}, fd {:.1e}, flips {flips}",
+                norm(&rh),
+                norm(&diff) / norm(&kdu)
+            );
+        }
+        println!("{line}");
+        problem.apply_increment(&du);
     }
     Ok(())
 }

@@ -97,6 +97,17 @@ pub struct NewtonParams {
     /// Backtracking trials allowed on a Newton correction that does not decrease the merit
     /// ½ rᵀ W r enough (Armijo), see [`NonlinearProblem::merit_weights`] (0: plain Newton).
     pub line_search_trials: usize,
+    /// Diagonal shift of the iteration matrix, as in pseudo-transient continuation (Kelley &
+    /// Keyes 1998, *SIAM J. Numer. Anal.* 35(2)) with a Levenberg–Marquardt update of the
+    /// shift: iteration k of a step factorises K + μ_k D instead of K, with D = |diag K|,
+    /// μ_0 = this, μ_{k+1} = μ_k / 4 after a full correction that lowered the residual and
+    /// 4 μ_k otherwise (within [1e-3, 100] × this when raised; dropped once below 1e-10), so
+    /// the shift vanishes in a few successful iterations and Newton's quadratic convergence
+    /// returns. It limits the corrections along the nearly singular directions of a tangent
+    /// far from the solution (frictional contacts that carry almost no normal force yet) and
+    /// changes only the path of the iterations: the converged state solves r = 0 as before.
+    /// 0: plain Newton.
+    pub pseudo_transient_shift: f64,
 }
 
 impl Default for NewtonParams {
@@ -116,6 +127,7 @@ impl Default for NewtonParams {
             max_tangent_age: 1,
             reuse_contraction: 0.25,
             line_search_trials: 0,
+            pseudo_transient_shift: 0.0,
         }
     }
 }
@@ -214,6 +226,12 @@ impl NewtonParams {
             "must lie in (0, 1)",
         )?;
         check(
+            self.pseudo_transient_shift >= 0.0 && self.pseudo_transient_shift.is_finite(),
+            "pseudo_transient_shift",
+            self.pseudo_transient_shift,
+            "must be finite and ≥ 0",
+        )?;
+        check(
             self.divergence_ratio > 1.0,
             "divergence_ratio",
             self.divergence_ratio,
@@ -308,6 +326,10 @@ pub struct NewtonWorkspace {
     increment: Vec<f64>,
     values: Vec<f64>,
     scratch: Vec<f64>,
+    /// Position of every diagonal nonzero in the values (pseudo-transient shift).
+    diagonal: Vec<usize>,
+    /// Shifted copy of the problem's preconditioner surrogate.
+    surrogate: Vec<f64>,
 }
 
 impl NewtonWorkspace {
@@ -318,6 +340,35 @@ impl NewtonWorkspace {
             increment: vec![0.0; pattern.size()],
             values: vec![0.0; pattern.nnz()],
             scratch: vec![0.0; pattern.size()],
+            diagonal: (0..pattern.size())
+                .map(|c| {
+                    let range = pattern.col_ptr()[c]..pattern.col_ptr()[c + 1];
+                    pattern.row_idx()[range.clone()]
+                        .iter()
+                        .position(|&r| r == c)
+                        .map_or(usize::MAX, |k| range.start + k)
+                })
+                .collect(),
+            surrogate: Vec::new(),
+        }
+    }
+
+    /// Adds μ |K_ii| to every diagonal nonzero of the tangent in the workspace and, when the
+    /// problem gives a preconditioner surrogate, to a copy of it in `self.surrogate`.
+    fn shift_diagonal(&mut self, mu: f64, surrogate: Option<&[f64]>) {
+        if let Some(p) = surrogate {
+            self.surrogate.clear();
+            self.surrogate.extend_from_slice(p);
+        }
+        for &k in &self.diagonal {
+            if k == usize::MAX {
+                continue;
+            }
+            let d = mu * self.values[k].abs();
+            self.values[k] += d;
+            if surrogate.is_some() {
+                self.surrogate[k] += d;
+            }
         }
     }
 
@@ -490,6 +541,9 @@ fn line_search<P: NonlinearProblem>(
             best = (phi, fraction);
         }
         if phi <= (1.0 - 2.0 * ARMIJO * fraction) * phi0 {
+            if trial > 0 {
+                tracing::trace!(trial, fraction, merit_ratio = phi / phi0, "line search");
+            }
             return fraction;
         }
         let next = if trial == params.line_search_trials {
@@ -513,6 +567,9 @@ fn line_search<P: NonlinearProblem>(
     fraction
 }
 
+/// Pseudo-transient shifts below this are dropped ([`NewtonParams::pseudo_transient_shift`]).
+const PSEUDO_TRANSIENT_FLOOR: f64 = 1e-10;
+
 /// Newton iterations at a fixed load factor; returns the iteration count on convergence.
 fn newton_step<P: NonlinearProblem, S: LinearSolver>(
     problem: &mut P,
@@ -527,6 +584,9 @@ fn newton_step<P: NonlinearProblem, S: LinearSolver>(
     let mut first_energy = f64::NAN;
     let mut previous = f64::INFINITY;
     let mut age = usize::MAX;
+    // pseudo-transient shift and what the last correction achieved
+    let mut mu = params.pseudo_transient_shift;
+    let mut full_step = true;
     for iteration in 0..=params.max_iterations {
         let mut fresh = iteration == 0 || age >= params.max_tangent_age;
         let (mut norm, mut scale) = evaluate(problem, load_factor, ws, fresh, stats)
@@ -537,9 +597,25 @@ fn newton_step<P: NonlinearProblem, S: LinearSolver>(
             (norm, scale) = evaluate(problem, load_factor, ws, true, stats)
                 .map_err(|source| Failure::Problem { iteration, source })?;
         }
+        if iteration > 0 && mu > 0.0 {
+            mu = if norm < previous && full_step {
+                0.25 * mu
+            } else {
+                (4.0 * mu).max(1e-3 * params.pseudo_transient_shift)
+            }
+            .min(1e2 * params.pseudo_transient_shift);
+        }
         previous = norm;
         stats.residual_history.push(norm);
         let tolerance = params.absolute_tolerance + params.relative_tolerance * scale;
+        tracing::trace!(
+            load_factor,
+            iteration,
+            residual = norm,
+            tolerance,
+            fresh,
+            "Newton iteration"
+        );
         if norm <= tolerance {
             return Ok(iteration);
         }
@@ -558,9 +634,16 @@ fn newton_step<P: NonlinearProblem, S: LinearSolver>(
         }
         if fresh {
             stats.factorisations += 1;
-            solver
-                .factorize_preconditioned(pattern, &ws.values, problem.preconditioner())
-                .map_err(|source| Failure::Linear { iteration, source })?;
+            let factorised = if mu > PSEUDO_TRANSIENT_FLOOR {
+                let surrogate = problem.preconditioner();
+                let shifted_surrogate = surrogate.is_some();
+                ws.shift_diagonal(mu, surrogate);
+                let surrogate = shifted_surrogate.then_some(ws.surrogate.as_slice());
+                solver.factorize_preconditioned(pattern, &ws.values, surrogate)
+            } else {
+                solver.factorize_preconditioned(pattern, &ws.values, problem.preconditioner())
+            };
+            factorised.map_err(|source| Failure::Linear { iteration, source })?;
             age = 0;
         }
         age += 1;
@@ -587,7 +670,7 @@ fn newton_step<P: NonlinearProblem, S: LinearSolver>(
         }
         if params.line_search_trials > 0 {
             let phi0 = merit(&ws.residual, problem.merit_weights());
-            line_search(problem, load_factor, phi0, params, ws, stats);
+            full_step = line_search(problem, load_factor, phi0, params, ws, stats) == 1.0;
         }
     }
     // the loop returns at iteration == max_iterations at the latest

@@ -37,7 +37,11 @@ pub struct GmresParams {
     /// Preconditioner reuse: a new matrix keeps the LDLᵀ factorisation of an earlier one as
     /// long as the last solve needed at most this many GMRES iterations more than the first
     /// solve after that factorisation (`None`: factorise every matrix). GMRES still solves the
-    /// new matrix to its tolerance; only the preconditioner is older.
+    /// new matrix to its tolerance; only the preconditioner is older. A solve with the older
+    /// preconditioner gets that many iterations at most before the preconditioner is refreshed,
+    /// and after such a refresh the next 2, 4, 8, … matrices (doubling with every consecutive
+    /// refresh, at most 64) are factorised afresh: while the tangent changes fast (contacts
+    /// switching in the first iterations of a step) the reuse attempts cost more than they save.
     pub reuse_margin: Option<usize>,
 }
 
@@ -66,6 +70,8 @@ pub struct SplitStats {
     pub factorisations: usize,
     /// Matrices solved with the preconditioner of an earlier one.
     pub reuses: usize,
+    /// Solves whose older preconditioner ran out of iterations and was refreshed.
+    pub refreshes: usize,
 }
 
 /// LDLᵀ of the symmetric part as preconditioner of GMRES on the full matrix.
@@ -93,6 +99,9 @@ pub struct SplitSolver {
     lu_current: bool,
     /// Solves still to go straight to LU.
     skip_gmres: usize,
+    /// Matrices still to be factorised afresh after a refresh, and consecutive refreshes.
+    reuse_backoff: usize,
+    refresh_streak: u32,
     stats: SplitStats,
     // GMRES workspace
     basis: Vec<Vec<f64>>,
@@ -135,6 +144,8 @@ impl SplitSolver {
             last_iterations: 0,
             lu_current: false,
             skip_gmres: 0,
+            reuse_backoff: 0,
+            refresh_streak: 0,
             stats: SplitStats::default(),
             basis: vec![vec![0.0; n]; m + 1],
             hessenberg: vec![vec![0.0; m + 1]; m],
@@ -159,6 +170,8 @@ impl SplitSolver {
         self.last_iterations = 0;
         self.lu_current = false;
         self.skip_gmres = 0;
+        self.reuse_backoff = 0;
+        self.refresh_streak = 0;
     }
 
     fn lu_solve(&mut self, rhs: &mut [f64]) -> Result<(), LinalgError> {
@@ -187,13 +200,24 @@ impl SplitSolver {
         Ok(())
     }
 
-    /// GMRES on `rhs` (a copy of which is in `b`), counting its iterations; false when it
-    /// did not converge, with `rhs` restored.
-    fn try_gmres(&mut self, rhs: &mut [f64], b: &[f64]) -> Result<bool, LinalgError> {
+    /// GMRES on `rhs` (a copy of which is in `b`) with at most `max_iterations`, counting its
+    /// iterations; false when it did not converge, with `rhs` restored.
+    fn try_gmres(
+        &mut self,
+        rhs: &mut [f64],
+        b: &[f64],
+        max_iterations: usize,
+    ) -> Result<bool, LinalgError> {
         let before = self.stats.iterations;
         self.stats.solves += 1;
-        let converged = self.gmres(rhs)? && rhs.iter().all(|v| v.is_finite());
+        let converged = self.gmres(rhs, max_iterations)? && rhs.iter().all(|v| v.is_finite());
         self.last_iterations = self.stats.iterations - before;
+        tracing::trace!(
+            iterations = self.last_iterations,
+            converged,
+            fresh_preconditioner = self.fresh_iterations.is_none(),
+            "GMRES"
+        );
         if converged {
             self.fresh_iterations.get_or_insert(self.last_iterations);
         } else {
@@ -203,7 +227,7 @@ impl SplitSolver {
     }
 
     /// Right-preconditioned restarted GMRES from x = 0; returns x in `rhs` when converged.
-    fn gmres(&mut self, rhs: &mut [f64]) -> Result<bool, LinalgError> {
+    fn gmres(&mut self, rhs: &mut [f64], max_iterations: usize) -> Result<bool, LinalgError> {
         let n = rhs.len();
         let b_norm = norm(rhs);
         if b_norm == 0.0 {
@@ -221,11 +245,12 @@ impl SplitSolver {
                 rhs.copy_from_slice(&x);
                 return Ok(true);
             }
-            if iterations >= self.params.max_iterations {
+            if iterations >= max_iterations {
                 tracing::debug!(
                     iterations,
                     relative_residual = beta / b_norm,
-                    "GMRES did not converge; LU fallback"
+                    current_preconditioner = self.ldlt_current,
+                    "GMRES did not converge"
                 );
                 return Ok(false);
             }
@@ -235,7 +260,7 @@ impl SplitSolver {
             g.iter_mut().for_each(|v| *v = 0.0);
             g[0] = beta;
             let mut k = 0;
-            while k < m && iterations < self.params.max_iterations {
+            while k < m && iterations < max_iterations {
                 // w = A M⁻¹ v_k
                 self.work.copy_from_slice(&self.basis[k]);
                 self.ldlt.solve_in_place(&mut self.work)?;
@@ -347,10 +372,14 @@ impl LinearSolver for SplitSolver {
         }
         let reuse = match (self.params.reuse_margin, self.fresh_iterations) {
             (Some(margin), Some(fresh)) => {
-                self.ldlt_ok && self.skip_gmres == 0 && self.last_iterations <= fresh + margin
+                self.ldlt_ok
+                    && self.skip_gmres == 0
+                    && self.reuse_backoff == 0
+                    && self.last_iterations <= fresh + margin
             }
             _ => false,
         };
+        self.reuse_backoff = self.reuse_backoff.saturating_sub(1);
         if reuse {
             self.ldlt_current = false;
             self.stats.reuses += 1;
@@ -364,13 +393,26 @@ impl LinearSolver for SplitSolver {
         check_len("right-hand side", self.full.size(), rhs.len())?;
         if self.ldlt_ok && self.skip_gmres == 0 {
             let b = rhs.to_vec();
-            if self.try_gmres(rhs, &b)? {
+            let max = self.params.max_iterations;
+            let budget = match (self.ldlt_current, self.fresh_iterations) {
+                // an older preconditioner may take the reuse margin more than a fresh one did
+                (false, Some(fresh)) => max.min(fresh + self.params.reuse_margin.unwrap_or(0)),
+                _ => max,
+            };
+            if self.try_gmres(rhs, &b, budget)? {
+                if !self.ldlt_current {
+                    self.refresh_streak = 0;
+                }
                 return Ok(());
             }
             if !self.ldlt_current {
-                // the preconditioner of an earlier matrix: refresh it before giving up
+                // the preconditioner of an earlier matrix: refresh it before giving up, and
+                // factorise the next few matrices afresh
+                self.stats.refreshes += 1;
+                self.refresh_streak += 1;
+                self.reuse_backoff = 1 << self.refresh_streak.min(6);
                 self.refactorize()?;
-                if self.ldlt_ok && self.try_gmres(rhs, &b)? {
+                if self.ldlt_ok && self.try_gmres(rhs, &b, max)? {
                     return Ok(());
                 }
             }

@@ -12,11 +12,17 @@
 //! strain is κ R sin θ ([`crate::strand::loading`]). A contact's position is the midpoint of its
 //! two nodes.
 //!
-//! Default monitors: for every layer interface, the contact nearest the neutral axis and the one
-//! nearest the outer arc among those within a quarter of the model length of mid-length
-//! (normal force, tangential force, slip); for every helical layer, the wire elements nearest the
-//! neutral axis and the outer arc at mid-length (axial force); and a ring: for every wire of the
+//! Default monitors: for every layer interface, the contact at the neutral axis and the one at the
+//! outer arc (normal force, tangential force, slip); for every helical layer, the wire element at
+//! the neutral axis and the one at the outer arc (axial force); and a ring: for every wire of the
 //! outermost layer, its contact with the layer underneath nearest mid-length.
+//!
+//! "At the outer arc" means nearest θ = +π/2, the stretched side; "at the neutral axis" nearest
+//! θ = 0 or π. The angle comes first, the axial position second: among the sites whose angular
+//! distance to the target is within one element's angular span of the closest one, the one
+//! nearest mid-length is taken. A layer with many wires therefore has its monitors near
+//! mid-length; a layer of one wire (the 1+6+1 benchmark) reaches the outer arc only at the
+//! model ends, and its outer-arc monitor sits there. Each channel records its θ and z.
 
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -171,11 +177,67 @@ fn best<I: Iterator<Item = usize>>(candidates: I, score: impl Fn(usize) -> f64) 
     candidates.min_by(|&a, &b| score(a).total_cmp(&score(b)))
 }
 
+/// Angular distance (rad, in [0, π]) from θ to the outer arc θ = π/2.
+fn from_outer_arc(theta: f64) -> f64 {
+    let d = (theta - std::f64::consts::FRAC_PI_2).rem_euclid(std::f64::consts::TAU);
+    d.min(std::f64::consts::TAU - d)
+}
+
+/// Angular distance (rad, in [0, π/2]) from θ to the neutral axis θ ∈ {0, π}.
+fn from_neutral_axis(theta: f64) -> f64 {
+    let d = theta.rem_euclid(std::f64::consts::PI);
+    d.min(std::f64::consts::PI - d)
+}
+
+/// The site at angle `target` (module docs): among `candidates` of angle `theta` and axial
+/// coordinate `z`, those within `span` (rad) of the smallest angular distance, then the one
+/// nearest `mid`; ties to the smaller index.
+fn at_angle(
+    candidates: &[usize],
+    target: fn(f64) -> f64,
+    span: f64,
+    theta: impl Fn(usize) -> f64,
+    z: impl Fn(usize) -> f64,
+    mid: f64,
+) -> Option<usize> {
+    let closest = candidates
+        .iter()
+        .map(|&i| target(theta(i)))
+        .min_by(f64::total_cmp)?;
+    best(
+        candidates
+            .iter()
+            .copied()
+            .filter(|&i| target(theta(i)) <= closest + span),
+        |i| (z(i) - mid).abs(),
+    )
+}
+
+/// Angular span (rad) about the strand axis of the longest element of every helical layer.
+fn element_angular_spans(model: &StrandModel) -> Vec<f64> {
+    let wires = model.strand.wires();
+    let mut spans = vec![0.0f64; model.strand.layers.len()];
+    for el in &model.mesh.elements {
+        let Some(layer) = wires[el.wire.0].layer else {
+            continue;
+        };
+        let span = {
+            let (a, b) = (
+                &model.mesh.nodes[el.nodes[0].0].position,
+                &model.mesh.nodes[el.nodes[1].0].position,
+            );
+            let (ta, tb) = (a.y.atan2(a.x), b.y.atan2(b.x));
+            let d = (tb - ta).rem_euclid(std::f64::consts::TAU);
+            d.min(std::f64::consts::TAU - d)
+        };
+        spans[layer] = spans[layer].max(span);
+    }
+    spans
+}
+
 /// The default monitor channels of `model` (module docs), with empty series.
 pub fn default_channels(model: &StrandModel, sites: &[ContactSite]) -> Vec<MonitorChannel> {
-    let length = model.strand.model_length_m;
-    let mid = 0.5 * length;
-    let window = 0.25 * length;
+    let mid = 0.5 * model.strand.model_length_m;
     let wires = model.strand.wires();
     let layers = model.strand.layers.len();
     let mut out = Vec::new();
@@ -196,18 +258,23 @@ pub fn default_channels(model: &StrandModel, sites: &[ContactSite]) -> Vec<Monit
             });
         }
     };
-    let near = |z: f64| (z - mid).abs() <= window;
+    // interface i is that of helical layer i on the layer underneath
+    let spans = element_angular_spans(model);
+    let groups: [(MonitorGroup, fn(f64) -> f64); 2] = [
+        (MonitorGroup::NeutralAxis, from_neutral_axis),
+        (MonitorGroup::OuterArc, from_outer_arc),
+    ];
     // contacts: neutral axis and outer arc of every interface
     for interface in 0..layers {
-        let candidates = || {
-            (0..sites.len()).filter(move |&c| sites[c].interface == interface && near(sites[c].z_m))
-        };
-        let dz = |c: usize| 1e-3 * (sites[c].z_m - mid).abs() / length;
-        if let Some(c) = best(candidates(), |c| sites[c].theta_rad.sin().abs() + dz(c)) {
-            contact_channels(&mut out, c, MonitorGroup::NeutralAxis);
-        }
-        if let Some(c) = best(candidates(), |c| sites[c].theta_rad.cos().abs() + dz(c)) {
-            contact_channels(&mut out, c, MonitorGroup::OuterArc);
+        let candidates: Vec<usize> = (0..sites.len())
+            .filter(|&c| sites[c].interface == interface)
+            .collect();
+        for (group, target) in groups {
+            let theta = |c: usize| sites[c].theta_rad;
+            let span = spans[interface];
+            if let Some(c) = at_angle(&candidates, target, span, theta, |c| sites[c].z_m, mid) {
+                contact_channels(&mut out, c, group);
+            }
         }
     }
     // wire elements: neutral axis and outer arc of every helical layer
@@ -232,17 +299,12 @@ pub fn default_channels(model: &StrandModel, sites: &[ContactSite]) -> Vec<Monit
         .collect();
     for layer in 0..layers {
         let candidates: Vec<usize> = (0..element_sites.len())
-            .filter(|&e| element_layers[e] == Some(layer) && near(element_sites[e].1))
+            .filter(|&e| element_layers[e] == Some(layer))
             .collect();
-        let dz = |e: usize| 1e-3 * (element_sites[e].1 - mid).abs() / length;
-        let groups: [(MonitorGroup, fn(f64) -> f64); 2] = [
-            (MonitorGroup::NeutralAxis, |t: f64| t.sin().abs()),
-            (MonitorGroup::OuterArc, |t: f64| t.cos().abs()),
-        ];
-        for (group, f) in groups {
-            if let Some(e) = best(candidates.iter().copied(), |e| {
-                f(element_sites[e].0) + dz(e)
-            }) {
+        for (group, target) in groups {
+            let theta = |e: usize| element_sites[e].0;
+            let span = spans[layer];
+            if let Some(e) = at_angle(&candidates, target, span, theta, |e| element_sites[e].1, mid) {
                 let (theta_rad, z_m) = element_sites[e];
                 out.push(MonitorChannel {
                     quantity: MonitorQuantity::WireAxialForce,

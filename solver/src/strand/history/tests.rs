@@ -231,3 +231,49 @@ fn a_run_stopped_and_resumed_from_its_checkpoint_gives_identical_results() {
         Err(HistoryError::Checkpoint { .. })
     ));
 }
+
+#[test]
+fn outer_arc_monitors_sit_on_the_stretched_side_and_neutral_axis_monitors_on_the_axis() {
+    use super::monitors::{contact_sites, default_channels, MonitorGroup, MonitorTarget};
+    let model = model();
+    let sites = contact_sites(&model);
+    let channels = default_channels(&model, &sites);
+    let length = model.strand.model_length_m;
+    // within 20° of the target angle: about one element of the coarsest helix mesh
+    let tolerance = PI / 9.0;
+    let mut seen = [0; 2];
+    for ch in &channels {
+        let (s, c) = ch.theta_rad.sin_cos();
+        match ch.group {
+            MonitorGroup::OuterArc => {
+                seen[0] += 1;
+                // the stretched side θ ≈ +π/2, never the inner arc
+                assert!(s > tolerance.cos(), "{ch:?}");
+            }
+            MonitorGroup::NeutralAxis => {
+                seen[1] += 1;
+                assert!(s.abs() < tolerance.sin() && c.abs() > 0.9, "{ch:?}");
+            }
+            MonitorGroup::Ring => continue,
+        }
+        assert!((0.0..=length).contains(&ch.z_m), "{ch:?}");
+        if let MonitorTarget::Element(e) = ch.target {
+            assert!(e < model.mesh.elements.len());
+        }
+    }
+    // contacts (three quantities) of both interfaces and the elements of both helical layers
+    assert_eq!(seen, [3 * 2 + 2, 3 * 2 + 2]);
+    // the six-wire layer has a wire near either angle close to mid-length
+    let layer1_element = channels
+        .iter()
+        .find(|ch| {
+            ch.group == MonitorGroup::OuterArc
+                && ch.layer == 0
+                && ch.quantity == MonitorQuantity::WireAxialForce
+        })
+        .unwrap();
+    assert!(
+        (layer1_element.z_m - 0.5 * length).abs() < length / 6.0,
+        "{layer1_element:?}"
+    );
+}
