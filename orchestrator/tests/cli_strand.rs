@@ -108,11 +108,6 @@ fn fit(x1: &[f64], x2: &[f64], y: &[f64]) -> (f64, f64) {
 }
 
 #[test]
-#[ignore = "open: the default 'outer arc' monitors take the site of smallest |cos θ|, which \
-            can be the inner arc θ = −π/2: here the outer helix's element at mid-length, \
-            dF/dκ = −0.53 of EA cos²β R (measured −13 246 N m); selecting θ = +π/2 instead finds \
-            no such element within a quarter length of mid-length (the single outer wire is at \
-            the outer arc only at its ends) and gave the neutral axis (−0.010)"]
 fn a_tension_history_writes_physical_outputs_and_resumes_identically() {
     let dir = tempfile::tempdir().unwrap();
     let load = dir.path().join("load.csv");
@@ -203,7 +198,9 @@ fn a_tension_history_writes_physical_outputs_and_resumes_identically() {
     // ε cos²β (helix radii fixed), so dF/dε = EA cos²β. Stick solution at angle θ from the
     // neutral axis: dF/dκ = EA cos²β R sin θ; the model gives 0.53 of it because the 6-wire
     // layer rolls on its core line points (README, strand verification table), so we accept
-    // 0.4-0.7 at the outer arc and a small fraction of that at the neutral axis.
+    // 0.4-0.7 at the outer arc and a small fraction of that at the neutral axis. The single
+    // outer wire reaches the outer arc (θ = +π/2) only at the model ends, where its monitor
+    // sits (measured 0.578).
     let oa = fit(
         &strain,
         &kappa,

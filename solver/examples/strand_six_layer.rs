@@ -86,7 +86,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     println!("contact: {normal:?}, {tangential:?}");
     let params = StrandModelParameters {
-        ends: EndKind::Periodic,
+        ends: match std::env::var("STRAND_ENDS").as_deref() {
+            Ok("ties") => EndKind::PenaltyTies,
+            _ => EndKind::Periodic,
+        },
         contact: ContactParameters {
             normal,
             tangential,
@@ -95,18 +98,23 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..StrandModelParameters::default()
     };
     let model = StrandModel::new(&strand, &params)?;
-    let periodic = model.periodic.as_ref().ok_or("no periodic ends")?;
+    let ends = match &model.periodic {
+        Some(p) => format!(
+            "{} anchored ends, {} eliminated ends; {} equations ({} before elimination)",
+            p.layout.anchored.len(),
+            p.layout.constraints.len(),
+            model.pattern.size(),
+            p.extended.size()
+        ),
+        None => format!("penalty-tied ends; {} equations", model.pattern.size()),
+    };
     println!(
-        "model: {} wires, {} nodes, {} elements, {} contacts, {} anchored ends, {} eliminated \
-         ends; {} equations ({} before elimination), {} nonzeros; built in {:.2} s",
+        "model: {} wires, {} nodes, {} elements, {} contacts, {ends}, {} nonzeros; built in \
+         {:.2} s",
         strand.wire_count(),
         model.mesh.nodes.len(),
         model.mesh.elements.len(),
         model.contacts.len(),
-        periodic.layout.anchored.len(),
-        periodic.layout.constraints.len(),
-        model.pattern.size(),
-        periodic.extended.size(),
         model.pattern.nnz(),
         t.elapsed().as_secs_f64()
     );
@@ -216,6 +224,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         est.corrected_n,
         100.0 * (ea / est.corrected_n - 1.0)
     );
+    layer_report(&model, &problem, strain, mid)?;
     let bounds = bending_stiffness_bounds(&strand, mid);
     println!(
         "EI_min = {:.1} N m², EI_max = {:.1} N m²",
@@ -310,6 +319,74 @@ fn probe(
         }
         println!("{line}");
         problem.apply_increment(&du);
+    }
+    Ok(())
+}
+
+/// Per layer: axial force across the mid-length section against the straight-strand share
+/// n E A cos³β ε, and the contact normal forces and penetrations of its interface underneath.
+fn layer_report(
+    model: &StrandModel,
+    problem: &StrandProblem<'_>,
+    strain: f64,
+    mid: f64,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use moorfret_solver::strand::history::monitors::contact_sites;
+    let strand = &model.strand;
+    let wires = strand.wires();
+    let state = problem.state();
+    let reference = model.frame.reference_positions();
+    let layers = strand.layers.len();
+    let mut force = vec![0.0; layers + 1];
+    let mut fe = nalgebra::SVector::<f64, 12>::zeros();
+    for (e, el) in model.frame.elements().iter().enumerate() {
+        let [a, b] = el.nodes;
+        if !(reference[a.0].z <= mid && reference[b.0].z > mid) {
+            continue;
+        }
+        el.beam.internal_force(
+            &state.positions[a.0],
+            &state.positions[b.0],
+            &state.rotations[a.0],
+            &state.rotations[b.0],
+            &mut fe,
+        )?;
+        let layer = wires[model.mesh.elements[e].wire.0].layer.map_or(0, |k| k + 1);
+        force[layer] += fe[8];
+    }
+    let e = strand.young_modulus_pa;
+    let area = |r: f64| std::f64::consts::PI * r * r;
+    println!(
+        "  core: F_z {:.1} kN ({:.3} of E A ε)",
+        1e-3 * force[0],
+        force[0] / (e * area(strand.core_wire_radius_m) * strain)
+    );
+    let sites = contact_sites(model);
+    for (k, layer) in strand.layers.iter().enumerate() {
+        let share = layer.wires as f64
+            * e
+            * area(layer.wire_radius_m)
+            * layer.lay_angle_rad.cos().powi(3)
+            * strain;
+        let (mut n, mut sum, mut max, mut pen) = (0usize, 0.0f64, 0.0f64, 0.0f64);
+        for (c, r) in problem.responses().iter().enumerate() {
+            if let (Some(r), true) = (r, sites[c].interface == k) {
+                n += 1;
+                sum += r.normal_force_n;
+                max = max.max(r.normal_force_n);
+                pen = pen.max(-r.normal_gap_m);
+            }
+        }
+        println!(
+            "  layer {}: F_z {:.1} kN ({:.3} of n E A cos³β ε); interface underneath: {n} \
+             contacts, mean / max normal force {:.1} / {:.1} N, max penetration {:.2e} m",
+            k + 1,
+            1e-3 * force[k + 1],
+            force[k + 1] / share,
+            sum / n.max(1) as f64,
+            max,
+            pen
+        );
     }
     Ok(())
 }

@@ -186,6 +186,11 @@ impl Default for HistoryOptions {
                 // backtracking breaks the two-cycles of full Newton steps in which slip directions
                 // turn (1+6+1 strand at κ = 1 1/m: one step instead of ~1 500)
                 line_search_trials: 8,
+                // the first corrections from a state whose contacts carry little normal force
+                // run along nearly free wire motions: the six-layer tension step with
+                // ε_N = 2e8 N/m stalls in line-search cuts without it and converges in 22
+                // iterations with it (solver/examples/strand_six_layer.rs)
+                pseudo_transient_shift: 0.1,
                 ..NewtonParams::default()
             },
             // two orders of magnitude below the micrometre slips of interest (seed Fig. 22)
