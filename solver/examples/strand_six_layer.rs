@@ -5,7 +5,7 @@
 //!
 //! Run (release): `cargo run --release -p moorfret-solver --example strand_six_layer -- \
 //!   [strain] [curvature 1/m ...]` (defaults: 2.5e-3, then 2e-3 5e-3 1e-2 2e-2 4e-2).
-//! Contact regularisation: the campaigns' set (ε_N = 2e6 N/m, γ_e = 1e-5 m) unless
+//! Contact regularisation: the paper campaign's set (ε_N = 2e8 N/m, γ_e = 1e-5 m) unless
 //! `STRAND_CONTACT=ε_N,γ_e` gives another. `STRAND_LOAD_INCREMENT=Δλ` sets the first load increment of every step (default 1);
 //! `STRAND_REUSE_MARGIN=none|N` overrides the preconditioner reuse of the split solver;
 //! `RUST_LOG=moorfret_solver=trace` prints every Newton iteration (residual, tolerance), line
@@ -54,7 +54,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .ok_or("profile paper_six_layer missing")?
         .validate()?;
     let t = Instant::now();
-    // contact regularisation: the campaigns' set (seed Sec. 2.2 'vs_surface_model') unless
+    // contact regularisation: the paper campaign's set (ε_N of the seed's Sec. 2.2
+    // 'vs_analytical', γ_e of its 'vs_surface_model') unless
     // STRAND_CONTACT=penalty_n_per_m,elastic_slip_m says otherwise
     let (normal, tangential) = match std::env::var("STRAND_CONTACT") {
         Ok(v) => {
@@ -77,7 +78,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         Err(_) => (
             NormalLaw::Penalty {
-                stiffness_n_per_m: 2e6,
+                stiffness_n_per_m: 2e8,
             },
             TangentialLaw::ElasticSlip {
                 elastic_slip_m: 1e-5,
@@ -137,15 +138,28 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         },
     );
     let t = Instant::now();
-    let mut solver = TimedSolver {
-        inner: match std::env::var("STRAND_REUSE_MARGIN").as_deref() {
-            Ok("none") => model.linear_solver_with(GmresParams::default())?,
-            Ok(m) => model.linear_solver_with(GmresParams {
-                reuse_margin: Some(m.parse()?),
-                ..GmresParams::default()
-            })?,
-            Err(_) => model.linear_solver()?,
+    let gmres = match std::env::var("STRAND_REUSE_MARGIN").as_deref() {
+        Ok("none") => GmresParams::default(),
+        Ok(m) => GmresParams {
+            reuse_margin: Some(m.parse()?),
+            ..GmresParams::default()
         },
+        Err(_) => GmresParams {
+            reuse_margin: Some(moorfret_solver::strand::model::PRECONDITIONER_REUSE_MARGIN),
+            ..GmresParams::default()
+        },
+    };
+    let threads: usize = match std::env::var("STRAND_THREADS") {
+        Ok(v) => v.parse()?,
+        Err(_) => 1,
+    };
+    let par = if threads > 1 {
+        faer::Par::rayon(threads)
+    } else {
+        faer::Par::Seq
+    };
+    let mut solver = TimedSolver {
+        inner: SplitSolver::with_parallelism(&model.pattern, gmres, par)?,
         times: WorkTimes::default(),
     };
     println!("symbolic analysis: {:.2} s", t.elapsed().as_secs_f64());
@@ -202,6 +216,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
         Ok(())
     };
+    if let Ok(v) = std::env::var("STRAND_HISTORY") {
+        return history(&model, v.parse()?, strain, &curvatures, threads);
+    }
     if let Ok(v) = std::env::var("STRAND_PROBE") {
         probe(&model, &mut problem, &mut solver.inner, v.parse()?)?;
         return Ok(());
@@ -388,5 +405,73 @@ fn layer_report(
             pen
         );
     }
+    Ok(())
+}
+
+/// `STRAND_HISTORY=seconds`: an irregular history through [`run_history`] (module docs).
+fn history(
+    model: &StrandModel,
+    duration_s: f64,
+    strain: f64,
+    curvatures: &[f64],
+    threads: usize,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use moorfret_solver::strand::history::{run_history, LoadSample, NoObserver};
+    let amplitude = curvatures.iter().fold(0.0f64, |m, k| m.max(k.abs()));
+    // five incommensurate components per channel around the wave periods of a sea state
+    let comps = [(0.061, 0.3), (0.083, 1.1), (0.097, 2.0), (0.113, 0.7), (0.131, 2.9)];
+    let n = (duration_s / 0.1).round() as usize;
+    let samples: Vec<LoadSample> = (0..=n)
+        .map(|i| {
+            let t = 0.1 * i as f64;
+            let (mut e, mut k) = (0.0, 0.0);
+            for (j, &(f, ph)) in comps.iter().enumerate() {
+                let w = 2.0 * std::f64::consts::PI * f;
+                e += (w * t + ph).sin() / (1.0 + j as f64);
+                k += (w * t + 1.3 * ph + 0.8).sin() / (1.0 + 0.5 * j as f64);
+            }
+            LoadSample {
+                time_s: t,
+                strain: strain * (1.0 + 0.1 * e),
+                curvature_per_m: amplitude * k / 3.0,
+            }
+        })
+        .collect();
+    let mut options = HistoryOptions {
+        threads,
+        ..HistoryOptions::default()
+    };
+    if let Ok(v) = std::env::var("STRAND_PTC") {
+        options.newton.pseudo_transient_shift = v.parse()?;
+    }
+    if let Ok(v) = std::env::var("STRAND_FORCING") {
+        options.newton.linear_forcing = v.parse()?;
+    }
+    let t = Instant::now();
+    let r = run_history(model, &samples, &options, &mut NoObserver)?;
+    let s = r.stats;
+    let history_substeps = s.substeps - s.initialisation_substeps;
+    println!(
+        "history {duration_s} s: {} of {} samples kept, {} sub-steps, {} Newton steps, {} \
+         cut-backs, {} iterations; {:.1} s in all (initialisation {:.1} s, history solves {:.1} \
+         s = {:.2} s per sub-step, {:.1} iterations per sub-step; outputs {:.1} s); assembly \
+         {:.1} s, factorisation {:.1} s, solves {:.1} s; {} sub-steps in the initialisation",
+        s.kept_samples,
+        s.samples,
+        s.substeps,
+        s.newton_steps,
+        s.cutbacks,
+        s.iterations,
+        t.elapsed().as_secs_f64(),
+        s.initialisation_time_s,
+        s.solve_time_s,
+        s.solve_time_s / history_substeps.max(1) as f64,
+        s.iterations as f64 / s.substeps.max(1) as f64,
+        s.output_time_s,
+        s.work.assembly_s,
+        s.work.factorisation_s,
+        s.work.solve_s,
+        s.initialisation_substeps
+    );
     Ok(())
 }

@@ -75,6 +75,12 @@ pub trait LinearSolver {
     }
     /// Overwrites `rhs` with A⁻¹ rhs using the last factorisation.
     fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<(), LinalgError>;
+    /// Relative residual ‖b − A x‖ / ‖b‖ the next solves may leave (an inexact Newton method's
+    /// forcing term); iterative solvers use the larger of this and their own tolerance, direct
+    /// solvers ignore it. `None` restores the solver's own tolerance.
+    fn set_forcing(&mut self, relative_residual: Option<f64>) {
+        let _ = relative_residual;
+    }
 }
 
 pub(crate) fn check_len(

@@ -99,6 +99,8 @@ pub struct SplitSolver {
     lu_current: bool,
     /// Solves still to go straight to LU.
     skip_gmres: usize,
+    /// Looser relative tolerance asked for by the caller ([`LinearSolver::set_forcing`]).
+    forcing: Option<f64>,
     /// Matrices still to be factorised afresh after a refresh, and consecutive refreshes.
     reuse_backoff: usize,
     refresh_streak: u32,
@@ -111,8 +113,18 @@ pub struct SplitSolver {
 }
 
 impl SplitSolver {
-    /// Symbolic analysis of the symmetric part of a full-storage `pattern`.
+    /// Symbolic analysis of the symmetric part of a full-storage `pattern`; one thread.
     pub fn new(pattern: &SparsePattern, params: GmresParams) -> Result<Self, LinalgError> {
+        Self::with_parallelism(pattern, params, Par::Seq)
+    }
+
+    /// [`Self::new`] with the LDLᵀ factorisation and solves run on `par` (e.g.
+    /// `Par::rayon(2)`).
+    pub fn with_parallelism(
+        pattern: &SparsePattern,
+        params: GmresParams,
+        par: Par,
+    ) -> Result<Self, LinalgError> {
         if pattern.storage() != Storage::Full {
             return Err(LinalgError::WrongStorage {
                 expected: Storage::Full,
@@ -125,7 +137,7 @@ impl SplitSolver {
             let range = pattern.col_ptr()[col]..pattern.col_ptr()[col + 1];
             diagonal.extend(pattern.row_idx()[range].iter().map(|&row| row == col));
         }
-        let ldlt = SparseCholesky::new(&upper, CholeskyKind::Ldlt, Par::Seq)?;
+        let ldlt = SparseCholesky::new(&upper, CholeskyKind::Ldlt, par)?;
         let n = pattern.size();
         let m = params.restart.max(1);
         Ok(Self {
@@ -144,6 +156,7 @@ impl SplitSolver {
             last_iterations: 0,
             lu_current: false,
             skip_gmres: 0,
+            forcing: None,
             reuse_backoff: 0,
             refresh_streak: 0,
             stats: SplitStats::default(),
@@ -233,7 +246,11 @@ impl SplitSolver {
         if b_norm == 0.0 {
             return Ok(true);
         }
-        let tol = self.params.relative_tolerance * b_norm;
+        let relative = match self.forcing {
+            Some(f) => f.max(self.params.relative_tolerance),
+            None => self.params.relative_tolerance,
+        };
+        let tol = relative * b_norm;
         let m = self.params.restart.max(1);
         let mut x = vec![0.0; n];
         let mut r = rhs.to_vec();
@@ -421,6 +438,10 @@ impl LinearSolver for SplitSolver {
             self.skip_gmres = self.skip_gmres.saturating_sub(1);
         }
         self.lu_solve(rhs)
+    }
+
+    fn set_forcing(&mut self, relative_residual: Option<f64>) {
+        self.forcing = relative_residual;
     }
 }
 

@@ -374,6 +374,23 @@ impl StrandModel {
         })
     }
 
+    /// [`Self::linear_solver`] with its LDLᵀ factorisation on `threads` threads.
+    pub fn linear_solver_threads(&self, threads: usize) -> Result<SplitSolver, LinalgError> {
+        let par = if threads > 1 {
+            faer::Par::rayon(threads)
+        } else {
+            faer::Par::Seq
+        };
+        SplitSolver::with_parallelism(
+            &self.pattern,
+            GmresParams {
+                reuse_margin: Some(PRECONDITIONER_REUSE_MARGIN),
+                ..GmresParams::default()
+            },
+            par,
+        )
+    }
+
     /// [`Self::linear_solver`] with other GMRES settings.
     pub fn linear_solver_with(&self, params: GmresParams) -> Result<SplitSolver, LinalgError> {
         SplitSolver::new(&self.pattern, params)

@@ -162,6 +162,9 @@ pub struct HistoryOptions {
     pub default_monitors: bool,
     /// Hand a checkpoint to the observer every this many segments (0: never).
     pub checkpoint_interval_segments: usize,
+    /// Threads of the LDLᵀ factorisation of the linear solver (1: sequential). The results do
+    /// not depend on it beyond round-off.
+    pub threads: usize,
 }
 
 impl Default for HistoryOptions {
@@ -188,9 +191,15 @@ impl Default for HistoryOptions {
                 line_search_trials: 8,
                 // the first corrections from a state whose contacts carry little normal force
                 // run along nearly free wire motions: the six-layer tension step with
-                // ε_N = 2e8 N/m stalls in line-search cuts without it and converges in 22
-                // iterations with it (solver/examples/strand_six_layer.rs)
-                pseudo_transient_shift: 0.1,
+                // ε_N = 2e8 N/m stalls in line-search cuts without the shift; with 0.1 it
+                // converges in 22 iterations, with 0.01 the initialisation takes 13 and the
+                // history sub-steps 6-8 (against 9-10 with 0.1;
+                // solver/examples/strand_six_layer.rs)
+                pseudo_transient_shift: 0.01,
+                // GMRES to 1e-2 of the residual at first, tighter as it falls: the same
+                // Newton iteration counts with fewer Krylov iterations (six-layer history
+                // sub-steps 5.2 s instead of 8.7 s, solver/examples/strand_six_layer.rs)
+                linear_forcing: 0.01,
                 ..NewtonParams::default()
             },
             // two orders of magnitude below the micrometre slips of interest (seed Fig. 22)
@@ -200,6 +209,7 @@ impl Default for HistoryOptions {
             max_fibre_strain: 7e-3,
             default_monitors: true,
             checkpoint_interval_segments: 0,
+            threads: 1,
         }
     }
 }
@@ -258,6 +268,12 @@ impl HistoryOptions {
             "max_fibre_strain",
             m,
             "must be finite and > 0",
+        )?;
+        check(
+            self.threads >= 1,
+            "threads",
+            self.threads as f64,
+            "must be ≥ 1",
         )?;
         self.newton.validated()?;
         Ok(self)
@@ -322,6 +338,9 @@ pub struct HistoryStats {
     pub evaluations: usize,
     /// Wall time of the initialisation (s).
     pub initialisation_time_s: f64,
+    /// Sub-steps of the initialisation (included in `substeps`).
+    #[serde(default)]
+    pub initialisation_substeps: usize,
     /// Wall time of the Newton solves of the history (s).
     pub solve_time_s: f64,
     /// Wall time of result extraction, interpolation and rainflow counting (s).

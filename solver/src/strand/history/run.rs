@@ -66,7 +66,7 @@ impl<'a> Runner<'a> {
             model,
             problem: reference_problem(model),
             solver: TimedSolver {
-                inner: model.linear_solver()?,
+                inner: model.linear_solver_threads(options.threads)?,
                 times: WorkTimes::default(),
             },
             workspace: NewtonWorkspace::new(&model.pattern),
@@ -313,6 +313,7 @@ pub fn run_history_from(
             };
             initialise(&mut runner, first, &options)?;
             runner.stats.initialisation_time_s = t_start.elapsed().as_secs_f64();
+            runner.stats.initialisation_substeps = runner.stats.substeps;
             let mut recorder = Recorder::new(model.contacts.len(), options.slip_gate_m, channels)?;
             let t_out = Instant::now();
             let previous = runner.snapshot(&recorder.monitors.channels)?;

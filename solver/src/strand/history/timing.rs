@@ -65,6 +65,10 @@ impl<S: LinearSolver> LinearSolver for TimedSolver<S> {
         self.times.solve_s += t.elapsed().as_secs_f64();
         r
     }
+
+    fn set_forcing(&mut self, relative_residual: Option<f64>) {
+        self.inner.set_forcing(relative_residual);
+    }
 }
 
 /// A problem whose evaluations are timed.
