@@ -100,8 +100,8 @@ pub struct NewtonParams {
     /// Diagonal shift of the iteration matrix, as in pseudo-transient continuation (Kelley &
     /// Keyes 1998, *SIAM J. Numer. Anal.* 35(2)) with a Levenberg–Marquardt update of the
     /// shift: iteration k of a step factorises K + μ_k D instead of K, with D = |diag K|,
-    /// μ_0 = this, μ_{k+1} = μ_k / 4 after a full correction that lowered the residual and
-    /// 4 μ_k otherwise (within [1e-3, 100] × this when raised; dropped once below 1e-10), so
+    /// μ_0 = this, μ_{k+1} = μ_k min(1/4, ‖r_{k+1}‖/‖r_k‖) after a full correction that
+    /// lowered the residual and 4 μ_k otherwise (within [1e-3, 100] × this when raised; dropped once below 1e-10), so
     /// the shift vanishes in a few successful iterations and Newton's quadratic convergence
     /// returns. It limits the corrections along the nearly singular directions of a tangent
     /// far from the solution (frictional contacts that carry almost no normal force yet) and
@@ -611,7 +611,9 @@ fn newton_step<P: NonlinearProblem, S: LinearSolver>(
         }
         if iteration > 0 && mu > 0.0 {
             mu = if norm < previous && full_step {
-                0.25 * mu
+                // at least as fast as the residual falls, so that the shift is O(‖r‖) and
+                // the convergence stays quadratic near the root
+                mu * (norm / previous).min(0.25)
             } else {
                 (4.0 * mu).max(1e-3 * params.pseudo_transient_shift)
             }
@@ -810,6 +812,43 @@ mod tests {
         // converged to ‖r‖ ≤ 1e-9 · 7 N on a tangent of 17 N/m: |u − 1| ≲ 4e-10
         assert!((s.u - 1.0).abs() < 1e-9, "{}", s.u);
         assert!(stats.factorisations < stats.iterations, "{stats:?}");
+    }
+
+    #[test]
+    fn pseudo_transient_shift_keeps_the_iterates_in_bounds_and_converges_to_the_same_root() {
+        // plain Newton's first iterate from u = 0 is 7/2, beyond u_max = 1.2 (cut-backs, see
+        // the test below); with K + μ₀|K|, μ₀ = 4, it is 7/10, and μ falls by 4 per successful
+        // iteration, so the last iterations are Newton's again
+        let mut s = Spring {
+            u: 0.0,
+            committed: 0.0,
+            force: 7.0,
+            u_max: 1.2,
+        };
+        let params = NewtonParams {
+            pseudo_transient_shift: 4.0,
+            ..NewtonParams::default()
+        };
+        let (r, stats) = run(&mut s, &params);
+        r.unwrap();
+        // converged to ‖r‖ ≤ 1e-9 · 7 N on a tangent of 17 N/m: |u − 1| ≲ 4e-10
+        assert!((s.u - 1.0).abs() < 1e-9, "{}", s.u);
+        assert_eq!(stats.cutbacks, 0, "{stats:?}");
+        assert_eq!(stats.steps, 1);
+        let h = &stats.residual_history;
+        let n = h.len();
+        assert!(h[n - 2] <= 1.0 * h[n - 3] * h[n - 3], "{h:?}");
+        // an invalid shift is refused by name
+        let bad = NewtonParams {
+            pseudo_transient_shift: -1.0,
+            ..NewtonParams::default()
+        };
+        assert_eq!(bad.validated().unwrap_err().field, "pseudo_transient_shift");
+        let bad = NewtonParams {
+            linear_forcing: 1.0,
+            ..NewtonParams::default()
+        };
+        assert_eq!(bad.validated().unwrap_err().field, "linear_forcing");
     }
 
     #[test]

@@ -475,6 +475,28 @@ mod tests {
     }
 
     #[test]
+    fn a_forcing_term_stops_gmres_at_that_residual_with_fewer_iterations() {
+        let (p, values) = chain(300, 0.6);
+        let b: Vec<f64> = (0..300).map(|i| 1.0 + (i % 5) as f64).collect();
+        let solve = |forcing: Option<f64>| {
+            let mut solver = SplitSolver::new(&p, GmresParams::default()).unwrap();
+            solver.factorize(&p, &values).unwrap();
+            solver.set_forcing(forcing);
+            let mut x = b.clone();
+            solver.solve_in_place(&mut x).unwrap();
+            (residual(&p, &values, &x, &b), solver.stats().iterations)
+        };
+        let (tight, n_tight) = solve(None);
+        let (loose, n_loose) = solve(Some(1e-3));
+        assert!(tight < 1e-9, "{tight}");
+        assert!(loose < 1e-3, "{loose}");
+        assert!(n_loose < n_tight, "{n_loose} vs {n_tight}");
+        // a forcing below the solver's own tolerance does not tighten it
+        let (_, n_floor) = solve(Some(1e-14));
+        assert_eq!(n_floor, n_tight);
+    }
+
+    #[test]
     fn solves_the_nonsymmetric_system_not_its_symmetric_part() {
         let (p, values) = chain(300, 0.6);
         let mut solver = SplitSolver::new(&p, GmresParams::default()).unwrap();
