@@ -444,6 +444,9 @@ fn history(
     if let Ok(v) = std::env::var("STRAND_PTC") {
         options.newton.pseudo_transient_shift = v.parse()?;
     }
+    if let Ok(v) = std::env::var("STRAND_PTC_INIT") {
+        options.initialisation_shift = v.parse()?;
+    }
     if let Ok(v) = std::env::var("STRAND_FORCING") {
         options.newton.linear_forcing = v.parse()?;
     }

@@ -24,7 +24,9 @@ use clap::Args;
 use moorfret_solver::strand::analytical::{slip_force_variation, stick_force_variation};
 use moorfret_solver::strand::driver::{run_case, CaseResult, StrandRunParameters};
 use moorfret_solver::strand::model::StrandModel;
-use moorfret_solver::strand::profile::{profile_from_json, Regularisation, Strand, StrandProfile};
+use moorfret_solver::strand::profile::{
+    profile_from_json, profiles_from_json, Regularisation, Strand, StrandProfile,
+};
 use plotters::prelude::*;
 use serde::Serialize;
 
@@ -35,8 +37,12 @@ use crate::worker::strand_stage::strand_model_parameters;
 #[derive(Debug, Args)]
 pub struct StrandArgs {
     /// Strand profile JSON (as `campaigns/benchmarks/strand_1_6_1.json`): geometry, material,
-    /// `regularisation` sets and, without `--load`, the `loading` block.
+    /// `regularisation` sets and, without `--load`, the `loading` block; or a file of named
+    /// profiles (as `campaigns/data/strand_profiles.json`) with `--profile-name`.
     pub profile: PathBuf,
+    /// Name of the profile in a file of named profiles.
+    #[arg(long)]
+    pub profile_name: Option<String>,
     /// Output directory (created if missing).
     #[arg(long)]
     pub out: PathBuf,
@@ -84,8 +90,19 @@ pub(crate) fn load_model(
 ) -> anyhow::Result<(StrandProfile, Strand, StrandModel)> {
     let text = std::fs::read_to_string(&args.profile)
         .with_context(|| format!("reading strand profile {}", args.profile.display()))?;
-    let profile = profile_from_json(&text)
-        .with_context(|| format!("in strand profile {}", args.profile.display()))?;
+    let profile = match &args.profile_name {
+        None => profile_from_json(&text)
+            .with_context(|| format!("in strand profile {}", args.profile.display()))?,
+        Some(name) => profiles_from_json(&text)
+            .with_context(|| format!("in strand profiles {}", args.profile.display()))?
+            .remove(name)
+            .with_context(|| {
+                format!(
+                    "--profile-name {name}: no such profile in {}",
+                    args.profile.display()
+                )
+            })?,
+    };
     let strand = profile
         .validate()
         .with_context(|| format!("in strand profile {}", args.profile.display()))?;

@@ -423,7 +423,7 @@ fn samples_of(
             Ok((samples, None, 0))
         }
         LoadKind::Tension => {
-            let ea = measure_axial_stiffness_n(model, args.stiffness_strain, &options.newton)
+            let ea = measure_axial_stiffness_n(model, args.stiffness_strain, &options.initialisation_newton())
                 .context("measuring the axial stiffness EA of the strand model")?;
             let estimate = straight_strand_stiffness(&model.strand);
             println!(

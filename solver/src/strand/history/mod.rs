@@ -162,6 +162,10 @@ pub struct HistoryOptions {
     pub default_monitors: bool,
     /// Hand a checkpoint to the observer every this many segments (0: never).
     pub checkpoint_interval_segments: usize,
+    /// Pseudo-transient shift of the Newton iterations of the first initialisation stage (small
+    /// tension from the reference state) and of the axial stiffness measurement
+    /// ([`NewtonParams::pseudo_transient_shift`]; `newton`'s applies to everything else).
+    pub initialisation_shift: f64,
     /// Threads of the LDLᵀ factorisation of the linear solver (1: sequential). The results do
     /// not depend on it beyond round-off.
     pub threads: usize,
@@ -189,13 +193,10 @@ impl Default for HistoryOptions {
                 // backtracking breaks the two-cycles of full Newton steps in which slip directions
                 // turn (1+6+1 strand at κ = 1 1/m: one step instead of ~1 500)
                 line_search_trials: 8,
-                // the first corrections from a state whose contacts carry little normal force
-                // run along nearly free wire motions: the six-layer tension step with
-                // ε_N = 2e8 N/m stalls in line-search cuts without the shift; with 0.1 it
-                // converges in 22 iterations, with 0.01 the initialisation takes 13 and the
-                // history sub-steps 6-8 (against 9-10 with 0.1;
-                // solver/examples/strand_six_layer.rs)
-                pseudo_transient_shift: 0.01,
+                // no shift in the history sub-steps: there the contacts are loaded and the
+                // shift only slows the convergence down (six-layer strand: 2-3 iterations per
+                // sub-step without it, 6-7 with 0.01; the initialisation has its own, below)
+                pseudo_transient_shift: 0.0,
                 // GMRES to 1e-2 of the residual at first, tighter as it falls: the same
                 // Newton iteration counts with fewer Krylov iterations (six-layer history
                 // sub-steps 5.2 s instead of 8.7 s, solver/examples/strand_six_layer.rs)
@@ -209,12 +210,27 @@ impl Default for HistoryOptions {
             max_fibre_strain: 7e-3,
             default_monitors: true,
             checkpoint_interval_segments: 0,
+            // the initialisation starts from contacts that carry almost no normal force: the
+            // first corrections run along nearly free wire motions, and the six-layer tension
+            // step with ε_N = 2e8 N/m stalls in line-search cuts without the shift; with 0.1
+            // its first stage converges in 22 iterations, with 0.01 in 11-13
+            // (solver/examples/strand_six_layer.rs)
+            initialisation_shift: 0.01,
             threads: 1,
         }
     }
 }
 
 impl HistoryOptions {
+    /// The Newton settings of the initialisation and of the axial stiffness measurement:
+    /// `newton` with the initialisation's pseudo-transient shift.
+    pub fn initialisation_newton(&self) -> NewtonParams {
+        NewtonParams {
+            pseudo_transient_shift: self.initialisation_shift,
+            ..self.newton
+        }
+    }
+
     /// Checks every field.
     pub fn validated(self) -> Result<Self, HistoryError> {
         let check = |ok: bool, field: &'static str, value: f64, reason: &str| {
@@ -268,6 +284,12 @@ impl HistoryOptions {
             "max_fibre_strain",
             m,
             "must be finite and > 0",
+        )?;
+        check(
+            self.initialisation_shift >= 0.0 && self.initialisation_shift.is_finite(),
+            "initialisation_shift",
+            self.initialisation_shift,
+            "must be finite and ≥ 0",
         )?;
         check(
             self.threads >= 1,

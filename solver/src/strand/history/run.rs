@@ -426,12 +426,22 @@ fn initialise(
             first.curvature_per_m,
         ),
     ];
-    for (stage, strain, curvature_per_m) in stages {
+    // the first stage starts where the contacts carry almost no normal force: it has its own
+    // pseudo-transient shift; the later stages start from loaded contacts
+    let history_newton = runner.newton;
+    for (i, (stage, strain, curvature_per_m)) in stages.into_iter().enumerate() {
+        runner.newton = if i == 0 {
+            options.initialisation_newton()
+        } else {
+            history_newton
+        };
         let to = SectionMotion {
             strain,
             curvature_per_m,
         };
-        runner.advance(to, stage, 0, first.time_s, None)?;
+        let advanced = runner.advance(to, stage, 0, first.time_s, None);
+        runner.newton = history_newton;
+        advanced?;
     }
     Ok(())
 }
