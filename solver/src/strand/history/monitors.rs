@@ -177,6 +177,9 @@ fn best<I: Iterator<Item = usize>>(candidates: I, score: impl Fn(usize) -> f64) 
     candidates.min_by(|&a, &b| score(a).total_cmp(&score(b)))
 }
 
+/// Angular distance of an angle θ to a monitor's target angle.
+type AngularDistance = fn(f64) -> f64;
+
 /// Angular distance (rad, in [0, π]) from θ to the outer arc θ = π/2.
 fn from_outer_arc(theta: f64) -> f64 {
     let d = (theta - std::f64::consts::FRAC_PI_2).rem_euclid(std::f64::consts::TAU);
@@ -194,7 +197,7 @@ fn from_neutral_axis(theta: f64) -> f64 {
 /// nearest `mid`; ties to the smaller index.
 fn at_angle(
     candidates: &[usize],
-    target: fn(f64) -> f64,
+    target: AngularDistance,
     span: f64,
     theta: impl Fn(usize) -> f64,
     z: impl Fn(usize) -> f64,
@@ -260,18 +263,17 @@ pub fn default_channels(model: &StrandModel, sites: &[ContactSite]) -> Vec<Monit
     };
     // interface i is that of helical layer i on the layer underneath
     let spans = element_angular_spans(model);
-    let groups: [(MonitorGroup, fn(f64) -> f64); 2] = [
+    let groups: [(MonitorGroup, AngularDistance); 2] = [
         (MonitorGroup::NeutralAxis, from_neutral_axis),
         (MonitorGroup::OuterArc, from_outer_arc),
     ];
     // contacts: neutral axis and outer arc of every interface
-    for interface in 0..layers {
+    for (interface, &span) in spans.iter().enumerate() {
         let candidates: Vec<usize> = (0..sites.len())
             .filter(|&c| sites[c].interface == interface)
             .collect();
         for (group, target) in groups {
             let theta = |c: usize| sites[c].theta_rad;
-            let span = spans[interface];
             if let Some(c) = at_angle(&candidates, target, span, theta, |c| sites[c].z_m, mid) {
                 contact_channels(&mut out, c, group);
             }
@@ -297,13 +299,12 @@ pub fn default_channels(model: &StrandModel, sites: &[ContactSite]) -> Vec<Monit
         .iter()
         .map(|el| wires[el.wire.0].layer)
         .collect();
-    for layer in 0..layers {
+    for (layer, &span) in spans.iter().enumerate() {
         let candidates: Vec<usize> = (0..element_sites.len())
             .filter(|&e| element_layers[e] == Some(layer))
             .collect();
         for (group, target) in groups {
             let theta = |e: usize| element_sites[e].0;
-            let span = spans[layer];
             if let Some(e) = at_angle(&candidates, target, span, theta, |e| element_sites[e].1, mid) {
                 let (theta_rad, z_m) = element_sites[e];
                 out.push(MonitorChannel {
