@@ -381,3 +381,51 @@ fn a_strain_history_is_imposed_as_given() {
     assert!(summary["axial_stiffness"].is_null());
     assert_eq!(summary["load_kind"], "axial_strain");
 }
+
+#[test]
+fn a_profile_is_picked_by_name_from_a_file_of_profiles_or_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let load = dir.path().join("load.csv");
+    std::fs::write(&load, tension_history()).unwrap();
+    let profiles = Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../campaigns/data/strand_profiles.json"
+    ));
+    let out = dir.path().join("out");
+    let o = moorfret()
+        .args(["run", "strand"])
+        .arg(profiles)
+        .args(["--profile-name", "no_such_strand", "--load"])
+        .arg(&load)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains("--profile-name no_such_strand: no such profile"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "nothing is written for a refused run");
+    // a file of named profiles holding the benchmark profile runs as the benchmark file does
+    let benchmark: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(profile()).unwrap()).unwrap();
+    let named = dir.path().join("profiles.json");
+    std::fs::write(
+        &named,
+        serde_json::json!({ "_about": "test", "bench": benchmark }).to_string(),
+    )
+    .unwrap();
+    let o = moorfret()
+        .args(["run", "strand"])
+        .arg(&named)
+        .args(["--profile-name", "bench", "--load"])
+        .arg(&load)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(out.join("monitors.csv").exists());
+}
