@@ -288,7 +288,11 @@ fn probe(
     let n = p.size();
     let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
     let statuses = |problem: &StrandProblem<'_>| -> Vec<Option<ContactStatus>> {
-        problem.responses().iter().map(|r| r.map(|r| r.status)).collect()
+        problem
+            .responses()
+            .iter()
+            .map(|r| r.map(|r| r.status))
+            .collect()
     };
     let mut r = vec![0.0; n];
     let mut k = vec![0.0; p.nnz()];
@@ -368,7 +372,9 @@ fn layer_report(
             &state.rotations[b.0],
             &mut fe,
         )?;
-        let layer = wires[model.mesh.elements[e].wire.0].layer.map_or(0, |k| k + 1);
+        let layer = wires[model.mesh.elements[e].wire.0]
+            .layer
+            .map_or(0, |k| k + 1);
         force[layer] += fe[8];
     }
     let e = strand.young_modulus_pa;
@@ -419,7 +425,13 @@ fn history(
     use moorfret_solver::strand::history::{run_history, LoadSample, NoObserver};
     let amplitude = curvatures.iter().fold(0.0f64, |m, k| m.max(k.abs()));
     // five incommensurate components per channel around the wave periods of a sea state
-    let comps = [(0.061, 0.3), (0.083, 1.1), (0.097, 2.0), (0.113, 0.7), (0.131, 2.9)];
+    let comps = [
+        (0.061, 0.3),
+        (0.083, 1.1),
+        (0.097, 2.0),
+        (0.113, 0.7),
+        (0.131, 2.9),
+    ];
     let n = (duration_s / 0.1).round() as usize;
     let samples: Vec<LoadSample> = (0..=n)
         .map(|i| {

@@ -423,8 +423,12 @@ fn samples_of(
             Ok((samples, None, 0))
         }
         LoadKind::Tension => {
-            let ea = measure_axial_stiffness_n(model, args.stiffness_strain, &options.initialisation_newton())
-                .context("measuring the axial stiffness EA of the strand model")?;
+            let ea = measure_axial_stiffness_n(
+                model,
+                args.stiffness_strain,
+                &options.initialisation_newton(),
+            )
+            .context("measuring the axial stiffness EA of the strand model")?;
             let estimate = straight_strand_stiffness(&model.strand);
             println!(
                 "axial stiffness EA = {ea:.6e} N (measured on the model at ε = {}; straight \

@@ -305,7 +305,14 @@ pub fn default_channels(model: &StrandModel, sites: &[ContactSite]) -> Vec<Monit
             .collect();
         for (group, target) in groups {
             let theta = |e: usize| element_sites[e].0;
-            if let Some(e) = at_angle(&candidates, target, span, theta, |e| element_sites[e].1, mid) {
+            if let Some(e) = at_angle(
+                &candidates,
+                target,
+                span,
+                theta,
+                |e| element_sites[e].1,
+                mid,
+            ) {
                 let (theta_rad, z_m) = element_sites[e];
                 out.push(MonitorChannel {
                     quantity: MonitorQuantity::WireAxialForce,
