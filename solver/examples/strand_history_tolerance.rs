@@ -16,35 +16,18 @@ use moorfret_solver::strand::history::{
 use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::profile_from_json;
 
+#[path = "support/irregular.rs"]
+mod irregular;
+use irregular::irregular_history;
+
 const BENCHMARK: &str = include_str!(concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../campaigns/benchmarks/strand_1_6_1.json"
 ));
 
+/// ε = 1e-3 + 1.5e-4 e(t), κ = 1e-2 k(t) 1/m, 300 s at 0.25 s.
 fn history() -> Vec<LoadSample> {
-    let comps = [
-        (0.061, 0.3),
-        (0.083, 1.1),
-        (0.097, 2.0),
-        (0.113, 0.7),
-        (0.131, 2.9),
-    ];
-    (0..=1200)
-        .map(|i| {
-            let t = 0.25 * i as f64;
-            let (mut e, mut k) = (0.0, 0.0);
-            for (j, &(f, ph)) in comps.iter().enumerate() {
-                let w = 2.0 * std::f64::consts::PI * f;
-                e += (w * t + ph).sin() / (1.0 + j as f64);
-                k += (w * t + 1.3 * ph + 0.8).sin() / (1.0 + 0.5 * j as f64);
-            }
-            LoadSample {
-                time_s: t,
-                strain: 1e-3 + 1.5e-4 * e,
-                curvature_per_m: 1e-2 * k,
-            }
-        })
-        .collect()
+    irregular_history(300.0, 0.25, 1e-3, 1.5e-4, 1e-2)
 }
 
 fn max_range(r: &HistoryResult, c: usize) -> f64 {

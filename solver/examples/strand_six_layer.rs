@@ -26,6 +26,13 @@ use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters
 use moorfret_solver::strand::problem::StrandProblem;
 use moorfret_solver::strand::profile::profiles_from_json;
 
+#[path = "support/directional.rs"]
+mod directional;
+#[path = "support/irregular.rs"]
+mod irregular;
+use directional::{directional_check, norm, statuses};
+use irregular::irregular_history;
+
 const PROFILES: &str = include_str!(concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../campaigns/data/strand_profiles.json"
@@ -153,13 +160,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Ok(v) => v.parse()?,
         Err(_) => 1,
     };
-    let par = if threads > 1 {
-        faer::Par::rayon(threads)
-    } else {
-        faer::Par::Seq
-    };
     let mut solver = TimedSolver {
-        inner: SplitSolver::with_parallelism(&model.pattern, gmres, par)?,
+        inner: model.linear_solver_with(gmres, threads)?,
         times: WorkTimes::default(),
     };
     println!("symbolic analysis: {:.2} s", t.elapsed().as_secs_f64());
@@ -286,14 +288,6 @@ fn probe(
     use moorfret_solver::linalg::{LinearSolver, NonlinearProblem};
     let p = &model.pattern;
     let n = p.size();
-    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let statuses = |problem: &StrandProblem<'_>| -> Vec<Option<ContactStatus>> {
-        problem
-            .responses()
-            .iter()
-            .map(|r| r.map(|r| r.status))
-            .collect()
-    };
     let mut r = vec![0.0; n];
     let mut k = vec![0.0; p.nnz()];
     for it in 0..8 {
@@ -316,26 +310,12 @@ fn probe(
             du.iter().fold(0.0f64, |m, v| m.max(v.abs()))
         );
         for h in [1.0, 1e-1, 1e-2, 1e-4, 1e-6] {
-            let mut trial = problem.clone();
-            let step: Vec<f64> = du.iter().map(|v| v * h).collect();
-            trial.apply_increment(&step);
-            let mut rh = vec![0.0; n];
-            trial.evaluate(load_factor, &mut rh, None)?;
-            let flips = statuses(&trial)
-                .iter()
-                .zip(&status)
-                .filter(|(a, b)| a != b)
-                .count();
-            let diff: Vec<f64> = rh
-                .iter()
-                .zip(&r)
-                .zip(&kdu)
-                .map(|((a, b), c)| (a - b) / h - c)
-                .collect();
+            let c = directional_check(problem, load_factor, &r, &kdu, &du, h, &status)?;
             line += &format!(
-                "; h {h:.0e}: |r_h| {:.2e}, fd {:.1e}, flips {flips}",
-                norm(&rh),
-                norm(&diff) / norm(&kdu)
+                "; h {h:.0e}: |r_h| {:.2e}, fd {:.1e}, flips {}",
+                norm(&c.residual),
+                norm(&c.mismatch) / norm(&kdu),
+                c.flips
             );
         }
         println!("{line}");
@@ -422,33 +402,10 @@ fn history(
     curvatures: &[f64],
     threads: usize,
 ) -> Result<(), Box<dyn std::error::Error>> {
-    use moorfret_solver::strand::history::{run_history, LoadSample, NoObserver};
+    use moorfret_solver::strand::history::{run_history, NoObserver};
     let amplitude = curvatures.iter().fold(0.0f64, |m, k| m.max(k.abs()));
-    // five incommensurate components per channel around the wave periods of a sea state
-    let comps = [
-        (0.061, 0.3),
-        (0.083, 1.1),
-        (0.097, 2.0),
-        (0.113, 0.7),
-        (0.131, 2.9),
-    ];
-    let n = (duration_s / 0.1).round() as usize;
-    let samples: Vec<LoadSample> = (0..=n)
-        .map(|i| {
-            let t = 0.1 * i as f64;
-            let (mut e, mut k) = (0.0, 0.0);
-            for (j, &(f, ph)) in comps.iter().enumerate() {
-                let w = 2.0 * std::f64::consts::PI * f;
-                e += (w * t + ph).sin() / (1.0 + j as f64);
-                k += (w * t + 1.3 * ph + 0.8).sin() / (1.0 + 0.5 * j as f64);
-            }
-            LoadSample {
-                time_s: t,
-                strain: strain * (1.0 + 0.1 * e),
-                curvature_per_m: amplitude * k / 3.0,
-            }
-        })
-        .collect();
+    // ε ± 10 % of e(t), κ up to about ±amplitude
+    let samples = irregular_history(duration_s, 0.1, strain, 0.1 * strain, amplitude / 3.0);
     let mut options = HistoryOptions {
         threads,
         ..HistoryOptions::default()

@@ -19,14 +19,14 @@ use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
 use moorfret_solver::strand::problem::StrandProblem;
 use moorfret_solver::strand::profile::profile_from_json;
 
+#[path = "support/directional.rs"]
+mod directional;
+use directional::{directional_check, norm, statuses, DirectionalCheck};
+
 const BENCHMARK: &str = include_str!(concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../campaigns/benchmarks/strand_1_6_1.json"
 ));
-
-fn norm(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
-}
 
 fn main() {
     let args: Vec<f64> = std::env::args()
@@ -123,11 +123,7 @@ fn main() {
         problem
             .evaluate(target, &mut r, Some(&mut k))
             .expect("evaluate");
-        let status: Vec<Option<ContactStatus>> = problem
-            .responses()
-            .iter()
-            .map(|x| x.map(|x| x.status))
-            .collect();
+        let status = statuses(&problem);
         let flips = if prev.is_empty() {
             0
         } else {
@@ -145,23 +141,11 @@ fn main() {
         p.mul_vec(&k, &du, &mut kdu);
         let mut fd = String::new();
         for h in [1e-2, 1e-4, 1e-6] {
-            let mut probe = problem.clone();
-            let step: Vec<f64> = du.iter().map(|v| v * h).collect();
-            probe.apply_increment(&step);
-            let mut rh = vec![0.0; n];
-            probe.evaluate(target, &mut rh, None).expect("evaluate");
-            let flips_h = probe
-                .responses()
-                .iter()
-                .zip(&prev)
-                .filter(|(a, b)| a.map(|x| x.status) != **b)
-                .count();
-            let diff: Vec<f64> = rh
-                .iter()
-                .zip(&r)
-                .zip(&kdu)
-                .map(|((a, b), c)| (a - b) / h - c)
-                .collect();
+            let DirectionalCheck {
+                mismatch: diff,
+                flips: flips_h,
+                ..
+            } = directional_check(&problem, target, &r, &kdu, &du, h, &prev).expect("evaluate");
             if h < 1e-5 && std::env::var("PROBE_TOP").is_ok() {
                 let mut idx: Vec<usize> = (0..n).collect();
                 idx.sort_by(|a, b| diff[*b].abs().total_cmp(&diff[*a].abs()));

@@ -368,32 +368,33 @@ impl StrandModel {
     /// [`PRECONDITIONER_REUSE_MARGIN`] iterations more than with a fresh one; symbolic
     /// analysis of [`Self::pattern`] done here, once.
     pub fn linear_solver(&self) -> Result<SplitSolver, LinalgError> {
-        self.linear_solver_with(GmresParams {
-            reuse_margin: Some(PRECONDITIONER_REUSE_MARGIN),
-            ..GmresParams::default()
-        })
+        self.linear_solver_threads(1)
     }
 
     /// [`Self::linear_solver`] with its LDLᵀ factorisation on `threads` threads.
     pub fn linear_solver_threads(&self, threads: usize) -> Result<SplitSolver, LinalgError> {
+        self.linear_solver_with(
+            GmresParams {
+                reuse_margin: Some(PRECONDITIONER_REUSE_MARGIN),
+                ..GmresParams::default()
+            },
+            threads,
+        )
+    }
+
+    /// [`Self::linear_solver`] with other GMRES settings, its LDLᵀ factorisation on `threads`
+    /// threads.
+    pub fn linear_solver_with(
+        &self,
+        params: GmresParams,
+        threads: usize,
+    ) -> Result<SplitSolver, LinalgError> {
         let par = if threads > 1 {
             faer::Par::rayon(threads)
         } else {
             faer::Par::Seq
         };
-        SplitSolver::with_parallelism(
-            &self.pattern,
-            GmresParams {
-                reuse_margin: Some(PRECONDITIONER_REUSE_MARGIN),
-                ..GmresParams::default()
-            },
-            par,
-        )
-    }
-
-    /// [`Self::linear_solver`] with other GMRES settings.
-    pub fn linear_solver_with(&self, params: GmresParams) -> Result<SplitSolver, LinalgError> {
-        SplitSolver::new(&self.pattern, params)
+        SplitSolver::with_parallelism(&self.pattern, params, par)
     }
 
     /// Pattern element index of contact `c`.
