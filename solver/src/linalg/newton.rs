@@ -722,6 +722,18 @@ mod tests {
         u_max: f64,
     }
 
+    impl Spring {
+        /// Unloaded spring (u = 0) under `force` at full load, refusing u > `u_max`.
+        fn at_rest(force: f64, u_max: f64) -> Self {
+            Self {
+                u: 0.0,
+                committed: 0.0,
+                force,
+                u_max,
+            }
+        }
+    }
+
     impl NonlinearProblem for Spring {
         type Error = Overstretched;
         fn evaluate(
@@ -773,12 +785,7 @@ mod tests {
 
     #[test]
     fn hardening_spring_converges_quadratically_in_one_step() {
-        let mut s = Spring {
-            u: 0.0,
-            committed: 0.0,
-            force: 7.0,
-            u_max: 10.0,
-        };
+        let mut s = Spring::at_rest(7.0, 10.0);
         let (r, stats) = run(&mut s, &NewtonParams::default());
         r.unwrap();
         // exact root of 5u³ + 2u − 7 = 0 is u = 1
@@ -794,12 +801,7 @@ mod tests {
 
     #[test]
     fn reused_factorisation_converges_to_the_same_root_with_fewer_factorisations() {
-        let mut s = Spring {
-            u: 0.0,
-            committed: 0.0,
-            force: 7.0,
-            u_max: 10.0,
-        };
+        let mut s = Spring::at_rest(7.0, 10.0);
         let params = NewtonParams {
             max_tangent_age: 50,
             initial_load_increment: 0.25,
@@ -819,12 +821,7 @@ mod tests {
         // plain Newton's first iterate from u = 0 is 7/2, beyond u_max = 1.2 (cut-backs, see
         // the test below); with K + μ₀|K|, μ₀ = 4, it is 7/10, and μ falls by 4 per successful
         // iteration, so the last iterations are Newton's again
-        let mut s = Spring {
-            u: 0.0,
-            committed: 0.0,
-            force: 7.0,
-            u_max: 1.2,
-        };
+        let mut s = Spring::at_rest(7.0, 1.2);
         let params = NewtonParams {
             pseudo_transient_shift: 4.0,
             ..NewtonParams::default()
@@ -854,12 +851,7 @@ mod tests {
     #[test]
     fn refused_trial_states_trigger_cutbacks_until_the_path_is_followed() {
         // the first Newton iterate from u = 0 at full load overshoots u_max
-        let mut s = Spring {
-            u: 0.0,
-            committed: 0.0,
-            force: 7.0,
-            u_max: 1.2,
-        };
+        let mut s = Spring::at_rest(7.0, 1.2);
         let (r, stats) = run(&mut s, &NewtonParams::default());
         r.unwrap();
         assert!((s.u - 1.0).abs() < 1e-12);
@@ -872,12 +864,7 @@ mod tests {
         // two Newton iterations never reach ‖r‖ ≤ 1e-9 · λ F on the cubic spring: every attempt
         // fails, Δλ is halved 1 → 0.5 → 0.25 → 0.125 → 0.0625 < min, and the last attempt
         // (target λ = 0.125) is reported
-        let mut s = Spring {
-            u: 0.0,
-            committed: 0.0,
-            force: 7.0,
-            u_max: 10.0,
-        };
+        let mut s = Spring::at_rest(7.0, 10.0);
         let (r, stats) = run(
             &mut s,
             &NewtonParams {
@@ -912,12 +899,7 @@ mod tests {
 
     #[test]
     fn impossible_problem_reports_the_failure_with_its_step() {
-        let mut s = Spring {
-            u: 0.0,
-            committed: 0.0,
-            force: 7.0,
-            u_max: 0.5,
-        };
+        let mut s = Spring::at_rest(7.0, 0.5);
         let (r, _) = run(
             &mut s,
             &NewtonParams {
