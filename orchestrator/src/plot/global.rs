@@ -4,6 +4,7 @@ use std::path::Path;
 
 use anyhow::{anyhow, Context};
 use moorfret_solver::global::GlobalResult;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 pub(crate) fn bounds(x: &[f64]) -> (f64, f64) {
@@ -18,6 +19,21 @@ pub(crate) fn bounds(x: &[f64]) -> (f64, f64) {
 
 pub(crate) fn plot_err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
     anyhow!("plotting failed: {e:?}")
+}
+
+/// The legend of the labelled series of `chart`, boxed in its upper right corner.
+fn draw_legend<'a, DB: DrawingBackend + 'a>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(plot_err)
 }
 
 /// One panel: `y(t)`.
@@ -75,12 +91,7 @@ where
         }
     }
     if curves.iter().any(|c| !c.0.is_empty()) {
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(plot_err)?;
+        draw_legend(&mut chart)?;
     }
     Ok(())
 }
@@ -164,12 +175,7 @@ pub fn static_shapes_svg(result: &GlobalResult, path: &Path) -> anyhow::Result<(
             .label(format!("line {id}"))
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color));
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(plot_err)?;
+    draw_legend(&mut chart)?;
     root.present()
         .map_err(plot_err)
         .with_context(|| format!("writing {}", path.display()))
