@@ -1,34 +1,17 @@
 //! `moorfret run global` on the paper case with a short duration: every output file is written,
 //! finite and consistent with the others; non-physical input fails naming the field.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod cli_support;
+
+use cli_support::{campaign_file, csv_rows, moorfret};
+use std::path::PathBuf;
 
 fn case_path() -> PathBuf {
-    Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../campaigns/paper_case.json"
-    ))
-    .to_path_buf()
+    campaign_file("paper_case.json")
 }
 
-fn moorfret() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_moorfret"))
-}
-
-fn rows(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<String> = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(str::to_string)
-        .collect();
-    let data = lines
-        .map(|l| l.split(',').map(|c| c.parse::<f64>().unwrap()).collect())
-        .collect();
-    (header, data)
+fn rows(path: &std::path::Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    csv_rows(path, 0)
 }
 
 #[test]

@@ -10,9 +10,13 @@
 //! the slip onset of the outer helix, κ_b = μ sin β T / (EA cos²β R) ≈ 1.2e-2 1/m at ε = 1e-3
 //! (≈ 0.96e-2 1/m at the lowest tension), so every contact sticks.
 
+mod cli_support;
+
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
+
+use cli_support::{campaign_file, csv_rows, moorfret};
 
 /// Wire radius, lay angle, helix radius of the outer helix, E, γ_e of the benchmark.
 const WIRE_RADIUS_M: f64 = 2.15e-3;
@@ -24,15 +28,7 @@ const ELASTIC_SLIP_M: f64 = 1e-7;
 const MODEL_LENGTH_M: f64 = 0.2542;
 
 fn profile() -> PathBuf {
-    Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../campaigns/benchmarks/strand_1_6_1.json"
-    ))
-    .to_path_buf()
-}
-
-fn moorfret() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_moorfret"))
+    campaign_file("benchmarks/strand_1_6_1.json")
 }
 
 /// The history of the module docs as CSV text.
@@ -58,28 +54,6 @@ fn run(load: &Path, out: &Path, extra: &[&str]) -> Output {
         .args(extra)
         .output()
         .unwrap()
-}
-
-/// Header and numeric rows of a CSV file (`skip_last` text columns dropped).
-fn rows(path: &Path, skip_last: usize) -> (Vec<String>, Vec<Vec<f64>>) {
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<String> = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .map(str::to_string)
-        .collect();
-    let data = lines
-        .map(|l| {
-            let cells: Vec<&str> = l.split(',').collect();
-            cells[..cells.len() - skip_last]
-                .iter()
-                .map(|c| c.parse::<f64>().unwrap())
-                .collect()
-        })
-        .collect();
-    (header, data)
 }
 
 fn column(header: &[String], data: &[Vec<f64>], name: &str) -> Vec<f64> {
@@ -175,7 +149,7 @@ fn a_tension_history_writes_physical_outputs_and_resumes_identically() {
     let contacts_total = summary["contacts"].as_u64().unwrap() as usize;
 
     // monitors: one row per sample, finite, the load columns as imposed
-    let (h, m) = rows(&full.join("monitors.csv"), 0);
+    let (h, m) = csv_rows(&full.join("monitors.csv"), 0);
     assert_eq!(&h[..3], ["time_s", "strain", "curvature_per_m"]);
     assert!(h.len() > 3);
     assert!(
@@ -228,7 +202,7 @@ fn a_tension_history_writes_physical_outputs_and_resumes_identically() {
 
     // contacts: one row per contact, normal forces > 0, slip ranges ≥ 0 and, all contacts
     // sticking, below the 2 γ_e of the regularised stick law
-    let (h, c) = rows(&full.join("contacts.csv"), 1);
+    let (h, c) = csv_rows(&full.join("contacts.csv"), 1);
     assert_eq!(
         h,
         [
@@ -374,7 +348,7 @@ fn a_strain_history_is_imposed_as_given() {
     let out = dir.path().join("out");
     let o = run(&load, &out, &[]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let (h, m) = rows(&out.join("monitors.csv"), 0);
+    let (h, m) = csv_rows(&out.join("monitors.csv"), 0);
     assert_eq!(column(&h, &m, "strain"), [1e-3, 1e-3, 1.1e-3]);
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
@@ -387,14 +361,11 @@ fn a_profile_is_picked_by_name_from_a_file_of_profiles_or_refused_by_name() {
     let dir = tempfile::tempdir().unwrap();
     let load = dir.path().join("load.csv");
     std::fs::write(&load, tension_history()).unwrap();
-    let profiles = Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../campaigns/data/strand_profiles.json"
-    ));
+    let profiles = campaign_file("data/strand_profiles.json");
     let out = dir.path().join("out");
     let o = moorfret()
         .args(["run", "strand"])
-        .arg(profiles)
+        .arg(&profiles)
         .args(["--profile-name", "no_such_strand", "--load"])
         .arg(&load)
         .arg("--out")
