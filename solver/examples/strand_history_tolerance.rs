@@ -1,20 +1,36 @@
-//! Effect of the turning-point tolerance of [`run_history`] on the results: the 1+6+1 benchmark
-//! strand driven by an irregular (ε, κ) history (five incommensurate components each, tension
-//! and curvature out of phase, 300 s at 0.25 s), solved with every sample kept (tolerance 0)
-//! and with the default tolerance. Printed: samples solved, wall time, and the largest change of
-//! every contact's largest slip range and of its peak normal force, relative to the largest
-//! value over all contacts.
+//! Effect of the turning-point tolerance of [`run_history`] on the results.
 //!
-//! Run: `cargo run --release -p moorfret-solver --example strand_history_tolerance [-- tol]`.
+//! Two set-ups:
+//! - default: the 1+6+1 benchmark strand driven by an irregular (ε, κ) history (five
+//!   incommensurate components each, tension and curvature out of phase, 300 s at 0.25 s),
+//!   solved with every sample kept (tolerance 0) and with the given tolerance (default: the
+//!   library's);
+//! - `--six-layer LOAD.csv`: the paper's six-layer strand (periodic ends, the paper campaign's
+//!   contact regularisation ε_N = 2e8 N/m, γ_e = 10 µm) driven by a hot-spot history
+//!   `time_s,tension_n,curvature_per_m` (as written by `moorfret run global`, header renamed),
+//!   optionally cut to `--from-s A --to-s B`, with ε = T / EA (EA measured on the model unless
+//!   `--ea N` is given), solved at every tolerance listed; the first is the reference.
+//!
+//! Printed per run: samples solved, sub-steps, Newton iterations, wall time; against the
+//! reference: the largest change of every contact's largest slip range and of its peak normal
+//! force (relative to the largest value over all contacts), and per layer interface the change
+//! of the largest slip range, of the accumulated slip Σ count × range and of the number of slip
+//! cycles above 1 µm.
+//!
+//! Run: `cargo run --release -p moorfret-solver --example strand_history_tolerance [-- tol]`, or
+//! `… -- --six-layer LOAD.csv [--from-s A] [--to-s B] [--ea N] [--threads N] tol_ref tol…`.
 
 use std::time::Instant;
 
 use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
+use moorfret_solver::strand::history::stiffness::{
+    measure_axial_stiffness_n, samples_from_tension,
+};
 use moorfret_solver::strand::history::{
     run_history, HistoryOptions, HistoryResult, LoadSample, NoObserver,
 };
-use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
-use moorfret_solver::strand::profile::profile_from_json;
+use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
+use moorfret_solver::strand::profile::{profile_from_json, profiles_from_json};
 
 #[path = "support/irregular.rs"]
 mod irregular;
@@ -24,11 +40,12 @@ const BENCHMARK: &str = include_str!(concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../campaigns/benchmarks/strand_1_6_1.json"
 ));
+const PROFILES: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../campaigns/data/strand_profiles.json"
+));
 
-/// ε = 1e-3 + 1.5e-4 e(t), κ = 1e-2 k(t) 1/m, 300 s at 0.25 s.
-fn history() -> Vec<LoadSample> {
-    irregular_history(300.0, 0.25, 1e-3, 1.5e-4, 1e-2)
-}
+type Error = Box<dyn std::error::Error>;
 
 fn max_range(r: &HistoryResult, c: usize) -> f64 {
     r.contacts[c]
@@ -38,8 +55,203 @@ fn max_range(r: &HistoryResult, c: usize) -> f64 {
         .fold(0.0, f64::max)
 }
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let tol: f64 = match std::env::args().nth(1) {
+/// Per interface: largest slip range, accumulated slip Σ count × range, cycles above 1 µm.
+fn interface_figures(r: &HistoryResult) -> Vec<[f64; 3]> {
+    let interfaces = r
+        .contacts
+        .iter()
+        .map(|c| c.interface + 1)
+        .max()
+        .unwrap_or(0);
+    let mut out = vec![[0.0f64; 3]; interfaces];
+    for (c, record) in r.contacts.iter().enumerate() {
+        let f = &mut out[record.interface];
+        f[0] = f[0].max(max_range(r, c));
+        for y in &record.cycles {
+            f[1] += y.slip.count * y.slip.range;
+            if y.slip.range > 1e-6 {
+                f[2] += y.slip.count;
+            }
+        }
+    }
+    out
+}
+
+fn compare(model: &StrandModel, reference: &HistoryResult, reduced: &HistoryResult) {
+    let n = model.contacts.len();
+    let scale_range = (0..n).map(|c| max_range(reference, c)).fold(0.0, f64::max);
+    let scale_fn = reference
+        .contacts
+        .iter()
+        .map(|c| c.max_normal_force_n)
+        .fold(0.0, f64::max);
+    let d_range = (0..n)
+        .map(|c| (max_range(reference, c) - max_range(reduced, c)).abs())
+        .fold(0.0, f64::max);
+    let d_fn = (0..n)
+        .map(|c| {
+            (reference.contacts[c].max_normal_force_n - reduced.contacts[c].max_normal_force_n)
+                .abs()
+        })
+        .fold(0.0, f64::max);
+    let cycles = |r: &HistoryResult| r.contacts.iter().map(|c| c.cycles.len()).sum::<usize>();
+    println!(
+        "  largest slip range {scale_range:.4e} m: largest change {:.3} %; peak normal force \
+         {scale_fn:.1} N: largest change {:.3} %; cycles {} vs {}",
+        100.0 * d_range / scale_range,
+        100.0 * d_fn / scale_fn,
+        cycles(reference),
+        cycles(reduced)
+    );
+    let rel = |a: f64, b: f64| if a != 0.0 { 100.0 * (b - a) / a } else { 0.0 };
+    for (i, (a, b)) in interface_figures(reference)
+        .iter()
+        .zip(interface_figures(reduced))
+        .enumerate()
+    {
+        println!(
+            "  interface {i}: largest slip range {:.3e} m ({:+.2} %), accumulated slip {:.3e} m \
+             ({:+.2} %), cycles above 1 µm {:.1} ({:+.2} %)",
+            b[0],
+            rel(a[0], b[0]),
+            b[1],
+            rel(a[1], b[1]),
+            b[2],
+            rel(a[2], b[2])
+        );
+    }
+}
+
+fn run(
+    model: &StrandModel,
+    samples: &[LoadSample],
+    tolerance: f64,
+    threads: usize,
+) -> Result<HistoryResult, Error> {
+    let options = HistoryOptions {
+        turning_point_tolerance: tolerance,
+        threads,
+        ..HistoryOptions::default()
+    };
+    let t = Instant::now();
+    let r = run_history(model, samples, &options, &mut NoObserver)?;
+    println!(
+        "tolerance {tolerance}: {} of {} samples solved, {} sub-steps, {} iterations, {:.1} s \
+         (initialisation {:.1} s)",
+        r.stats.kept_samples,
+        r.stats.samples,
+        r.stats.substeps,
+        r.stats.iterations,
+        t.elapsed().as_secs_f64(),
+        r.stats.initialisation_time_s
+    );
+    Ok(r)
+}
+
+/// (t, T, κ) columns of a `time_s,tension_n,curvature_per_m` file within [from, to].
+fn read_load(path: &str, from: f64, to: f64) -> Result<[Vec<f64>; 3], Error> {
+    let text = std::fs::read_to_string(path)?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().ok_or("empty load file")?.split(',').collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h.trim() == name)
+            .ok_or(format!("{path}: no column {name}"))
+    };
+    let (it, iten, ik) = (col("time_s")?, col("tension_n")?, col("curvature_per_m")?);
+    let mut out = [Vec::new(), Vec::new(), Vec::new()];
+    for (n, line) in lines.enumerate() {
+        let v: Vec<f64> = line
+            .split(',')
+            .map(|x| x.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|e| format!("{path}: line {}: {e}", n + 2))?;
+        if v[it] >= from && v[it] <= to {
+            out[0].push(v[it]);
+            out[1].push(v[iten]);
+            out[2].push(v[ik]);
+        }
+    }
+    Ok(out)
+}
+
+fn six_layer(args: &[String]) -> Result<(), Error> {
+    let (mut load, mut from, mut to, mut ea, mut threads) =
+        (None, f64::NEG_INFINITY, f64::INFINITY, None, 1);
+    let mut tolerances = Vec::new();
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        let mut value = || it.next().ok_or(format!("{a} needs a value"));
+        match a.as_str() {
+            "--six-layer" => load = Some(value()?.clone()),
+            "--from-s" => from = value()?.parse()?,
+            "--to-s" => to = value()?.parse()?,
+            "--ea" => ea = Some(value()?.parse::<f64>()?),
+            "--threads" => threads = value()?.parse()?,
+            t => tolerances.push(t.parse::<f64>()?),
+        }
+    }
+    let load = load.ok_or("--six-layer LOAD.csv")?;
+    if tolerances.len() < 2 {
+        return Err("give a reference tolerance and at least one more".into());
+    }
+    let strand = profiles_from_json(PROFILES)?
+        .get("paper_six_layer")
+        .ok_or("profile paper_six_layer missing")?
+        .validate()?;
+    let params = StrandModelParameters {
+        ends: EndKind::Periodic,
+        contact: ContactParameters {
+            normal: NormalLaw::Penalty {
+                stiffness_n_per_m: 2e8,
+            },
+            tangential: TangentialLaw::ElasticSlip {
+                elastic_slip_m: 1e-5,
+            },
+            ..ContactParameters::default()
+        },
+        ..StrandModelParameters::default()
+    };
+    let model = StrandModel::new(&strand, &params)?;
+    let ea = match ea {
+        Some(v) => v,
+        None => {
+            let t = Instant::now();
+            let options = HistoryOptions {
+                threads,
+                ..HistoryOptions::default()
+            };
+            let v = measure_axial_stiffness_n(&model, 1e-3, &options)?;
+            println!(
+                "EA = {v:.4e} N, measured in {:.1} s",
+                t.elapsed().as_secs_f64()
+            );
+            v
+        }
+    };
+    let [t, tension, kappa] = read_load(&load, from, to)?;
+    let samples = samples_from_tension(&t, &tension, &kappa, ea)?;
+    println!(
+        "{} samples, t = {:.1} … {:.1} s",
+        samples.len(),
+        t.first().copied().unwrap_or(0.0),
+        t.last().copied().unwrap_or(0.0)
+    );
+    let reference = run(&model, &samples, tolerances[0], threads)?;
+    for &tol in &tolerances[1..] {
+        let reduced = run(&model, &samples, tol, threads)?;
+        compare(&model, &reference, &reduced);
+    }
+    Ok(())
+}
+
+fn main() -> Result<(), Error> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.iter().any(|a| a == "--six-layer") {
+        return six_layer(&args);
+    }
+    let tol: f64 = match args.first() {
         Some(a) => a.parse()?,
         None => HistoryOptions::default().turning_point_tolerance,
     };
@@ -57,49 +269,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..StrandModelParameters::default()
     };
     let model = StrandModel::new(&strand, &params)?;
-    let h = history();
-    let run = |tolerance: f64| -> Result<HistoryResult, Box<dyn std::error::Error>> {
-        let options = HistoryOptions {
-            turning_point_tolerance: tolerance,
-            ..HistoryOptions::default()
-        };
-        let t = Instant::now();
-        let r = run_history(&model, &h, &options, &mut NoObserver)?;
-        println!(
-            "tolerance {tolerance}: {} of {} samples solved, {} sub-steps, {} iterations, {:.2} s",
-            r.stats.kept_samples,
-            r.stats.samples,
-            r.stats.substeps,
-            r.stats.iterations,
-            t.elapsed().as_secs_f64()
-        );
-        Ok(r)
-    };
-    let exact = run(0.0)?;
-    let reduced = run(tol)?;
-    let n = model.contacts.len();
-    let scale_range = (0..n).map(|c| max_range(&exact, c)).fold(0.0, f64::max);
-    let scale_fn = exact
-        .contacts
-        .iter()
-        .map(|c| c.max_normal_force_n)
-        .fold(0.0, f64::max);
-    let d_range = (0..n)
-        .map(|c| (max_range(&exact, c) - max_range(&reduced, c)).abs())
-        .fold(0.0, f64::max);
-    let d_fn = (0..n)
-        .map(|c| {
-            (exact.contacts[c].max_normal_force_n - reduced.contacts[c].max_normal_force_n).abs()
-        })
-        .fold(0.0, f64::max);
-    let cycles = |r: &HistoryResult| r.contacts.iter().map(|c| c.cycles.len()).sum::<usize>();
-    println!(
-        "largest slip range {scale_range:.4e} m: largest change {:.3} %; peak normal force \
-         {scale_fn:.1} N: largest change {:.3} %; cycles {} vs {}",
-        100.0 * d_range / scale_range,
-        100.0 * d_fn / scale_fn,
-        cycles(&exact),
-        cycles(&reduced)
-    );
+    // ε = 1e-3 + 1.5e-4 e(t), κ = 1e-2 k(t) 1/m, 300 s at 0.25 s
+    let h = irregular_history(300.0, 0.25, 1e-3, 1.5e-4, 1e-2);
+    let exact = run(&model, &h, 0.0, 1)?;
+    let reduced = run(&model, &h, tol, 1)?;
+    compare(&model, &exact, &reduced);
     Ok(())
 }

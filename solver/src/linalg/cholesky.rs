@@ -1,7 +1,14 @@
 //! Sparse Cholesky (LLᵀ or LDLᵀ) of a symmetric matrix with faer 0.22: the symbolic
-//! factorisation, including the approximate-minimum-degree fill-reducing ordering, is computed
-//! once per pattern; each `factorize` refills the numeric factor in place, with no allocation
-//! (the factor values and the scratch memory are owned by the solver).
+//! factorisation, including the fill-reducing ordering, is computed once per pattern; each
+//! `factorize` refills the numeric factor in place, with no allocation (the factor values and
+//! the scratch memory are owned by the solver).
+//!
+//! Ordering ([`FillOrdering`]): approximate minimum degree (faer's AMD) for small matrices,
+//! nested dissection (METIS, [`moorfret_ordering`]) from [`NESTED_DISSECTION_FROM`] equations
+//! on. On the six-layer strand's LDLᵀ (89 928 equations) nested dissection leaves 27 M factor
+//! entries instead of AMD's 43 M, and the factorisation and the solves are faster in
+//! proportion (README, "Strand solver"); on small matrices AMD is as good and cheaper to
+//! compute.
 //!
 //! Only the upper triangle is read ([`Storage::Upper`]). faer picks a simplicial or a
 //! supernodal factorisation from the flop count of the symbolic analysis. Parallelism is the
@@ -25,6 +32,21 @@ pub enum CholeskyKind {
     /// LDLᵀ without pivoting: also symmetric indefinite matrices with nonzero pivots.
     Ldlt,
 }
+
+/// Fill-reducing ordering of the symbolic factorisation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FillOrdering {
+    /// Nested dissection from [`NESTED_DISSECTION_FROM`] equations on, AMD below.
+    #[default]
+    Auto,
+    /// Approximate minimum degree (faer).
+    Amd,
+    /// Nested dissection of the node graph (METIS).
+    NestedDissection,
+}
+
+/// Size from which [`FillOrdering::Auto`] takes nested dissection.
+pub const NESTED_DISSECTION_FROM: usize = 20_000;
 
 /// Sparse Cholesky solver with a cached symbolic factorisation.
 pub struct SparseCholesky {
@@ -51,21 +73,53 @@ impl std::fmt::Debug for SparseCholesky {
 }
 
 impl SparseCholesky {
-    /// Symbolic analysis (AMD ordering, elimination tree, supernodes) of `pattern`.
+    /// Symbolic analysis (ordering [`FillOrdering::Auto`], elimination tree, supernodes) of
+    /// `pattern`.
     pub fn new(pattern: &SparsePattern, kind: CholeskyKind, par: Par) -> Result<Self, LinalgError> {
+        Self::with_ordering(pattern, kind, par, FillOrdering::Auto)
+    }
+
+    /// [`Self::new`] with the given fill-reducing ordering.
+    pub fn with_ordering(
+        pattern: &SparsePattern,
+        kind: CholeskyKind,
+        par: Par,
+        ordering: FillOrdering,
+    ) -> Result<Self, LinalgError> {
         if pattern.storage() != Storage::Upper {
             return Err(LinalgError::WrongStorage {
                 expected: Storage::Upper,
                 found: pattern.storage(),
             });
         }
-        let symbolic = factorize_symbolic_cholesky(
-            pattern.symbolic(),
-            Side::Upper,
-            SymmetricOrdering::Amd,
-            Default::default(),
-        )
-        .map_err(backend)?;
+        let nested = match ordering {
+            FillOrdering::Auto => pattern.size() >= NESTED_DISSECTION_FROM,
+            FillOrdering::Amd => false,
+            FillOrdering::NestedDissection => true,
+        };
+        let nd = if nested {
+            Some(
+                moorfret_ordering::nested_dissection(
+                    pattern.size(),
+                    pattern.col_ptr(),
+                    pattern.row_idx(),
+                )
+                .map_err(backend)?,
+            )
+        } else {
+            None
+        };
+        let order = match &nd {
+            Some(o) => SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(
+                &o.perm,
+                &o.inverse,
+                pattern.size(),
+            )),
+            None => SymmetricOrdering::Amd,
+        };
+        let symbolic =
+            factorize_symbolic_cholesky(pattern.symbolic(), Side::Upper, order, Default::default())
+                .map_err(backend)?;
         let factor_req = match kind {
             CholeskyKind::Llt => {
                 symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default())
@@ -223,6 +277,27 @@ mod tests {
                 assert!(err < 1e-10, "{kind:?}: {err}");
             }
         }
+    }
+
+    #[test]
+    fn every_ordering_solves_the_same_system() {
+        let (p, values) = chain(300, Storage::Upper);
+        let b: Vec<f64> = (0..300).map(|i| (i as f64 * 0.11).cos()).collect();
+        let mut solutions = Vec::new();
+        for ordering in [FillOrdering::Amd, FillOrdering::NestedDissection] {
+            let mut solver =
+                SparseCholesky::with_ordering(&p, CholeskyKind::Ldlt, Par::Seq, ordering).unwrap();
+            solver.factorize(&p, &values).unwrap();
+            let mut x = b.clone();
+            solver.solve_in_place(&mut x).unwrap();
+            solutions.push(x);
+        }
+        let diff = solutions[0]
+            .iter()
+            .zip(&solutions[1])
+            .map(|(a, b)| (a - b).abs() / a.abs().max(1.0))
+            .fold(0.0, f64::max);
+        assert!(diff < 1e-9, "{diff}");
     }
 
     #[test]

@@ -9,7 +9,7 @@ pub mod newton;
 pub mod pattern;
 pub mod split;
 
-pub use cholesky::{CholeskyKind, SparseCholesky};
+pub use cholesky::{CholeskyKind, FillOrdering, SparseCholesky, NESTED_DISSECTION_FROM};
 pub use linear_solver::{LinalgError, LinearSolver};
 pub use lu::SparseLu;
 pub use newton::{

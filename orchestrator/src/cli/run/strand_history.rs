@@ -60,6 +60,9 @@ pub struct HistoryArgs {
     /// Turning-point tolerance of the history reduction, as a fraction of each channel's range.
     #[arg(long)]
     pub turning_point_tolerance: Option<f64>,
+    /// Threads of the sparse factorisation and solves (results equal to round-off).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=256))]
+    pub threads: u16,
     /// Axial strain of the tension step that measures EA.
     #[arg(long, default_value_t = 1e-3)]
     pub stiffness_strain: f64,
@@ -423,12 +426,8 @@ fn samples_of(
             Ok((samples, None, 0))
         }
         LoadKind::Tension => {
-            let ea = measure_axial_stiffness_n(
-                model,
-                args.stiffness_strain,
-                &options.initialisation_newton(),
-            )
-            .context("measuring the axial stiffness EA of the strand model")?;
+            let ea = measure_axial_stiffness_n(model, args.stiffness_strain, options)
+                .context("measuring the axial stiffness EA of the strand model")?;
             let estimate = straight_strand_stiffness(&model.strand);
             println!(
                 "axial stiffness EA = {ea:.6e} N (measured on the model at ε = {}; straight \
@@ -492,6 +491,7 @@ pub(super) fn execute(args: &StrandArgs, load: &Path) -> anyhow::Result<()> {
         } else {
             0
         },
+        threads: usize::from(h.threads),
         ..HistoryOptions::default()
     };
     if let Some(t) = h.turning_point_tolerance {

@@ -5,8 +5,8 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use super::{reference_problem, HistoryError, LoadSample};
-use crate::linalg::{solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace};
+use super::{reference_problem, HistoryError, HistoryOptions, LoadSample};
+use crate::linalg::{solve_load_path, NewtonStats, NewtonWorkspace};
 use crate::strand::loading::SectionMotion;
 use crate::strand::model::StrandModel;
 use crate::strand::problem::section_force_n;
@@ -14,12 +14,14 @@ use crate::strand::problem::section_force_n;
 /// Axial stiffness EA = F / ε of `model` (N): the core and every wire driven to the axial strain
 /// `strain` (κ = 0) in one Newton solve from the reference configuration, F the axial force
 /// across the mid-length plane ([`section_force_n`]). The strand is nearly linear in tension
-/// (Costello Ch. 2), so `strain` should be of the order of the service strains (1e-3).
+/// (Costello Ch. 2), so `strain` should be of the order of the service strains (1e-3). The
+/// solve uses the initialisation's Newton settings and the threads of `options`.
 pub fn measure_axial_stiffness_n(
     model: &StrandModel,
     strain: f64,
-    newton: &NewtonParams,
+    options: &HistoryOptions,
 ) -> Result<f64, HistoryError> {
+    let newton = &options.initialisation_newton();
     if !(strain > 0.0 && strain.is_finite()) {
         return Err(HistoryError::InvalidOption {
             field: "strain",
@@ -32,7 +34,7 @@ pub fn measure_axial_stiffness_n(
         strain,
         curvature_per_m: 0.0,
     });
-    let mut solver = model.linear_solver()?;
+    let mut solver = model.linear_solver_threads(options.threads)?;
     let mut ws = NewtonWorkspace::new(&model.pattern);
     let mut stats = NewtonStats::default();
     solve_load_path(
@@ -76,12 +78,12 @@ impl AxialStiffnessCache {
         name: &str,
         model: &StrandModel,
         strain: f64,
-        newton: &NewtonParams,
+        options: &HistoryOptions,
     ) -> Result<f64, HistoryError> {
         if let Some(&ea) = self.entries.get(name) {
             return Ok(ea);
         }
-        let ea = measure_axial_stiffness_n(model, strain, newton)?;
+        let ea = measure_axial_stiffness_n(model, strain, options)?;
         self.entries.insert(name.to_string(), ea);
         Ok(ea)
     }

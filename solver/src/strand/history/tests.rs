@@ -100,12 +100,7 @@ fn bad_samples_are_refused_with_their_index() {
 #[test]
 fn measured_axial_stiffness_is_the_straight_strand_estimate() {
     let model = model();
-    let ea = measure_axial_stiffness_n(
-        &model,
-        1e-3,
-        &HistoryOptions::default().initialisation_newton(),
-    )
-    .unwrap();
+    let ea = measure_axial_stiffness_n(&model, 1e-3, &HistoryOptions::default()).unwrap();
     let estimate = straight_strand_stiffness(&model.strand);
     let e = (ea - estimate.corrected_n) / estimate.corrected_n;
     eprintln!(
