@@ -154,18 +154,7 @@ impl PointKinematicsSeries {
             }
         }
         let field = sea.field();
-        let d_omega = sea.d_omega_rad_s();
-        let bins: Vec<usize> = field
-            .components()
-            .iter()
-            .map(|c| (c.omega_rad_s / d_omega).round() as usize)
-            .collect();
-        let n_max = bins.iter().copied().max().unwrap_or(1);
-        // Enough samples per shortest period, and N > 2 n_max so that bins n and N − n differ.
-        let needed = ((n_max as f64) * per_period)
-            .ceil()
-            .max(2.0 * n_max as f64 + 1.0) as usize;
-        let samples = needed.next_power_of_two();
+        let (bins, samples) = time_grid(sea, per_period);
         let shared = Shared {
             sea,
             fft: InverseFft::new(samples)?,
@@ -296,10 +285,28 @@ impl PointKinematicsSeries {
     }
 }
 
+/// FFT bins of the components of `sea` (ωₙ = bin · Δω) and the sample count N of the periodic
+/// time grid: the smallest power of two giving at least `per_period` samples per period of the
+/// highest component and N > 2 n_max (so that bins n and N − n differ).
+pub(crate) fn time_grid(sea: &IrregularSea, per_period: f64) -> (Vec<usize>, usize) {
+    let d_omega = sea.d_omega_rad_s();
+    let bins: Vec<usize> = sea
+        .field()
+        .components()
+        .iter()
+        .map(|c| (c.omega_rad_s / d_omega).round() as usize)
+        .collect();
+    let n_max = bins.iter().copied().max().unwrap_or(1);
+    let needed = ((n_max as f64) * per_period)
+        .ceil()
+        .max(2.0 * n_max as f64 + 1.0) as usize;
+    (bins, needed.next_power_of_two())
+}
+
 /// Inverse-transform real component sums two at a time. `coefs[i]` gives, per component, the
 /// complex coefficient Xₙ of real series i = Σ Re(Xₙ e^{iωₙt}); series i is written to
 /// `out[i·N .. (i+1)·N]`. Returns the number of FFTs done.
-fn transform_real_series(
+pub(crate) fn transform_real_series(
     fft: &InverseFft,
     bins: &[usize],
     coefs: &[Vec<Complex<f64>>],
