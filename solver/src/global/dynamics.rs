@@ -130,6 +130,7 @@ pub fn run_dynamics(
                 ramp,
                 &params.series,
                 params.guard_distance_m,
+                t_end + h,
             )
         });
         built

@@ -119,7 +119,8 @@ pub struct LineSeaCache<'a> {
 }
 
 impl<'a> LineSeaCache<'a> {
-    /// Cache for `model` in the static state `q`.
+    /// Cache for `model` in the static state `q`, for times up to `end_time_s` (later queries
+    /// are answered by direct summation).
     pub fn new(
         model: &LineModel,
         q: &[f64],
@@ -127,12 +128,13 @@ impl<'a> LineSeaCache<'a> {
         ramp: Ramp,
         params: &SeriesParams,
         guard_distance_m: f64,
+        end_time_s: f64,
     ) -> Result<Self, WavesError> {
         let recorder = Recorder(Mutex::new(Vec::new()));
         let mut water: WaterCache = Vec::new();
         update_water(model, q, 0.0, &recorder, &mut water);
         let points = recorder.0.into_inner().unwrap_or_default();
-        let series = PointKinematicsSeries::new(sea, &points, params)?;
+        let series = PointKinematicsSeries::new_until(sea, &points, params, end_time_s)?;
         Ok(Self {
             sea,
             series,
@@ -148,7 +150,13 @@ impl<'a> LineSeaCache<'a> {
         self.series.points().len()
     }
 
-    /// Queries answered by direct summation because they were too far from their cached point.
+    /// Memory held by the precomputed series (bytes).
+    pub fn memory_bytes(&self) -> usize {
+        self.series.memory_bytes()
+    }
+
+    /// Queries answered by direct summation because they were too far from their cached point
+    /// (or later than the precomputed times).
     pub fn misses(&self) -> usize {
         self.misses.load(Ordering::Relaxed)
     }
@@ -166,7 +174,7 @@ impl SeaKinematics for LineSeaCache<'_> {
             return FluidKinematics::default();
         }
         let p = &self.series.points()[i];
-        if (p - x).norm() > self.guard_distance_m {
+        if (p - x).norm() > self.guard_distance_m || t > self.series.covered_until_s() {
             self.misses.fetch_add(1, Ordering::Relaxed);
             return scaled(self.sea.kinematics(x, t), r);
         }
