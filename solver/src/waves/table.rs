@@ -24,11 +24,11 @@
 //! 0.023 and c₆ = 3.52/720 = 4.9e-3 (the largest |Π (u − xⱼ)|/P! on the central interval); the
 //! depth profiles e^{±k s} give the same bound with k Δσ, relative to the profile at the top of
 //! the stencil. Time is sampled finely anyway (16 samples per shortest period: c₄ (2π/16)⁴ =
-//! 5.6e-4), space coarsely (Δx = Δσ = 2.5 m: for the shortest waves of the paper's severe sea
-//! state, k ≈ 0.13 rad/m, c₆ (k h)⁶ = 6e-6; cubic stencils there gave 2.5e-3 of the largest
-//! acceleration). The energetic components near the peak are interpolated far more accurately;
-//! the tests compare the table with direct summation (largest errors 1.4e-4 of the largest
-//! value for the accelerations, less for η, velocities and pressure). Values are stored in
+//! 5.6e-4), space coarsely (Δx = Δσ = 2.5 m: c₆ (k h)⁶ = 1.3e-3 for the shortest waves of the
+//! paper's severe sea state, k = 0.32 rad/m, which carry little of its energy, and 3e-11 at its
+//! peak, k = 0.017 rad/m). The tests compare the table with direct summation in that sea state:
+//! largest errors 1.4e-4 of the largest value for the accelerations, less for η, velocities and
+//! pressure (cubic spatial stencils gave 2.5e-3). Values are stored in
 //! single precision (relative rounding 6e-8, far below the interpolation error).
 //!
 //! Only the samples of [0, `end_time_s`] are stored (the FFT gives the whole repeat period; the
