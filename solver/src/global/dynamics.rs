@@ -25,12 +25,12 @@ use nalgebra::{Matrix3, Vector6};
 use super::coupling::{coupled_step, Alpha, FloaterStart, LineRun, StepContext};
 use super::error::GlobalError;
 use super::results::{FloaterSeries, GlobalResult, HotSpotResult, LineResult, RunStats};
-use super::sea::{LineSeaCache, PassSea, Ramp, RampedSea};
-use super::system::{for_lines, GlobalModel, StaticEquilibrium};
+use super::sea::{FloaterSeaTable, LineSeaCache, PassSea, Ramp, RampedSea};
+use super::system::{for_lines, FloaterModel, GlobalModel, StaticEquilibrium};
 use crate::floater::BodyState;
 use crate::mooring::dynamics::{DynamicParams, LineIntegrator, LineState};
 use crate::mooring::hotspot::{node_values, LineRecorder};
-use crate::waves::SeriesParams;
+use crate::waves::{SeaKinematics, SeriesParams, TableParams};
 
 /// Settings of the coupled dynamics.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -51,6 +51,9 @@ pub struct DynamicsParams {
     pub series: SeriesParams,
     /// Distance beyond which a cached point is not used (m).
     pub guard_distance_m: f64,
+    /// Resolution of the floater's kinematics table; `None` samples the floater's sea by direct
+    /// summation.
+    pub floater_table: Option<TableParams>,
 }
 
 impl Default for DynamicsParams {
@@ -76,6 +79,7 @@ impl Default for DynamicsParams {
                 threads: 1,
             },
             guard_distance_m: 30.0,
+            floater_table: Some(TableParams::default()),
         }
     }
 }
@@ -126,6 +130,7 @@ pub fn run_dynamics(
                 ramp,
                 &params.series,
                 params.guard_distance_m,
+                t_end + h,
             )
         });
         built
@@ -134,6 +139,18 @@ pub fn run_dynamics(
             .collect::<Result<_, _>>()?
     } else {
         model.lines.iter().map(|_| None).collect()
+    };
+    // Tabulated floater kinematics.
+    let floater_table = match (&model.floater, &params.floater_table) {
+        (FloaterModel::RigidBody(f), Some(table)) => Some(FloaterSeaTable::new(
+            f,
+            &eq.body,
+            &model.sea,
+            ramp,
+            t_end + h,
+            table,
+        )?),
+        _ => None,
     };
     stats.precompute_s = clock.elapsed().as_secs_f64();
 
@@ -200,7 +217,11 @@ pub fn run_dynamics(
         }
     };
 
-    let floater_sea = PassSea::new(&ramped, FLOATER_SEA_HOLD_M);
+    let floater_source: &dyn SeaKinematics = match &floater_table {
+        Some(t) => t,
+        None => &ramped,
+    };
+    let floater_sea = PassSea::new(floater_source, FLOATER_SEA_HOLD_M);
     let ctx = StepContext {
         model,
         caches: &caches,
@@ -293,6 +314,7 @@ pub fn run_dynamics(
         stats.cut_steps += run.integrator.stats().cut_steps;
     }
     stats.cache_misses = caches.iter().flatten().map(|c| c.misses()).sum();
+    stats.floater_table_misses = floater_table.as_ref().map_or(0, |t| t.misses());
 
     // Assemble the result.
     let mut lines = Vec::with_capacity(model.lines.len());

@@ -76,6 +76,9 @@ pub struct RunStats {
     pub floater_evaluations: usize,
     /// Cached kinematics queries answered by direct summation.
     pub cache_misses: usize,
+    /// Floater kinematics queries answered by direct summation because they fell outside the
+    /// floater's table.
+    pub floater_table_misses: usize,
     /// Wall time of the kinematics precomputation (s).
     pub precompute_s: f64,
     /// Wall time of the coupled statics (s), set by the caller.

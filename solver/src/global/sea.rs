@@ -18,16 +18,26 @@
 //! `guard_distance_m` from the point it is matched with (a change of the sampling order, or a
 //! very large excursion) is answered by direct summation instead, so a mismatch costs time,
 //! never accuracy.
+//!
+//! Floater table: the floater samples the sea at every wetted strip centre of its members
+//! (≈ 1 m strips) in its current pose, several times per step. [`FloaterSeaTable`] answers
+//! those queries from a [`PlaneKinematicsTable`] (FFT over the repeat period on an
+//! (x_β, stretched height) grid × time, interpolated) covering the members in the static pose
+//! with a margin for the motions: the body moves metres, the table follows it exactly within its
+//! interpolation accuracy (see [`crate::waves::table`]). A query outside the table is answered
+//! by direct summation and counted.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 use nalgebra::Vector3;
 
+use crate::floater::{BodyState, Floater};
 use crate::mooring::assembly::{update_water, WaterCache};
 use crate::mooring::LineModel;
 use crate::waves::{
-    FluidKinematics, IrregularSea, PointKinematicsSeries, SeaKinematics, SeriesParams, WavesError,
+    FluidKinematics, IrregularSea, PlaneKinematicsTable, PointKinematicsSeries, SeaKinematics,
+    SeriesParams, TableParams, TableRegion, WavesError,
 };
 
 /// Start-up ramp of the waves.
@@ -109,7 +119,8 @@ pub struct LineSeaCache<'a> {
 }
 
 impl<'a> LineSeaCache<'a> {
-    /// Cache for `model` in the static state `q`.
+    /// Cache for `model` in the static state `q`, for times up to `end_time_s` (later queries
+    /// are answered by direct summation).
     pub fn new(
         model: &LineModel,
         q: &[f64],
@@ -117,12 +128,13 @@ impl<'a> LineSeaCache<'a> {
         ramp: Ramp,
         params: &SeriesParams,
         guard_distance_m: f64,
+        end_time_s: f64,
     ) -> Result<Self, WavesError> {
         let recorder = Recorder(Mutex::new(Vec::new()));
         let mut water: WaterCache = Vec::new();
         update_water(model, q, 0.0, &recorder, &mut water);
         let points = recorder.0.into_inner().unwrap_or_default();
-        let series = PointKinematicsSeries::new(sea, &points, params)?;
+        let series = PointKinematicsSeries::new_until(sea, &points, params, end_time_s)?;
         Ok(Self {
             sea,
             series,
@@ -138,7 +150,13 @@ impl<'a> LineSeaCache<'a> {
         self.series.points().len()
     }
 
-    /// Queries answered by direct summation because they were too far from their cached point.
+    /// Memory held by the precomputed series (bytes).
+    pub fn memory_bytes(&self) -> usize {
+        self.series.memory_bytes()
+    }
+
+    /// Queries answered by direct summation because they were too far from their cached point
+    /// (or later than the precomputed times).
     pub fn misses(&self) -> usize {
         self.misses.load(Ordering::Relaxed)
     }
@@ -156,7 +174,7 @@ impl SeaKinematics for LineSeaCache<'_> {
             return FluidKinematics::default();
         }
         let p = &self.series.points()[i];
-        if (p - x).norm() > self.guard_distance_m {
+        if (p - x).norm() > self.guard_distance_m || t > self.series.covered_until_s() {
             self.misses.fetch_add(1, Ordering::Relaxed);
             return scaled(self.sea.kinematics(x, t), r);
         }
@@ -164,6 +182,102 @@ impl SeaKinematics for LineSeaCache<'_> {
     }
     fn elevation(&self, x: f64, y: f64, t: f64) -> f64 {
         self.ramp.factor(t) * self.sea.elevation(x, y, t)
+    }
+}
+
+/// Horizontal margin (m) of the floater table around the members in the static pose: the
+/// excursions of the floater about its mean offset in the severe sea state are some metres
+/// (surge amplitudes below 15 m for the paper case), so 30 m leaves room for larger ones.
+pub const FLOATER_TABLE_MARGIN_ALONG_M: f64 = 30.0;
+/// Vertical margin (m) of the floater table below the deepest member end in the static pose:
+/// heave and pitch move the deepest point by a few metres and Wheeler stretching under a crest
+/// lowers its stretched height by |z| η/(d + η) (≈ 2 m for the paper case).
+pub const FLOATER_TABLE_MARGIN_DEPTH_M: f64 = 25.0;
+
+/// The floater's sea: a [`PlaneKinematicsTable`] around the floater with the ramp applied, and
+/// direct summation for queries outside the table (see the module documentation).
+#[derive(Debug)]
+pub struct FloaterSeaTable<'a> {
+    sea: &'a IrregularSea,
+    table: PlaneKinematicsTable,
+    ramp: Ramp,
+    misses: AtomicUsize,
+}
+
+impl<'a> FloaterSeaTable<'a> {
+    /// Table of `sea` around the members of `floater` in the pose `body`, with margins
+    /// [`FLOATER_TABLE_MARGIN_ALONG_M`] and [`FLOATER_TABLE_MARGIN_DEPTH_M`], up to `end_time_s`.
+    pub fn new(
+        floater: &Floater,
+        body: &BodyState,
+        sea: &'a IrregularSea,
+        ramp: Ramp,
+        end_time_s: f64,
+        params: &TableParams,
+    ) -> Result<Self, WavesError> {
+        let field = sea.field();
+        let (mut lo, mut hi, mut z_min) = (f64::INFINITY, f64::NEG_INFINITY, 0.0f64);
+        for m in floater.members() {
+            let (a, b) = m.global_ends(body);
+            for p in [a, b] {
+                let xb = field.along(p.x, p.y);
+                lo = lo.min(xb);
+                hi = hi.max(xb);
+                z_min = z_min.min(p.z);
+            }
+        }
+        if lo > hi {
+            (lo, hi) = (0.0, 0.0);
+        }
+        let region = TableRegion {
+            along_m: (
+                lo - FLOATER_TABLE_MARGIN_ALONG_M,
+                hi + FLOATER_TABLE_MARGIN_ALONG_M,
+            ),
+            lowest_stretched_m: (z_min - FLOATER_TABLE_MARGIN_DEPTH_M).max(-field.depth_m()),
+            end_time_s,
+        };
+        Ok(Self {
+            sea,
+            table: PlaneKinematicsTable::new(sea, &region, params)?,
+            ramp,
+            misses: AtomicUsize::new(0),
+        })
+    }
+
+    /// The table.
+    pub fn table(&self) -> &PlaneKinematicsTable {
+        &self.table
+    }
+
+    /// Queries answered by direct summation because they fell outside the table.
+    pub fn misses(&self) -> usize {
+        self.misses.load(Ordering::Relaxed)
+    }
+}
+
+impl SeaKinematics for FloaterSeaTable<'_> {
+    fn kinematics(&self, x: &Vector3<f64>, t: f64) -> FluidKinematics {
+        let r = self.ramp.factor(t);
+        if r == 0.0 {
+            return FluidKinematics::default();
+        }
+        let k = self.table.kinematics(x, t).unwrap_or_else(|| {
+            self.misses.fetch_add(1, Ordering::Relaxed);
+            self.sea.kinematics(x, t)
+        });
+        scaled(k, r)
+    }
+    fn elevation(&self, x: f64, y: f64, t: f64) -> f64 {
+        let r = self.ramp.factor(t);
+        if r == 0.0 {
+            return 0.0;
+        }
+        let e = self.table.elevation(x, y, t).unwrap_or_else(|| {
+            self.misses.fetch_add(1, Ordering::Relaxed);
+            self.sea.elevation(x, y, t)
+        });
+        r * e
     }
 }
 

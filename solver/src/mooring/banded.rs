@@ -116,8 +116,13 @@ impl BandMatrix {
                 self.data[ik] = l;
                 let row_k = k * w + b - k;
                 let row_i = i * w + b - i;
-                for j in k + 1..=last {
-                    self.data[row_i + j] -= l * self.data[row_k + j];
+                // Row i's entries k+1 … last lie after row k's in storage: split there so that
+                // the update runs over two disjoint slices (no bounds checks, vectorised).
+                let len = last - k;
+                let (head, tail) = self.data.split_at_mut(row_i + k + 1);
+                let pivot_row = &head[row_k + k + 1..row_k + k + 1 + len];
+                for (a, p) in tail[..len].iter_mut().zip(pivot_row) {
+                    *a -= l * p;
                 }
             }
         }

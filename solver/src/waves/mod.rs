@@ -8,7 +8,9 @@
 //!
 //! Files: `spectrum` (JONSWAP), `dispersion` (ω² = g k tanh kd), `kinematics` (Airy sums with
 //! Wheeler stretching), `realisation` ([`IrregularSea`], [`RegularWave`]), `series`
-//! ([`PointKinematicsSeries`]: FFT precomputation at fixed points), `fft`, `wind` (rotor loads,
+//! ([`PointKinematicsSeries`]: FFT precomputation at fixed points), `table`
+//! ([`PlaneKinematicsTable`]: FFT precomputation on a vertical-plane grid around a moving body),
+//! `fft`, `wind` (rotor loads,
 //! wind speed per sea state), `scatter` (scatter-diagram tables), `sea` (the shared trait) and
 //! `error`. Gravity is [`dispersion::GRAVITY`] = 9.81 m/s² throughout.
 
@@ -23,6 +25,7 @@ pub mod realisation;
 pub mod scatter;
 pub mod series;
 pub mod spectrum;
+pub mod table;
 pub mod wind;
 
 pub use error::WavesError;
@@ -32,4 +35,5 @@ pub use scatter::{ScatterCell, ScatterError, ScatterTable, TotalKind, TotalMisma
 pub use sea::{FluidKinematics, SeaKinematics, StillWater};
 pub use series::{PointKinematicsSeries, PointSample, SeriesParams, SeriesStats};
 pub use spectrum::{Jonswap, PeakEnhancement};
+pub use table::{PlaneKinematicsTable, TableParams, TableRegion};
 pub use wind::{RotorLoads, RotorTable, WindLaw};

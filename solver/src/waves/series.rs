@@ -29,7 +29,10 @@
 //! switches between wet and dry; the interpolation then blends the two states over one Δt.
 //!
 //! Memory: 6 values × 8 bytes per point and sample (elevation, u_h, w, a_h, a_z, p), laid out
-//! time-major so that sampling all points at one instant reads contiguous memory.
+//! time-major so that sampling all points at one instant reads contiguous memory. A series
+//! built for a run shorter than the repeat period ([`PointKinematicsSeries::new_until`]) keeps
+//! only the samples of that run; points are transformed in small batches, so the scratch of
+//! the full-period transforms stays a few tens of MB.
 
 use nalgebra::{Complex, Vector3};
 
@@ -104,9 +107,15 @@ pub struct PointKinematicsSeries {
     time_step_s: f64,
     period_s: f64,
     direction: (f64, f64),
+    /// Samples 0 … stored − 1 are kept (all N unless the series was built for a shorter run);
+    /// a truncated series keeps sample N − 1 as its last row (the stencil of t < Δt).
+    stored: usize,
     data: Vec<f64>,
     stats: SeriesStats,
 }
+
+/// Points processed per batch: bounds the per-point scratch (N × 6 values each) held at once.
+const POINTS_PER_BATCH: usize = 16;
 
 /// Everything the per-point work reads.
 struct Shared<'a> {
@@ -125,11 +134,35 @@ struct PointResult {
 }
 
 impl PointKinematicsSeries {
-    /// Precompute η and the kinematics of `sea` at `points` (m, global frame).
+    /// Precompute η and the kinematics of `sea` at `points` (m, global frame) over the whole
+    /// repeat period.
     pub fn new(
         sea: &IrregularSea,
         points: &[Vector3<f64>],
         params: &SeriesParams,
+    ) -> Result<Self, WavesError> {
+        Self::build(sea, points, params, None)
+    }
+
+    /// As [`PointKinematicsSeries::new`], keeping only the samples needed for times in
+    /// [0, `end_time_s`] (the transforms still cover the repeat period): the memory of a run
+    /// shorter than the repeat period (e.g. 1050 s of a 2048 s period) shrinks accordingly.
+    /// Sampling beyond [`PointKinematicsSeries::covered_until_s`] is not allowed (panics on
+    /// out-of-range rows); check it first.
+    pub fn new_until(
+        sea: &IrregularSea,
+        points: &[Vector3<f64>],
+        params: &SeriesParams,
+        end_time_s: f64,
+    ) -> Result<Self, WavesError> {
+        Self::build(sea, points, params, Some(finite("end_time_s", end_time_s)?))
+    }
+
+    fn build(
+        sea: &IrregularSea,
+        points: &[Vector3<f64>],
+        params: &SeriesParams,
+        end_time_s: Option<f64>,
     ) -> Result<Self, WavesError> {
         let per_period = positive(
             "samples_per_shortest_period",
@@ -154,64 +187,90 @@ impl PointKinematicsSeries {
             }
         }
         let field = sea.field();
-        let d_omega = sea.d_omega_rad_s();
-        let bins: Vec<usize> = field
-            .components()
-            .iter()
-            .map(|c| (c.omega_rad_s / d_omega).round() as usize)
-            .collect();
-        let n_max = bins.iter().copied().max().unwrap_or(1);
-        // Enough samples per shortest period, and N > 2 n_max so that bins n and N − n differ.
-        let needed = ((n_max as f64) * per_period)
-            .ceil()
-            .max(2.0 * n_max as f64 + 1.0) as usize;
-        let samples = needed.next_power_of_two();
+        let (bins, samples) = time_grid(sea, per_period);
+        let time_step_s = sea.repeat_period_s() / samples as f64;
+        // Samples 0 … j_max + 2 cover the cubic stencil of every t ≤ end time; the extra last
+        // row holds sample N − 1 (the stencil of t < Δt).
+        let stored = match end_time_s {
+            Some(e) => ((e.max(0.0) / time_step_s).ceil() as usize + 3).min(samples),
+            None => samples,
+        };
+        let rows = if stored < samples {
+            stored + 1
+        } else {
+            samples
+        };
         let shared = Shared {
             sea,
             fft: InverseFft::new(samples)?,
             bins,
             params: *params,
         };
-
-        let results: Vec<PointResult> = if params.threads == 1 {
-            points.iter().map(|p| compute_point(&shared, p)).collect()
+        let pool = if params.threads == 1 {
+            None
         } else {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(params.threads)
-                .build()
-                .map_err(|e| WavesError::ThreadPool {
-                    reason: e.to_string(),
-                })?;
-            pool.install(|| {
-                points
-                    .par_iter()
-                    .map(|p| compute_point(&shared, p))
-                    .collect()
-            })
+            Some(
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(params.threads)
+                    .build()
+                    .map_err(|e| WavesError::ThreadPool {
+                        reason: e.to_string(),
+                    })?,
+            )
         };
 
         let stride = points.len() * QUANTITIES;
-        let mut data = vec![0.0; samples * stride];
+        let mut data = vec![0.0; rows * stride];
         let mut stats = SeriesStats::default();
-        for (index, r) in results.iter().enumerate() {
-            for (j, row) in r.values.chunks_exact(QUANTITIES).enumerate() {
-                let at = j * stride + index * QUANTITIES;
-                data[at..at + QUANTITIES].copy_from_slice(row);
+        for (batch, chunk) in points.chunks(POINTS_PER_BATCH).enumerate() {
+            let results: Vec<PointResult> = match &pool {
+                None => chunk.iter().map(|p| compute_point(&shared, p)).collect(),
+                Some(pool) => pool.install(|| {
+                    chunk
+                        .par_iter()
+                        .map(|p| compute_point(&shared, p))
+                        .collect()
+                }),
+            };
+            for (offset, r) in results.iter().enumerate() {
+                let index = batch * POINTS_PER_BATCH + offset;
+                for row in 0..rows {
+                    let j = if row < stored { row } else { samples - 1 };
+                    let at = row * stride + index * QUANTITIES;
+                    data[at..at + QUANTITIES]
+                        .copy_from_slice(&r.values[j * QUANTITIES..(j + 1) * QUANTITIES]);
+                }
+                stats.ffts += r.ffts;
+                stats.chebyshev_nodes += r.nodes;
+                stats.max_chebyshev_nodes = stats.max_chebyshev_nodes.max(r.nodes);
+                stats.max_error_bound = stats.max_error_bound.max(r.bound);
             }
-            stats.ffts += r.ffts;
-            stats.chebyshev_nodes += r.nodes;
-            stats.max_chebyshev_nodes = stats.max_chebyshev_nodes.max(r.nodes);
-            stats.max_error_bound = stats.max_error_bound.max(r.bound);
         }
         Ok(Self {
             points: points.to_vec(),
             samples,
-            time_step_s: sea.repeat_period_s() / samples as f64,
+            time_step_s,
             period_s: sea.repeat_period_s(),
             direction: field.direction(),
+            stored,
             data,
             stats,
         })
+    }
+
+    /// Last time (s) the stored samples cover: the repeat period for a full series, else the
+    /// end time given to [`PointKinematicsSeries::new_until`] (or a little more).
+    pub fn covered_until_s(&self) -> f64 {
+        if self.stored == self.samples {
+            f64::INFINITY
+        } else {
+            (self.stored - 3) as f64 * self.time_step_s
+        }
+    }
+
+    /// Memory held by the stored values (bytes).
+    pub fn memory_bytes(&self) -> usize {
+        self.data.len() * std::mem::size_of::<f64>()
     }
 
     /// The points, in the order given.
@@ -239,6 +298,16 @@ impl PointKinematicsSeries {
         let stride = self.points.len() * QUANTITIES;
         let mut v = [0.0; QUANTITIES];
         for &(j, wgt) in weights {
+            // A truncated series keeps sample N − 1 after its last stored sample.
+            let j = if j < self.stored {
+                j
+            } else {
+                assert!(
+                    j == self.samples - 1,
+                    "time beyond the samples kept by PointKinematicsSeries::new_until"
+                );
+                self.stored
+            };
             let row =
                 &self.data[j * stride + point * QUANTITIES..j * stride + (point + 1) * QUANTITIES];
             for q in 0..QUANTITIES {
@@ -296,10 +365,28 @@ impl PointKinematicsSeries {
     }
 }
 
+/// FFT bins of the components of `sea` (ωₙ = bin · Δω) and the sample count N of the periodic
+/// time grid: the smallest power of two giving at least `per_period` samples per period of the
+/// highest component and N > 2 n_max (so that bins n and N − n differ).
+pub(crate) fn time_grid(sea: &IrregularSea, per_period: f64) -> (Vec<usize>, usize) {
+    let d_omega = sea.d_omega_rad_s();
+    let bins: Vec<usize> = sea
+        .field()
+        .components()
+        .iter()
+        .map(|c| (c.omega_rad_s / d_omega).round() as usize)
+        .collect();
+    let n_max = bins.iter().copied().max().unwrap_or(1);
+    let needed = ((n_max as f64) * per_period)
+        .ceil()
+        .max(2.0 * n_max as f64 + 1.0) as usize;
+    (bins, needed.next_power_of_two())
+}
+
 /// Inverse-transform real component sums two at a time. `coefs[i]` gives, per component, the
 /// complex coefficient Xₙ of real series i = Σ Re(Xₙ e^{iωₙt}); series i is written to
 /// `out[i·N .. (i+1)·N]`. Returns the number of FFTs done.
-fn transform_real_series(
+pub(crate) fn transform_real_series(
     fft: &InverseFft,
     bins: &[usize],
     coefs: &[Vec<Complex<f64>>],
@@ -527,6 +614,28 @@ mod tests {
         .unwrap()
         .stats();
         assert_eq!(stats.max_chebyshev_nodes, 1);
+    }
+
+    #[test]
+    fn series_kept_for_a_shorter_run_equals_the_full_one() {
+        let sea = small_sea();
+        let points = [Vector3::new(0.0, 0.0, -20.0), Vector3::new(30.0, 5.0, -3.0)];
+        let params = SeriesParams {
+            threads: 2,
+            ..SeriesParams::default()
+        };
+        let full = PointKinematicsSeries::new(&sea, &points, &params).unwrap();
+        let short = PointKinematicsSeries::new_until(&sea, &points, &params, 40.0).unwrap();
+        assert!(short.covered_until_s() >= 40.0 && short.covered_until_s() < 41.0);
+        assert_eq!(full.covered_until_s(), f64::INFINITY);
+        assert!(2 * short.memory_bytes() < full.memory_bytes());
+        for i in 0..points.len() {
+            // From t = 0 (whose stencil reaches back to sample N − 1) to the end time.
+            for k in 0..=400 {
+                let t = 0.1 * k as f64;
+                assert_eq!(short.sample(i, t), full.sample(i, t), "point {i}, t {t}");
+            }
+        }
     }
 
     #[test]
