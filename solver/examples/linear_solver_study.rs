@@ -1,6 +1,7 @@
 //! Cost of the linear algebra of one Newton iteration of the strand models: the tangent of a
 //! small tension step assembled, then factorised and solved with faer's sparse LU (automatic
-//! simplicial / supernodal choice, and forced supernodal), and with LDLᵀ of its symmetric part.
+//! simplicial / supernodal choice, and forced supernodal), and with LDLᵀ of its symmetric part
+//! (AMD and nested-dissection orderings; and in single precision).
 //!
 //! `cargo run --release -p moorfret-solver --example linear_solver_study -- [benchmark|six_layer]`
 
@@ -13,7 +14,7 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::SparseColMatRef;
 use faer::{Conj, MatMut, Par, Side};
 use moorfret_solver::linalg::{
-    CholeskyKind, Equation, LinearSolver, NonlinearProblem, SparseCholesky, SparseLu,
+    CholeskyKind, Equation, FillOrdering, LinearSolver, NonlinearProblem, SparseCholesky, SparseLu,
     SparsePattern, Storage,
 };
 use moorfret_solver::strand::loading::LoadPath;
@@ -190,26 +191,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         }
     }
-    let t = Instant::now();
-    let mut ldlt = SparseCholesky::new(&up, CholeskyKind::Ldlt, Par::Seq)?;
-    let sym_ch = t.elapsed().as_secs_f64();
-    let mut times = Vec::new();
-    for _ in 0..reps {
-        let t = Instant::now();
-        ldlt.factorize(&up, &kv)?;
-        times.push(t.elapsed().as_secs_f64());
-    }
-    let mut z = r.clone();
-    let t = Instant::now();
-    ldlt.solve_in_place(&mut z)?;
-    println!(
-        "LDLt of the symmetric part: symbolic {:.1} ms, factorise {:.1} ms (median), solve {:.2} ms, supernodal {}, factor {} values",
-        1e3 * sym_ch,
-        1e3 * median(times),
-        1e3 * t.elapsed().as_secs_f64(),
-        ldlt.is_supernodal(),
-        ldlt.factor_len()
-    );
     let residual = |x: &[f64]| {
         let mut ax = vec![0.0; n];
         up_mul(&up, &kv, x, &mut ax);
@@ -220,7 +201,36 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .sqrt()
             / r.iter().map(|b| b * b).sum::<f64>().sqrt()
     };
-    println!("  relative residual of the f64 solve: {:.1e}", residual(&z));
+    for ordering in [FillOrdering::Amd, FillOrdering::NestedDissection] {
+        let t = Instant::now();
+        let mut ldlt = SparseCholesky::with_ordering(&up, CholeskyKind::Ldlt, Par::Seq, ordering)?;
+        let sym_ch = t.elapsed().as_secs_f64();
+        let mut times = Vec::new();
+        for _ in 0..reps {
+            let t = Instant::now();
+            ldlt.factorize(&up, &kv)?;
+            times.push(t.elapsed().as_secs_f64());
+        }
+        let mut solves = Vec::new();
+        let mut z = r.clone();
+        for _ in 0..reps {
+            z.copy_from_slice(&r);
+            let t = Instant::now();
+            ldlt.solve_in_place(&mut z)?;
+            solves.push(t.elapsed().as_secs_f64());
+        }
+        println!(
+            "LDLt of the symmetric part, {ordering:?} ordering: symbolic {:.1} ms, factorise \
+             {:.1} ms (median), solve {:.2} ms (median), supernodal {}, factor {} values, \
+             relative residual {:.1e}",
+            1e3 * sym_ch,
+            1e3 * median(times),
+            1e3 * median(solves),
+            ldlt.is_supernodal(),
+            ldlt.factor_len(),
+            residual(&z)
+        );
+    }
 
     // (d) the same LDLᵀ in single precision (a preconditioner need not be exact)
     let symbolic = factorize_symbolic_cholesky(
