@@ -1,14 +1,8 @@
 //! The `strand` stage of a job: load the hot-spot series of its global job (found by that
 //! job's cache key, so a global result shared from another campaign serves as well), convert
-//! it to the strand load ε(t) = T(t) / EA and κ(t) (DESIGN §4.4), sampled every `load_stride`
-//! global output samples, and drive the detailed strand model through it
-//! (`moorfret_solver::strand::history`). EA is the axial stiffness of the strand model itself,
-//! measured by a tension step (ε = 1e-3) the first time a worker process meets a strand model
-//! and kept for its later jobs ([`strand_axial_stiffness_n`]): so the wires of the model carry
-//! the hot-spot tension, whatever the compliance of its contacts (with penalty contacts the
-//! model is softer than the rope's catalogue EA of the global model, README "Six-layer strand:
-//! axial stiffness"). The measurement is deterministic, so every worker, and a job resumed from
-//! a checkpoint, uses the same EA to the bit.
+//! it to the strand load ε(t) = T(t) / EA with EA of the rope at the hot spot and κ(t)
+//! (DESIGN §4.4), sampled every `load_stride` global output samples, and drive the detailed
+//! strand model through it (`moorfret_solver::strand::history`).
 //!
 //! Results: the full per-contact records ([`ContactRecord`]: position, largest normal force,
 //! rainflow slip cycles with their forces) as one content-addressed JSON artifact
@@ -25,9 +19,7 @@
 //! resumes from it; the solver guarantees the result is bit-identical to an uninterrupted run.
 //! Slack samples (T < 0) are loaded as ε = 0 and counted in the job result.
 
-use std::collections::BTreeMap;
 use std::path::PathBuf;
-use std::sync::{Mutex, OnceLock};
 use std::time::{Duration, Instant};
 
 use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
@@ -35,7 +27,6 @@ use moorfret_solver::fretting::{
     sea_state_damage_inputs, ContactRecord, SeaStateInputs, TensionHistory,
 };
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
-use moorfret_solver::strand::history::stiffness::measure_axial_stiffness_n;
 use moorfret_solver::strand::history::{
     run_history_from, HistoryObserver, HistoryOptions, LoadSample,
 };
@@ -55,39 +46,6 @@ use crate::store::{
 
 /// Segments between two checkpoints handed over by the solver.
 const CHECKPOINT_SEGMENTS: usize = 8;
-
-/// Axial strain of the tension step that measures the strand model's EA.
-const STIFFNESS_STRAIN: f64 = 1e-3;
-
-/// EA of the strand model of `inputs` (N): measured once per worker process and strand model
-/// (profile, contact regularisation, ends) and then taken from memory.
-fn strand_axial_stiffness_n(
-    inputs: &CampaignInputs,
-    model: &StrandModel,
-    options: &HistoryOptions,
-) -> Result<f64, JobFailure> {
-    static MEASURED: OnceLock<Mutex<BTreeMap<String, f64>>> = OnceLock::new();
-    let profile =
-        serde_json::to_string(&inputs.profile).map_err(|e| permanent("serialise_inputs", e))?;
-    let key = format!("{profile} {:?}", model_parameters(inputs));
-    let cache = MEASURED.get_or_init(|| Mutex::new(BTreeMap::new()));
-    if let Some(&ea) = cache.lock().map_err(|e| transient("cache", e))?.get(&key) {
-        return Ok(ea);
-    }
-    let t = Instant::now();
-    let ea = measure_axial_stiffness_n(model, STIFFNESS_STRAIN, options)
-        .map_err(|e| permanent("axial_stiffness", e))?;
-    tracing::info!(
-        axial_stiffness_n = ea,
-        seconds = t.elapsed().as_secs_f64(),
-        "axial stiffness of the strand model measured"
-    );
-    cache
-        .lock()
-        .map_err(|e| transient("cache", e))?
-        .insert(key, ea);
-    Ok(ea)
-}
 
 /// The strand load samples: ε = max(T, 0) / EA, κ, every `stride`-th sample of `series`;
 /// also the number of slack samples.
@@ -279,6 +237,14 @@ pub fn run_strand(
     rt: &Handle,
 ) -> Result<JobResults, JobFailure> {
     let series = upstream_series(payload, store, artifacts, rt)?;
+    let ea = inputs
+        .hot_spot_axial_stiffness_n
+        .get(payload.hot_spot_index)
+        .copied()
+        .ok_or_else(|| permanent("bad_payload", "hot spot index out of range"))?;
+    let stride = (inputs.spec.strand.load_interval_s / inputs.spec.simulation.output_interval_s)
+        .round() as usize;
+    let (samples, slack_samples) = strand_load(&series, ea, stride);
     let strand = inputs
         .profile
         .validate()
@@ -289,10 +255,6 @@ pub fn run_strand(
         checkpoint_interval_segments: CHECKPOINT_SEGMENTS,
         ..HistoryOptions::default()
     };
-    let ea = strand_axial_stiffness_n(inputs, &model, &options)?;
-    let stride = (inputs.spec.strand.load_interval_s / inputs.spec.simulation.output_interval_s)
-        .round() as usize;
-    let (samples, slack_samples) = strand_load(&series, ea, stride);
     let pointer = lease
         .cache_key
         .as_ref()
@@ -345,7 +307,6 @@ pub fn run_strand(
             "seed_index": payload.global.seed_index,
             "samples": samples.len(),
             "slack_samples": slack_samples,
-            "strand_axial_stiffness_n": ea,
             "contacts": result.contacts.len(),
             "contact_records_sha256": artifact.sha256,
             "effective_duration_s": damage.effective_duration_s,
