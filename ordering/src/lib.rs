@@ -14,11 +14,14 @@
 //! factorisation large.
 //!
 //! The ordering is deterministic: METIS runs with a fixed seed, so two processes given the same
-//! pattern compute the same ordering and the same factor to the bit.
+//! pattern compute the same ordering and the same factor to the bit. METIS keeps its random
+//! number generator in global state, so calls are serialised by a process-wide lock: concurrent
+//! calls from several threads would otherwise interleave their random streams.
 //!
 //! This crate holds the workspace's only `unsafe` code: the one call into METIS.
 
 use std::collections::HashMap;
+use std::sync::Mutex;
 
 use metis_sys::idx_t;
 
@@ -66,6 +69,9 @@ impl Ordering {
         }
     }
 }
+
+/// Serialises the calls into METIS (module docs).
+static METIS_LOCK: Mutex<()> = Mutex::new(());
 
 /// Fixed METIS seed (module docs).
 const SEED: idx_t = 20_200_413;
@@ -191,6 +197,8 @@ fn metis_node_nd(
     let mut options = [0 as idx_t; metis_sys::METIS_NOPTIONS as usize];
     let mut perm = vec![0 as idx_t; n];
     let mut iperm = vec![0 as idx_t; n];
+    // a poisoned lock only means another call panicked; METIS reseeds on every call
+    let _guard = METIS_LOCK.lock().unwrap_or_else(|e| e.into_inner());
     #[allow(unsafe_code)]
     // SAFETY: the METIS 5 API reads `options` (METIS_NOPTIONS entries), `xadj` (nvtxs + 1
     // entries, last = adjncy.len()), `adjncy` and `vwgt` (nvtxs entries) and writes `perm` and
@@ -326,12 +334,18 @@ mod tests {
     }
 
     #[test]
-    fn the_same_pattern_gives_the_same_ordering() {
+    fn the_same_pattern_gives_the_same_ordering_also_from_concurrent_threads() {
         let (n, cp, ri) = grid(20, 15, 3);
-        assert_eq!(
-            nested_dissection(n, &cp, &ri).unwrap(),
-            nested_dissection(n, &cp, &ri).unwrap()
-        );
+        let first = nested_dissection(n, &cp, &ri).unwrap();
+        let others: Vec<Ordering> = std::thread::scope(|s| {
+            let handles: Vec<_> = (0..4)
+                .map(|_| s.spawn(|| nested_dissection(n, &cp, &ri).unwrap()))
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        for o in others {
+            assert_eq!(o, first);
+        }
     }
 
     #[test]
