@@ -2,9 +2,8 @@
 //! 1.0 1/m, 'vs_analytical' regularisation), each solved from the reference configuration.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
 use moorfret_solver::strand::driver::{run_case, StrandRunParameters};
-use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
+use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::profile_from_json;
 
 const BENCHMARK: &str = include_str!(concat!(
@@ -16,18 +15,7 @@ fn strand_cases(c: &mut Criterion) {
     let strand = profile_from_json(BENCHMARK)
         .and_then(|p| p.validate())
         .expect("benchmark profile is valid");
-    let params = StrandModelParameters {
-        contact: ContactParameters {
-            normal: NormalLaw::Penalty {
-                stiffness_n_per_m: 2e8,
-            },
-            tangential: TangentialLaw::ElasticSlip {
-                elastic_slip_m: 1e-7,
-            },
-            ..ContactParameters::default()
-        },
-        ..StrandModelParameters::default()
-    };
+    let params = StrandModelParameters::penalty_contact(2e8, 1e-7, EndKind::PenaltyTies);
     let model = StrandModel::new(&strand, &params).expect("model builds");
     let run = StrandRunParameters::default();
     let mut group = c.benchmark_group("strand_1_6_1");

@@ -22,7 +22,6 @@
 
 use std::time::Instant;
 
-use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
 use moorfret_solver::strand::history::stiffness::{
     measure_axial_stiffness_n, samples_from_tension,
 };
@@ -200,19 +199,7 @@ fn six_layer(args: &[String]) -> Result<(), Error> {
         .get("paper_six_layer")
         .ok_or("profile paper_six_layer missing")?
         .validate()?;
-    let params = StrandModelParameters {
-        ends: EndKind::Periodic,
-        contact: ContactParameters {
-            normal: NormalLaw::Penalty {
-                stiffness_n_per_m: 2e8,
-            },
-            tangential: TangentialLaw::ElasticSlip {
-                elastic_slip_m: 1e-5,
-            },
-            ..ContactParameters::default()
-        },
-        ..StrandModelParameters::default()
-    };
+    let params = StrandModelParameters::penalty_contact(2e8, 1e-5, EndKind::Periodic);
     let model = StrandModel::new(&strand, &params)?;
     let ea = match ea {
         Some(v) => v,
@@ -256,18 +243,7 @@ fn main() -> Result<(), Error> {
         None => HistoryOptions::default().turning_point_tolerance,
     };
     let strand = profile_from_json(BENCHMARK)?.validate()?;
-    let params = StrandModelParameters {
-        contact: ContactParameters {
-            normal: NormalLaw::Penalty {
-                stiffness_n_per_m: 2e8,
-            },
-            tangential: TangentialLaw::ElasticSlip {
-                elastic_slip_m: 1e-7,
-            },
-            ..ContactParameters::default()
-        },
-        ..StrandModelParameters::default()
-    };
+    let params = StrandModelParameters::penalty_contact(2e8, 1e-7, EndKind::PenaltyTies);
     let model = StrandModel::new(&strand, &params)?;
     // ε = 1e-3 + 1.5e-4 e(t), κ = 1e-2 k(t) 1/m, 300 s at 0.25 s
     let h = irregular_history(300.0, 0.25, 1e-3, 1.5e-4, 1e-2);

@@ -8,13 +8,13 @@
 //! attempt of the bending stage, otherwise a summary and the first and last attempts.
 
 use moorfret_solver::beam::frame::FrameError;
-use moorfret_solver::contact::{ContactParameters, ContactStatus, NormalLaw, TangentialLaw};
+use moorfret_solver::contact::ContactStatus;
 use moorfret_solver::linalg::{
     solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace, NonlinearProblem,
 };
 use moorfret_solver::strand::driver::StrandRunParameters;
 use moorfret_solver::strand::loading::LoadPath;
-use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
+use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
 use moorfret_solver::strand::problem::StrandProblem;
 use moorfret_solver::strand::profile::profile_from_json;
 
@@ -161,18 +161,7 @@ fn main() {
     let strand = profile_from_json(BENCHMARK)
         .and_then(|p| p.validate())
         .expect("benchmark profile is valid");
-    let params = StrandModelParameters {
-        contact: ContactParameters {
-            normal: NormalLaw::Penalty {
-                stiffness_n_per_m: penalty,
-            },
-            tangential: TangentialLaw::ElasticSlip {
-                elastic_slip_m: gamma,
-            },
-            ..ContactParameters::default()
-        },
-        ..StrandModelParameters::default()
-    };
+    let params = StrandModelParameters::penalty_contact(penalty, gamma, EndKind::PenaltyTies);
     let model = StrandModel::new(&strand, &params).expect("model builds");
     let run = StrandRunParameters::default();
     let mut probe = Probe {

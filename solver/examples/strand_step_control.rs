@@ -6,9 +6,8 @@
 
 use std::time::Instant;
 
-use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
 use moorfret_solver::strand::driver::{run_case, StrandRunParameters};
-use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
+use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::profile_from_json;
 
 const BENCHMARK: &str = include_str!(concat!(
@@ -27,18 +26,7 @@ fn main() {
     let strand = profile_from_json(BENCHMARK)
         .and_then(|p| p.validate())
         .expect("benchmark profile is valid");
-    let params = StrandModelParameters {
-        contact: ContactParameters {
-            normal: NormalLaw::Penalty {
-                stiffness_n_per_m: 2e8,
-            },
-            tangential: TangentialLaw::ElasticSlip {
-                elastic_slip_m: 1e-7,
-            },
-            ..ContactParameters::default()
-        },
-        ..StrandModelParameters::default()
-    };
+    let params = StrandModelParameters::penalty_contact(2e8, 1e-7, EndKind::PenaltyTies);
     let model = StrandModel::new(&strand, &params).expect("model builds");
     let base = StrandRunParameters::default();
     let mut variants: Vec<(String, StrandRunParameters)> = vec![("default".into(), base)];

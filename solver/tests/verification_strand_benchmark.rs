@@ -2,10 +2,9 @@
 //! strand in tension against Costello's simple straight strand, and the outer helix of the
 //! 1+6+1 strand in bending against the stick and friction-limited slip solutions.
 
-use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
 use moorfret_solver::strand::analytical::SimpleStrand;
 use moorfret_solver::strand::driver::{run_case, StrandRunParameters};
-use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
+use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::{profile_from_json, Strand};
 
 const BENCHMARK: &str = include_str!(concat!(
@@ -23,18 +22,7 @@ fn benchmark(layers: usize) -> Strand {
 
 /// The seed's 'vs_analytical' regularisation: ε_N = 2e5 N/mm, γ_e = 1e-4 mm.
 fn vs_analytical() -> StrandModelParameters {
-    StrandModelParameters {
-        contact: ContactParameters {
-            normal: NormalLaw::Penalty {
-                stiffness_n_per_m: 2e8,
-            },
-            tangential: TangentialLaw::ElasticSlip {
-                elastic_slip_m: 1e-7,
-            },
-            ..ContactParameters::default()
-        },
-        ..StrandModelParameters::default()
-    }
+    StrandModelParameters::penalty_contact(2e8, 1e-7, EndKind::PenaltyTies)
 }
 
 #[test]

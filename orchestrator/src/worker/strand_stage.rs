@@ -22,7 +22,6 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
 use moorfret_solver::fretting::{
     sea_state_damage_inputs, ContactRecord, SeaStateInputs, TensionHistory,
 };
@@ -30,7 +29,7 @@ use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
 use moorfret_solver::strand::history::{
     run_history_from, HistoryObserver, HistoryOptions, LoadSample,
 };
-use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
+use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::Strand;
 use serde_json::json;
 use tokio::runtime::Handle;
@@ -154,31 +153,10 @@ fn read_checkpoint(artifacts: &ArtifactStore, pointer: &PathBuf) -> Option<Histo
     HistoryCheckpoint::from_bytes(&bytes).ok()
 }
 
-/// Strand model parameters of a contact regularisation (normal penalty ε_N, elastic slip γ_e)
-/// and an end condition; the rest at the defaults. Shared by the campaign stage and
-/// `moorfret run strand`.
-pub(crate) fn strand_model_parameters(
-    normal_penalty_n_per_m: f64,
-    elastic_slip_m: f64,
-    ends: EndKind,
-) -> StrandModelParameters {
-    StrandModelParameters {
-        contact: ContactParameters {
-            normal: NormalLaw::Penalty {
-                stiffness_n_per_m: normal_penalty_n_per_m,
-            },
-            tangential: TangentialLaw::ElasticSlip { elastic_slip_m },
-            ..ContactParameters::default()
-        },
-        ends,
-        ..StrandModelParameters::default()
-    }
-}
-
 /// The model parameters of the campaign's strand settings.
 fn model_parameters(inputs: &CampaignInputs) -> StrandModelParameters {
     let st = &inputs.spec.strand;
-    strand_model_parameters(
+    StrandModelParameters::penalty_contact(
         st.normal_penalty_n_per_m,
         st.elastic_slip_m,
         st.ends.end_kind(),

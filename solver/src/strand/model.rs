@@ -24,7 +24,8 @@ use super::profile::Strand;
 use crate::beam::frame::{BeamFrame, DofMap, FrameError, NodeId, NODE_DOFS};
 use crate::beam::section::{BeamSection, SectionError};
 use crate::contact::{
-    ContactError, ContactHistory, ContactPair, ContactParameters, NodeKinematics,
+    ContactError, ContactHistory, ContactPair, ContactParameters, NodeKinematics, NormalLaw,
+    TangentialLaw,
 };
 use crate::linalg::{
     Equation, GmresParams, LinalgError, PatternError, SparsePattern, SplitSolver, Storage,
@@ -122,6 +123,28 @@ impl Default for StrandModelParameters {
 }
 
 impl StrandModelParameters {
+    /// The defaults with a penalty normal law of stiffness ε_N (N/m), an elastic-slip
+    /// regularised Coulomb law with elastic slip γ_e (m), and the given end conditions: the
+    /// contact regularisation of the seed's Sec. 2.2 (its 'vs_analytical' set is ε_N = 2e8 N/m,
+    /// γ_e = 1e-7 m).
+    pub fn penalty_contact(
+        normal_penalty_n_per_m: f64,
+        elastic_slip_m: f64,
+        ends: EndKind,
+    ) -> Self {
+        Self {
+            contact: ContactParameters {
+                normal: NormalLaw::Penalty {
+                    stiffness_n_per_m: normal_penalty_n_per_m,
+                },
+                tangential: TangentialLaw::ElasticSlip { elastic_slip_m },
+                ..ContactParameters::default()
+            },
+            ends,
+            ..Self::default()
+        }
+    }
+
     /// Checks the model's own fields (mesh, search and contact are checked where used).
     pub fn validated(self) -> Result<Self, StrandModelError> {
         if !(self.end_penalty_factor > 0.0 && self.end_penalty_factor.is_finite()) {

@@ -6,7 +6,6 @@ use std::f64::consts::PI;
 
 use super::*;
 use crate::beam::frame::NodeId;
-use crate::contact::{ContactParameters, NormalLaw, TangentialLaw};
 use crate::linalg::{
     solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace, NonlinearProblem, SparseLu,
 };
@@ -37,19 +36,7 @@ fn periodic_model_with(layers: usize) -> StrandModel {
 }
 
 fn periodic_params() -> StrandModelParameters {
-    StrandModelParameters {
-        contact: ContactParameters {
-            normal: NormalLaw::Penalty {
-                stiffness_n_per_m: 2e8,
-            },
-            tangential: TangentialLaw::ElasticSlip {
-                elastic_slip_m: 1e-7,
-            },
-            ..ContactParameters::default()
-        },
-        ends: EndKind::Periodic,
-        ..StrandModelParameters::default()
-    }
+    StrandModelParameters::penalty_contact(2e8, 1e-7, EndKind::Periodic)
 }
 
 /// The history runs' settings (their absolute tolerance, 1e-2 N, is above the residual's

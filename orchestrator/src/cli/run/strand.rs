@@ -23,7 +23,7 @@ use anyhow::{anyhow, Context};
 use clap::Args;
 use moorfret_solver::strand::analytical::{slip_force_variation, stick_force_variation};
 use moorfret_solver::strand::driver::{run_case, CaseResult, StrandRunParameters};
-use moorfret_solver::strand::model::StrandModel;
+use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::{
     profile_from_json, profiles_from_json, Regularisation, Strand, StrandProfile,
 };
@@ -31,7 +31,6 @@ use plotters::prelude::*;
 use serde::Serialize;
 
 use crate::campaign::spec::StrandEnds;
-use crate::worker::strand_stage::strand_model_parameters;
 
 /// Arguments of `moorfret run strand`.
 #[derive(Debug, Args)]
@@ -123,7 +122,7 @@ pub(crate) fn load_model(
                 )
             })?,
     };
-    let params = strand_model_parameters(
+    let params = StrandModelParameters::penalty_contact(
         reg.normal_penalty_n_per_m,
         reg.elastic_slip_m,
         args.ends.end_kind(),

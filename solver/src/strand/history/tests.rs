@@ -9,8 +9,7 @@ use super::stiffness::{
     measure_axial_stiffness_n, samples_from_tension, straight_strand_stiffness,
 };
 use super::*;
-use crate::contact::{ContactParameters, NormalLaw, TangentialLaw};
-use crate::strand::model::StrandModelParameters;
+use crate::strand::model::{EndKind, StrandModelParameters};
 use crate::strand::profile::profile_from_json;
 
 const BENCHMARK: &str = include_str!(concat!(
@@ -23,18 +22,7 @@ fn model() -> StrandModel {
         .expect("benchmark profile parses")
         .validate()
         .expect("benchmark profile is valid");
-    let params = StrandModelParameters {
-        contact: ContactParameters {
-            normal: NormalLaw::Penalty {
-                stiffness_n_per_m: 2e8,
-            },
-            tangential: TangentialLaw::ElasticSlip {
-                elastic_slip_m: 1e-7,
-            },
-            ..ContactParameters::default()
-        },
-        ..StrandModelParameters::default()
-    };
+    let params = StrandModelParameters::penalty_contact(2e8, 1e-7, EndKind::PenaltyTies);
     StrandModel::new(&strand, &params).expect("benchmark model builds")
 }
 
