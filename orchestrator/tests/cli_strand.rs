@@ -138,7 +138,11 @@ fn a_tension_history_writes_physical_outputs_and_resumes_identically() {
     let beta = LAY_ANGLE_DEG.to_radians();
     let ea_wire_axial = YOUNG_PA * area * beta.cos().powi(2);
     let ea_estimate = YOUNG_PA * area * (1.0 + 7.0 * beta.cos().powi(3));
-    let ea = summary["axial_stiffness"]["measured_n"].as_f64().unwrap();
+    let ea = summary["axial_stiffness"]["ea_n"].as_f64().unwrap();
+    assert_eq!(
+        summary["axial_stiffness"]["measured_at_strain"].as_f64(),
+        Some(1e-3)
+    );
     assert!(
         (ea - ea_estimate).abs() < 0.03 * ea_estimate,
         "EA {ea} vs {ea_estimate}"
@@ -252,10 +256,12 @@ fn a_tension_history_writes_physical_outputs_and_resumes_identically() {
             .unwrap();
     assert_eq!(records.as_array().map(Vec::len), Some(contacts_total));
 
-    // interrupted after 3 segments (last checkpoint after 2), then resumed
+    // interrupted after 3 segments (last checkpoint after 2), then resumed; both with the EA
+    // measured above given instead of measured again
     let part = dir.path().join("part");
     let cp = dir.path().join("part.checkpoint");
     let cp_arg = cp.to_str().unwrap();
+    let ea_arg = format!("{ea}");
     let o = run(
         &load,
         &part,
@@ -266,6 +272,8 @@ fn a_tension_history_writes_physical_outputs_and_resumes_identically() {
             "2",
             "--stop-after-segments",
             "3",
+            "--axial-stiffness-n",
+            &ea_arg,
         ],
     );
     assert!(!o.status.success());
@@ -281,12 +289,22 @@ fn a_tension_history_writes_physical_outputs_and_resumes_identically() {
             "--checkpoint-every",
             "2",
             "--resume",
+            "--axial-stiffness-n",
+            &ea_arg,
         ],
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("(given;"));
     let resumed: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(part.join("summary.json")).unwrap()).unwrap();
     assert_eq!(resumed["resumed_from_checkpoint"], true);
+    assert_eq!(resumed["axial_stiffness"]["ea_n"].as_f64(), Some(ea));
+    assert!(resumed["axial_stiffness"]["measured_at_strain"].is_null());
+    // the linear solver's counts carry over the checkpoint
+    assert_eq!(
+        resumed["history"]["linear"]["solves"],
+        summary["history"]["linear"]["solves"]
+    );
     for f in ["monitors.csv", "contacts.csv", "contact_records.json"] {
         assert_eq!(
             std::fs::read(full.join(f)).unwrap(),
@@ -312,6 +330,20 @@ fn refused(header: &str, line: usize, replacement: &str) -> String {
     assert!(!o.status.success());
     assert!(!out.exists(), "output directory created for a refused load");
     String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn a_given_axial_stiffness_must_be_positive() {
+    let dir = tempfile::tempdir().unwrap();
+    let load = dir.path().join("load.csv");
+    std::fs::write(&load, tension_history()).unwrap();
+    let out = dir.path().join("out");
+    let o = run(&load, &out, &["--axial-stiffness-n=-2e7"]);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("--axial-stiffness-n -20000000"), "{e}");
+    assert!(e.contains("must be finite and > 0"), "{e}");
+    assert!(!out.join("monitors.csv").exists());
 }
 
 #[test]

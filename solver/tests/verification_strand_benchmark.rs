@@ -381,8 +381,10 @@ fn non_converging_load_step_is_reported_with_step_iteration_and_residual() {
     use moorfret_solver::strand::driver::StrandRunError;
     let strand = benchmark(1);
     let model = StrandModel::new(&strand, &vs_analytical()).unwrap();
-    let mut params = StrandRunParameters::default();
-    params.tension_increment = 1.0;
+    let mut params = StrandRunParameters {
+        tension_increment: 1.0,
+        ..StrandRunParameters::default()
+    };
     params.newton.max_iterations = 1;
     params.newton.min_load_increment = 0.3;
     let err = run_case(&model, 1e-3, 0.0, &params).unwrap_err();

@@ -7,7 +7,7 @@
 //! - [`payload`]: the stored campaign inputs and the per-job payloads workers run from, cache
 //!   keys;
 //! - [`plan`]: scatter diagram → sea states (bin centres, seeds drawn once) → jobs;
-//! - [`error`]: [`CampaignError`].
+//! - [`error`]: the error type, [`CampaignError`].
 //!
 //! [`create`] stores a resolved campaign with its whole plan in one transaction.
 

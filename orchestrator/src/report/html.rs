@@ -52,7 +52,7 @@ fn table_html(table: &Table) -> String {
 pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
     let name = escape(&data.name);
     let mut body = String::new();
-    let _ = write!(body, "<h1>moorfret report: campaign {name}</h1>\n");
+    let _ = writeln!(body, "<h1>moorfret report: campaign {name}</h1>");
     let covered: f64 = data
         .sea_states
         .iter()
@@ -60,10 +60,10 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
         .map(|s| s.occurrence_fraction)
         .sum();
     let planned: f64 = data.sea_states.iter().map(|s| s.occurrence_fraction).sum();
-    let _ = write!(
+    let _ = writeln!(
         body,
         "<p>{} sea states, occurrence planned {:.5}, covered by completed sea states {:.5} \
-         (fraction of the year; lifetime sums are not renormalised).</p>\n",
+         (fraction of the year; lifetime sums are not renormalised).</p>",
         data.sea_states.len(),
         planned,
         covered
@@ -71,10 +71,10 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
     body += "<h2>Scatter diagram: share of the annual damage per sea state</h2>\n";
     match &data.critical {
         Some(c) => {
-            let _ = write!(
+            let _ = writeln!(
                 body,
                 "<p>Fretting: critical contact class hot spot {}, layer interface {}, {} \
-                 (annual damage of its most damaged contact {:.4e}).</p>\n",
+                 (annual damage of its most damaged contact {:.4e}).</p>",
                 c.hot_spot_index,
                 c.layer_interface,
                 c.angular_position.as_str(),
@@ -92,7 +92,7 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
     }
     match &data.tn_share {
         Some((measure, share)) => {
-            let _ = write!(body, "<p>T-N damage, measure {}.</p>\n", escape(measure));
+            let _ = writeln!(body, "<p>T-N damage, measure {}.</p>", escape(measure));
             body += "<div class=\"fig\">";
             body += &plots::scatter_svg(
                 &data.sea_states,
@@ -106,9 +106,9 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
     body += "<h2>Hot-spot tension and curvature</h2>\n";
     match &data.series {
         Some(s) => {
-            let _ = write!(
+            let _ = writeln!(
                 body,
-                "<p>Global job of sea state {}.</p>\n",
+                "<p>Global job of sea state {}.</p>",
                 s.sea_state_index
             );
             body += "<div class=\"fig\">";

@@ -109,9 +109,11 @@ pub struct NewtonParams {
     /// 0: plain Newton.
     pub pseudo_transient_shift: f64,
     /// Inexact Newton (Dembo, Eisenstat & Steihaug 1982): iteration k asks the linear solver
-    /// for a relative residual of at most η_k = min(this, ‖r_k‖ / ‖r_0‖) only, which keeps the
-    /// convergence superlinear while the early corrections cost fewer Krylov iterations;
-    /// direct solvers solve exactly anyway. 0: solve to the linear solver's own tolerance.
+    /// for a relative residual η_k only ([`forcing_term`]: this at the first iteration and as
+    /// the upper bound of η_k, then Eisenstat & Walker's choice 2, never tighter than what
+    /// brings the residual to the convergence tolerance), so the early corrections cost fewer
+    /// Krylov iterations and the convergence stays superlinear; direct solvers solve exactly
+    /// anyway. 0: solve to the linear solver's own tolerance.
     pub linear_forcing: f64,
 }
 
@@ -579,6 +581,28 @@ fn line_search<P: NonlinearProblem>(
     fraction
 }
 
+/// Relative residual asked of the linear solve of a Newton iteration (Eisenstat & Walker 1996,
+/// *Choosing the forcing terms in an inexact Newton method*, SIAM J. Sci. Comput. 17, choice 2
+/// with γ = 0.9 and α = 2, with the safeguards of Kelley 2003, *Solving Nonlinear Equations
+/// with Newton's Method*, SIAM, §3.2.3): `max` at the first iteration; then γ (‖r_k‖ /
+/// ‖r_{k−1}‖)², which follows the quadratic convergence, kept above γ η_{k−1}² when that
+/// exceeds 0.1 (so that one lucky contraction does not make η collapse), at most `max`; and
+/// never below half the ratio `tolerance_ratio` = tolerance / ‖r_k‖ of the convergence test,
+/// since a correction solved beyond that buys nothing: the next residual only has to pass the
+/// test. `ratio` = ‖r_k‖ / ‖r_{k−1}‖ (`None` at the first iteration).
+pub fn forcing_term(max: f64, previous: f64, ratio: Option<f64>, tolerance_ratio: f64) -> f64 {
+    const GAMMA: f64 = 0.9;
+    let eta = match ratio {
+        None => max,
+        Some(ratio) => {
+            let carried = GAMMA * previous * previous;
+            let eta = GAMMA * ratio * ratio;
+            if carried > 0.1 { eta.max(carried) } else { eta }.min(max)
+        }
+    };
+    eta.max(0.5 * tolerance_ratio)
+}
+
 /// Pseudo-transient shifts below this are dropped ([`NewtonParams::pseudo_transient_shift`]).
 const PSEUDO_TRANSIENT_FLOOR: f64 = 1e-10;
 
@@ -599,6 +623,8 @@ fn newton_step<P: NonlinearProblem, S: LinearSolver>(
     // pseudo-transient shift and what the last correction achieved
     let mut mu = params.pseudo_transient_shift;
     let mut full_step = true;
+    // forcing term and residual of the last linear solve
+    let (mut eta, mut solved_norm) = (params.linear_forcing, f64::NAN);
     for iteration in 0..=params.max_iterations {
         let mut fresh = iteration == 0 || age >= params.max_tangent_age;
         let (mut norm, mut scale) = evaluate(problem, load_factor, ws, fresh, stats)
@@ -666,8 +692,11 @@ fn newton_step<P: NonlinearProblem, S: LinearSolver>(
             .zip(&ws.residual)
             .for_each(|(d, r)| *d = -r);
         if params.linear_forcing > 0.0 {
-            solver.set_forcing(Some(params.linear_forcing.min(norm / first)));
+            let ratio = (iteration > 0).then(|| norm / solved_norm);
+            eta = forcing_term(params.linear_forcing, eta, ratio, tolerance / norm);
+            solver.set_forcing(Some(eta));
         }
+        solved_norm = norm;
         let solved = solver.solve_in_place(&mut ws.increment);
         if params.linear_forcing > 0.0 {
             solver.set_forcing(None);
@@ -797,6 +826,147 @@ mod tests {
         let h = &stats.residual_history;
         let n = h.len();
         assert!(h[n - 2] <= 1.0 * h[n - 3] * h[n - 3], "{h:?}");
+    }
+
+    #[test]
+    fn forcing_terms_follow_eisenstat_walker_choice_2_with_the_safeguards() {
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-15 * b.abs();
+        // first iteration: the bound itself
+        assert_eq!(forcing_term(0.01, 0.01, None, 1e-6), 0.01);
+        // residual down by 100: γ (1e-2)² = 9e-5
+        assert!(close(forcing_term(0.01, 0.01, Some(1e-2), 1e-9), 9e-5));
+        // a slow contraction is capped by the bound
+        assert_eq!(forcing_term(0.01, 0.01, Some(0.5), 1e-9), 0.01);
+        // γ η_{k−1}² = 0.225 > 0.1 is carried over, then capped
+        assert_eq!(forcing_term(1.0, 0.5, Some(1e-3), 1e-9), 0.225);
+        assert_eq!(forcing_term(0.01, 0.5, Some(1e-3), 1e-9), 0.01);
+        // close to convergence: half of tolerance / ‖r‖, even above the bound
+        assert!(close(forcing_term(0.01, 0.01, Some(1e-2), 5e-3), 2.5e-3));
+        assert!(close(forcing_term(0.01, 0.01, Some(1e-2), 0.4), 0.2));
+    }
+
+    /// Chain of n hardening springs k (u_i − u_{i−1}) + c u_i³ with a skew coupling
+    /// s (u_{i+1} − u_{i−1}) (non-symmetric tangent) and end loads.
+    struct SkewChain {
+        u: Vec<f64>,
+        committed: Vec<f64>,
+    }
+
+    impl SkewChain {
+        const K: f64 = 50.0;
+        const C: f64 = 30.0;
+        const SKEW: f64 = 8.0;
+
+        fn residual(&self, i: usize, lambda: f64) -> f64 {
+            let n = self.u.len();
+            let at = |j: Option<usize>| j.map_or(0.0, |j| self.u[j]);
+            let (l, r) = (i.checked_sub(1), (i + 1 < n).then_some(i + 1));
+            Self::K * (2.0 * self.u[i] - at(l) - at(r))
+                + Self::C * self.u[i].powi(3)
+                + Self::SKEW * (at(r) - at(l))
+                - lambda * (1.0 + (i % 3) as f64)
+        }
+    }
+
+    impl NonlinearProblem for SkewChain {
+        type Error = Overstretched;
+        fn evaluate(
+            &mut self,
+            lambda: f64,
+            r: &mut [f64],
+            k: Option<&mut [f64]>,
+        ) -> Result<f64, Overstretched> {
+            let n = self.u.len();
+            for (i, ri) in r.iter_mut().enumerate() {
+                *ri = self.residual(i, lambda);
+            }
+            if let Some(k) = k {
+                // element e couples (e, e + 1), column-major 2 × 2 blocks; a node's diagonal
+                // 2K + 3C u² comes from the two elements touching it (both halves at the ends)
+                let p = chain_pattern(n);
+                for e in 0..n - 1 {
+                    let mut block = [0.0; 4];
+                    block[0] = Self::K
+                        + if e == 0 {
+                            Self::K + 3.0 * Self::C * self.u[0].powi(2)
+                        } else {
+                            0.0
+                        };
+                    let last = if e + 2 == n { Self::K } else { 0.0 };
+                    block[3] = Self::K + last + 3.0 * Self::C * self.u[e + 1].powi(2);
+                    // ∂r_{e+1}/∂u_e = −K − S, ∂r_e/∂u_{e+1} = −K + S
+                    block[1] = -Self::K - Self::SKEW;
+                    block[2] = -Self::K + Self::SKEW;
+                    p.add_element_matrix(k, e, &block);
+                }
+            }
+            Ok(lambda * 3.0)
+        }
+        fn apply_increment(&mut self, d: &[f64]) {
+            self.u.iter_mut().zip(d).for_each(|(u, d)| *u += d);
+        }
+        fn commit(&mut self, _: f64) {
+            self.committed.clone_from(&self.u);
+        }
+        fn restore(&mut self) {
+            self.u.clone_from(&self.committed);
+        }
+    }
+
+    fn chain_pattern(n: usize) -> SparsePattern {
+        let elements: Vec<Vec<Equation>> = (1..n)
+            .map(|i| vec![Equation::free(i - 1).unwrap(), Equation::free(i).unwrap()])
+            .collect();
+        SparsePattern::new(n, Storage::Full, &elements).unwrap()
+    }
+
+    #[test]
+    fn inexact_newton_reaches_the_same_root_with_fewer_krylov_iterations() {
+        use crate::linalg::{GmresParams, SplitSolver};
+        let n = 400;
+        let p = chain_pattern(n);
+        let solve = |linear_forcing: f64| {
+            let mut chain = SkewChain {
+                u: vec![0.0; n],
+                committed: vec![0.0; n],
+            };
+            let params = NewtonParams {
+                linear_forcing,
+                ..NewtonParams::default()
+            };
+            let mut solver = SplitSolver::new(&p, GmresParams::default()).unwrap();
+            let mut ws = NewtonWorkspace::new(&p);
+            let mut stats = NewtonStats::default();
+            solve_load_path(
+                &mut chain,
+                0.0,
+                1.0,
+                &p,
+                &mut solver,
+                &params,
+                &mut ws,
+                &mut stats,
+            )
+            .unwrap();
+            (chain.u, stats.iterations, solver.stats().iterations)
+        };
+        let (exact, newton_exact, krylov_exact) = solve(0.0);
+        let (inexact, newton_inexact, krylov_inexact) = solve(0.01);
+        // both satisfy the same residual test; the roots agree to its size over the stiffness
+        let scale = exact.iter().fold(0.0_f64, |m, u| m.max(u.abs()));
+        let diff = exact
+            .iter()
+            .zip(&inexact)
+            .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(diff <= 1e-5 * scale, "{diff:e} of {scale:e}");
+        assert!(
+            krylov_inexact * 2 < krylov_exact,
+            "{krylov_inexact} vs {krylov_exact} GMRES iterations"
+        );
+        assert!(
+            newton_inexact <= newton_exact + 2,
+            "{newton_inexact} vs {newton_exact} Newton iterations"
+        );
     }
 
     #[test]

@@ -58,7 +58,7 @@ impl Default for GmresParams {
 }
 
 /// Work counts of the solver.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct SplitStats {
     /// Solves done by GMRES.
     pub solves: usize,
@@ -72,6 +72,21 @@ pub struct SplitStats {
     pub reuses: usize,
     /// Solves whose older preconditioner ran out of iterations and was refreshed.
     pub refreshes: usize,
+}
+
+impl std::ops::Add for SplitStats {
+    type Output = Self;
+
+    fn add(self, other: Self) -> Self {
+        Self {
+            solves: self.solves + other.solves,
+            iterations: self.iterations + other.iterations,
+            lu_fallbacks: self.lu_fallbacks + other.lu_fallbacks,
+            factorisations: self.factorisations + other.factorisations,
+            reuses: self.reuses + other.reuses,
+            refreshes: self.refreshes + other.refreshes,
+        }
+    }
 }
 
 /// LDLᵀ of the symmetric part as preconditioner of GMRES on the full matrix.
@@ -105,11 +120,11 @@ pub struct SplitSolver {
     reuse_backoff: usize,
     refresh_streak: u32,
     stats: SplitStats,
-    // GMRES workspace
+    // GMRES workspace: the Krylov basis v_k and the preconditioned vectors z_k = M⁻¹ v_k
     basis: Vec<Vec<f64>>,
+    preconditioned: Vec<Vec<f64>>,
     hessenberg: Vec<Vec<f64>>,
-    work: Vec<f64>,
-    work2: Vec<f64>,
+    product: Vec<f64>,
 }
 
 impl SplitSolver {
@@ -161,9 +176,9 @@ impl SplitSolver {
             refresh_streak: 0,
             stats: SplitStats::default(),
             basis: vec![vec![0.0; n]; m + 1],
+            preconditioned: vec![vec![0.0; n]; m],
             hessenberg: vec![vec![0.0; m + 1]; m],
-            work: vec![0.0; n],
-            work2: vec![0.0; n],
+            product: vec![0.0; n],
         })
     }
 
@@ -278,22 +293,23 @@ impl SplitSolver {
             g[0] = beta;
             let mut k = 0;
             while k < m && iterations < max_iterations {
-                // w = A M⁻¹ v_k
-                self.work.copy_from_slice(&self.basis[k]);
-                self.ldlt.solve_in_place(&mut self.work)?;
-                self.full.mul_vec(&self.values, &self.work, &mut self.work2);
+                // z_k = M⁻¹ v_k, kept for the update of x; w = A z_k
+                let z = &mut self.preconditioned[k];
+                z.copy_from_slice(&self.basis[k]);
+                self.ldlt.solve_in_place(z)?;
+                self.full.mul_vec(&self.values, z, &mut self.product);
                 // modified Gram–Schmidt
                 for i in 0..=k {
-                    let h = dot(&self.work2, &self.basis[i]);
+                    let h = dot(&self.product, &self.basis[i]);
                     self.hessenberg[k][i] = h;
-                    for (w, v) in self.work2.iter_mut().zip(&self.basis[i]) {
+                    for (w, v) in self.product.iter_mut().zip(&self.basis[i]) {
                         *w -= h * v;
                     }
                 }
-                let h_next = norm(&self.work2);
+                let h_next = norm(&self.product);
                 self.hessenberg[k][k + 1] = h_next;
                 if h_next > 0.0 {
-                    for (v, w) in self.basis[k + 1].iter_mut().zip(&self.work2) {
+                    for (v, w) in self.basis[k + 1].iter_mut().zip(&self.product) {
                         *v = w / h_next;
                     }
                 }
@@ -321,7 +337,8 @@ impl SplitSolver {
                     break;
                 }
             }
-            // y = H⁻¹ g (upper triangular k × k), x += M⁻¹ V y
+            // y = H⁻¹ g (upper triangular k × k), x += M⁻¹ V y = Z y (the z_k kept above save
+            // the preconditioner solve of M⁻¹ (V y), as in flexible GMRES, Saad 2003, Alg. 9.6)
             let mut y = vec![0.0; k];
             for i in (0..k).rev() {
                 let mut s = g[i];
@@ -330,19 +347,14 @@ impl SplitSolver {
                 }
                 y[i] = s / self.hessenberg[i][i];
             }
-            self.work.iter_mut().for_each(|v| *v = 0.0);
             for (j, yj) in y.iter().enumerate() {
-                for (w, v) in self.work.iter_mut().zip(&self.basis[j]) {
-                    *w += yj * v;
+                for (xi, z) in x.iter_mut().zip(&self.preconditioned[j]) {
+                    *xi += yj * z;
                 }
             }
-            self.ldlt.solve_in_place(&mut self.work)?;
-            for (xi, w) in x.iter_mut().zip(&self.work) {
-                *xi += w;
-            }
             // true residual r = b − A x
-            self.full.mul_vec(&self.values, &x, &mut self.work2);
-            for ((ri, bi), ax) in r.iter_mut().zip(rhs.iter()).zip(&self.work2) {
+            self.full.mul_vec(&self.values, &x, &mut self.product);
+            for ((ri, bi), ax) in r.iter_mut().zip(rhs.iter()).zip(&self.product) {
                 *ri = bi - ax;
             }
             self.stats.iterations += k;

@@ -9,7 +9,7 @@
 //!   section and the section's rotation, x_Q = map(X_Q), Λ_Q = R(z_Q) (fully prescribed).
 //! - Every other wire end P follows the point R of the reference wire at the same angle θ,
 //!   relative to the core (Eq. 12), and the rotation of its cross section (Eq. 13):
-//!     R(z_P)ᵀ (x_P − c(z_P)) = R(z_R)ᵀ (x_R − c(z_R)) + e₀,   Λ_P = R(z_P),
+//!   R(z_P)ᵀ (x_P − c(z_P)) = R(z_R)ᵀ (x_R − c(z_R)) + e₀,   Λ_P = R(z_P),
 //!   where x_R = N_a x_a + N_b x_b interpolates the element of the reference wire containing R
 //!   (linear in z between its nodes a, b) and e₀ is the reference mismatch of that interpolation
 //!   (the chord sag, zero when R is a node), so that the reference configuration satisfies the

@@ -10,12 +10,17 @@
 //! returns to the committed state. The force scale of the convergence test is the Euclidean norm
 //! of the contact normal forces and tie forces.
 
+use std::sync::Arc;
+
 use nalgebra::Vector3;
+use rayon::prelude::*;
 
 use super::ends::{TieMatrix, TieVector};
 use super::loading::{LoadPath, LoadSegment, SectionMotion};
 use super::model::StrandModel;
-use crate::beam::frame::{assemble_frame, FrameError, FrameState};
+use crate::beam::frame::{
+    assemble_frame, assemble_frame_parallel, FrameError, FrameState, FrameWorkspace,
+};
 use crate::contact::{
     ContactHistory, ContactResponse, ElementMatrix, ElementVector, NodeKinematics,
 };
@@ -56,6 +61,28 @@ pub struct StrandProblem<'a> {
     /// Symmetric positive semi-definite surrogate of the last tangent, on [`StrandModel::pattern`]
     /// (the preconditioner of [`crate::linalg::SplitSolver`]).
     surrogate: Vec<f64>,
+    /// Element work on a thread pool ([`StrandProblem::with_threads`]); `None`: on the calling
+    /// thread.
+    parallel: Option<ParallelElements>,
+}
+
+/// Thread pool and per-element buffers of the parallel element work: the kernels of the beams
+/// and contacts run on the pool, their results are added on the calling thread in element
+/// order, so the assembled system is the sequential one to the bit.
+#[derive(Debug, Clone)]
+struct ParallelElements {
+    pool: Arc<rayon::ThreadPool>,
+    frame: FrameWorkspace,
+    contacts: Vec<ContactWork>,
+}
+
+/// Result of one contact element.
+#[derive(Debug, Clone, Default)]
+struct ContactWork {
+    force: ElementVector,
+    tangent: ElementMatrix,
+    surrogate: ElementMatrix,
+    response: Option<ContactResponse>,
 }
 
 /// Buffers of the extended system assembled before the periodic elimination.
@@ -96,7 +123,26 @@ impl<'a> StrandProblem<'a> {
                     discard: vec![0.0; model.pattern.size()],
                 }),
             surrogate: vec![0.0; model.pattern.nnz()],
+            parallel: None,
         }
+    }
+
+    /// The element work (beams and contacts) on `threads` threads from now on (1: on the
+    /// calling thread). The residuals and tangents do not depend on it, to the bit.
+    pub fn with_threads(mut self, threads: usize) -> Result<Self, rayon::ThreadPoolBuildError> {
+        self.parallel = if threads > 1 {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()?;
+            Some(ParallelElements {
+                pool: Arc::new(pool),
+                frame: FrameWorkspace::new(&self.model.frame),
+                contacts: vec![ContactWork::default(); self.model.contacts.len()],
+            })
+        } else {
+            None
+        };
+        Ok(self)
     }
 
     /// Current (trial) configuration; the committed one after a converged solve.
@@ -161,10 +207,7 @@ impl<'a> StrandProblem<'a> {
     }
 
     fn kinematics(&self, node: usize) -> NodeKinematics {
-        NodeKinematics {
-            position: self.trial.positions[node],
-            rotation: self.trial.rotations[node],
-        }
+        kinematics(&self.trial, node)
     }
 
     fn predict(&mut self, load_factor: f64) {
@@ -298,18 +341,83 @@ impl StrandProblem<'_> {
     ) -> Result<f64, FrameError> {
         let model = self.model;
         let pattern = model.assembly_pattern();
-        assemble_frame(
-            &model.frame,
-            &self.trial,
-            pattern,
-            0,
-            residual,
-            tangent.as_mut().map(|(t, _)| &mut **t),
-        )?;
-        if let Some((t, s)) = tangent.as_mut() {
-            s.copy_from_slice(t);
-        }
         let mut scale2 = 0.0;
+        if let Some(parallel) = self.parallel.as_mut() {
+            assemble_frame_parallel(
+                &parallel.pool,
+                &model.frame,
+                &self.trial,
+                pattern,
+                0,
+                residual,
+                tangent.as_mut().map(|(t, _)| &mut **t),
+                &mut parallel.frame,
+            )?;
+            if let Some((t, s)) = tangent.as_mut() {
+                s.copy_from_slice(t);
+            }
+            let with_tangent = tangent.is_some();
+            let (trial, histories) = (&self.trial, &self.histories);
+            parallel.pool.install(|| {
+                parallel
+                    .contacts
+                    .par_iter_mut()
+                    .zip(model.contacts.par_iter())
+                    .enumerate()
+                    .for_each(|(c, (w, pair))| {
+                        let [a, b] = model.mesh.contacts[c].nodes;
+                        let (k1, k2) = (kinematics(trial, a.0), kinematics(trial, b.0));
+                        w.response = Some(if with_tangent {
+                            pair.residual_tangent_and_surrogate(
+                                &histories[c],
+                                &k1,
+                                &k2,
+                                &mut w.force,
+                                &mut w.tangent,
+                                &mut w.surrogate,
+                            )
+                        } else {
+                            pair.residual(&histories[c], &k1, &k2, &mut w.force)
+                        });
+                    });
+            });
+            for (c, w) in parallel.contacts.iter().enumerate() {
+                let pe = model.contact_pattern_element(c);
+                if let Some((values, surrogate)) = tangent.as_mut() {
+                    pattern.add_element_matrix(values, pe, w.tangent.as_slice());
+                    pattern.add_element_matrix(surrogate, pe, w.surrogate.as_slice());
+                }
+                pattern.add_element_vector(residual, pe, w.force.as_slice());
+                let response = w.response.expect("evaluated above");
+                scale2 += response.normal_force_n * response.normal_force_n;
+                self.responses[c] = Some(response);
+            }
+        } else {
+            assemble_frame(
+                &model.frame,
+                &self.trial,
+                pattern,
+                0,
+                residual,
+                tangent.as_mut().map(|(t, _)| &mut **t),
+            )?;
+            if let Some((t, s)) = tangent.as_mut() {
+                s.copy_from_slice(t);
+            }
+            self.assemble_contacts(residual, tangent.as_mut(), &mut scale2);
+        }
+        self.assemble_ties(load_factor, residual, tangent, scale2)
+    }
+
+    /// Contacts on the calling thread (the sequential path of [`Self::assemble`]).
+    fn assemble_contacts(
+        &mut self,
+        residual: &mut [f64],
+        mut tangent: Option<&mut (&mut [f64], &mut [f64])>,
+        scale2: &mut f64,
+    ) {
+        let model = self.model;
+        let pattern = model.assembly_pattern();
         let (mut fe, mut ke, mut pe_m) = (
             ElementVector::zeros(),
             ElementMatrix::zeros(),
@@ -336,9 +444,22 @@ impl StrandProblem<'_> {
                 None => pair.residual(&self.histories[c], &k1, &k2, &mut fe),
             };
             pattern.add_element_vector(residual, pe, fe.as_slice());
-            scale2 += response.normal_force_n * response.normal_force_n;
+            *scale2 += response.normal_force_n * response.normal_force_n;
             self.responses[c] = Some(response);
         }
+    }
+
+    /// Tie forces and tangents, added to `residual` and `tangent`; the force scale from the
+    /// sum of squares `scale2` of the elements before.
+    fn assemble_ties(
+        &self,
+        load_factor: f64,
+        residual: &mut [f64],
+        mut tangent: Option<(&mut [f64], &mut [f64])>,
+        mut scale2: f64,
+    ) -> Result<f64, FrameError> {
+        let model = self.model;
+        let pattern = model.assembly_pattern();
         let motion = self.path.at(load_factor);
         let (mut ft, mut kt) = (TieVector::zeros(), TieMatrix::zeros());
         for (t, tie) in model.ties.iter().enumerate() {
@@ -358,6 +479,14 @@ impl StrandProblem<'_> {
             scale2 += ft.fixed_rows::<3>(0).norm_squared();
         }
         Ok(scale2.sqrt())
+    }
+}
+
+/// Position and rotation of `node` in `state`.
+fn kinematics(state: &FrameState, node: usize) -> NodeKinematics {
+    NodeKinematics {
+        position: state.positions[node],
+        rotation: state.rotations[node],
     }
 }
 

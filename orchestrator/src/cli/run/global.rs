@@ -181,7 +181,7 @@ pub fn write_outputs(result: &GlobalResult, dir: &Path) -> anyhow::Result<()> {
     for l in &result.lines {
         let e = &l.envelope;
         let range = e.curvature_range_per_m();
-        for i in 0..e.arc_length_m.len() {
+        for (i, curvature_range) in range.iter().enumerate() {
             writeln!(
                 w,
                 "{},{},{},{},{},{},{}",
@@ -191,7 +191,7 @@ pub fn write_outputs(result: &GlobalResult, dir: &Path) -> anyhow::Result<()> {
                 e.tension_min_n[i],
                 e.tension_max_n[i],
                 e.curvature_max_per_m[i],
-                range[i]
+                curvature_range
             )?;
         }
     }

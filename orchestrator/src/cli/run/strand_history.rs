@@ -66,6 +66,10 @@ pub struct HistoryArgs {
     /// Axial strain of the tension step that measures EA.
     #[arg(long, default_value_t = 1e-3)]
     pub stiffness_strain: f64,
+    /// EA (N) for ε = T / EA instead of measuring it, e.g. the `axial_stiffness.ea_n` of an
+    /// earlier run's summary on the same model (saves the tension step).
+    #[arg(long, conflicts_with = "stiffness_strain")]
+    pub axial_stiffness_n: Option<f64>,
     /// Checkpoint file of the history run (written every `--checkpoint-every` segments).
     #[arg(long)]
     pub checkpoint: Option<PathBuf>,
@@ -262,10 +266,11 @@ impl HistoryObserver for Observer {
 /// The EA used for a tension history.
 #[derive(Debug, Serialize)]
 struct AxialStiffness {
-    /// Measured on the model (N).
-    measured_n: f64,
-    /// Strain of the measuring step.
-    measured_at_strain: f64,
+    /// EA used (N).
+    ea_n: f64,
+    /// Strain of the tension step that measured it on the model, or null when it was given
+    /// (`--axial-stiffness-n`).
+    measured_at_strain: Option<f64>,
     /// Straight-strand estimates for comparison (N).
     straight_strand_simple_n: f64,
     straight_strand_costello_n: f64,
@@ -426,14 +431,33 @@ fn samples_of(
             Ok((samples, None, 0))
         }
         LoadKind::Tension => {
-            let ea = measure_axial_stiffness_n(model, args.stiffness_strain, options)
-                .context("measuring the axial stiffness EA of the strand model")?;
             let estimate = straight_strand_stiffness(&model.strand);
-            println!(
-                "axial stiffness EA = {ea:.6e} N (measured on the model at ε = {}; straight \
-                 strand {:.6e} N, Costello-corrected {:.6e} N)",
-                args.stiffness_strain, estimate.simple_n, estimate.corrected_n
-            );
+            let (ea, measured_at_strain) = match args.axial_stiffness_n {
+                Some(ea) => {
+                    if !(ea.is_finite() && ea > 0.0) {
+                        anyhow::bail!(
+                            "--axial-stiffness-n {ea}: the axial stiffness must be finite and \
+                             > 0 N"
+                        );
+                    }
+                    println!(
+                        "axial stiffness EA = {ea:.6e} N (given; straight strand {:.6e} N, \
+                         Costello-corrected {:.6e} N)",
+                        estimate.simple_n, estimate.corrected_n
+                    );
+                    (ea, None)
+                }
+                None => {
+                    let ea = measure_axial_stiffness_n(model, args.stiffness_strain, options)
+                        .context("measuring the axial stiffness EA of the strand model")?;
+                    println!(
+                        "axial stiffness EA = {ea:.6e} N (measured on the model at ε = {}; \
+                         straight strand {:.6e} N, Costello-corrected {:.6e} N)",
+                        args.stiffness_strain, estimate.simple_n, estimate.corrected_n
+                    );
+                    (ea, Some(args.stiffness_strain))
+                }
+            };
             let series = HotSpotSeries {
                 time_s: table.time_s.clone(),
                 tension_n: table.value.clone(),
@@ -441,8 +465,8 @@ fn samples_of(
             };
             let (samples, slack) = strand_load(&series, ea, 1);
             let stiffness = AxialStiffness {
-                measured_n: ea,
-                measured_at_strain: args.stiffness_strain,
+                ea_n: ea,
+                measured_at_strain,
                 straight_strand_simple_n: estimate.simple_n,
                 straight_strand_costello_n: estimate.corrected_n,
             };

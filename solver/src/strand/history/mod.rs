@@ -39,7 +39,7 @@ use super::problem::StrandProblem;
 use crate::beam::frame::FrameError;
 use crate::fretting::{ContactRecord, FrettingError};
 use crate::linalg::newton::NewtonParamError;
-use crate::linalg::{LinalgError, NewtonError, NewtonParams, NewtonStats};
+use crate::linalg::{LinalgError, NewtonError, NewtonParams, NewtonStats, SplitStats};
 
 /// One sample of the imposed history.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -111,7 +111,7 @@ pub enum HistoryError {
         /// Target of the sub-step (1/m).
         to_curvature: f64,
         /// Driver error (step, iteration, residual, load factor).
-        source: NewtonError<FrameError>,
+        source: Box<NewtonError<FrameError>>,
     },
     /// An element could not be evaluated while extracting results.
     #[error(transparent)]
@@ -166,8 +166,8 @@ pub struct HistoryOptions {
     /// tension from the reference state) and of the axial stiffness measurement
     /// ([`NewtonParams::pseudo_transient_shift`]; `newton`'s applies to everything else).
     pub initialisation_shift: f64,
-    /// Threads of the LDLᵀ factorisation of the linear solver (1: sequential). The results do
-    /// not depend on it beyond round-off.
+    /// Threads of the element work (beams and contacts; the same results to the bit) and of the
+    /// LDLᵀ factorisation of the linear solver (1: sequential; the same results to round-off).
     pub threads: usize,
 }
 
@@ -246,7 +246,7 @@ impl HistoryOptions {
         };
         let t = self.turning_point_tolerance;
         check(
-            t >= 0.0 && t < 1.0,
+            (0.0..1.0).contains(&t),
             "turning_point_tolerance",
             t,
             "must lie in [0, 1)",
@@ -371,6 +371,10 @@ pub struct HistoryStats {
     pub total_time_s: f64,
     /// Split of the Newton work: assembly, factorisation, solves (s).
     pub work: timing::WorkTimes,
+    /// Work of the linear solver: GMRES solves and iterations, LDLᵀ factorisations of the
+    /// preconditioner, reuses of an earlier one, refreshes, LU fallbacks.
+    #[serde(default)]
+    pub linear: SplitStats,
 }
 
 impl HistoryStats {
@@ -465,9 +469,19 @@ fn motion_of(s: &LoadSample) -> SectionMotion {
     }
 }
 
-/// Empty problem of `model` in the reference configuration.
-fn reference_problem(model: &StrandModel) -> StrandProblem<'_> {
+/// Empty problem of `model` in the reference configuration, its element work on `threads`
+/// threads.
+fn reference_problem(
+    model: &StrandModel,
+    threads: usize,
+) -> Result<StrandProblem<'_>, HistoryError> {
     StrandProblem::new(model, LoadPath::default())
+        .with_threads(threads)
+        .map_err(|e| HistoryError::InvalidOption {
+            field: "threads",
+            value: threads as f64,
+            reason: format!("no thread pool: {e}"),
+        })
 }
 
 #[cfg(test)]

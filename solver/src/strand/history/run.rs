@@ -64,7 +64,7 @@ impl<'a> Runner<'a> {
     ) -> Result<Self, HistoryError> {
         Ok(Self {
             model,
-            problem: reference_problem(model),
+            problem: reference_problem(model, options.threads)?,
             solver: TimedSolver {
                 inner: model.linear_solver_threads(options.threads)?,
                 times: WorkTimes::default(),
@@ -130,7 +130,7 @@ impl<'a> Runner<'a> {
                 from_curvature: start.curvature_per_m,
                 to_strain: target.strain,
                 to_curvature: target.curvature_per_m,
-                source,
+                source: Box::new(source),
             })?;
             if let Some(ch) = channels {
                 out.push(self.snapshot(ch)?);
@@ -139,11 +139,13 @@ impl<'a> Runner<'a> {
         Ok(out)
     }
 
-    /// Counts and times so far.
+    /// Counts and times so far (a run resumed from a checkpoint starts from the checkpoint's
+    /// counts, with a new solver).
     pub(super) fn stats(&self) -> HistoryStats {
         let mut stats = self.stats.clone();
-        stats.work.factorisation_s = self.solver.times.factorisation_s;
-        stats.work.solve_s = self.solver.times.solve_s;
+        stats.work.factorisation_s += self.solver.times.factorisation_s;
+        stats.work.solve_s += self.solver.times.solve_s;
+        stats.linear = stats.linear + self.solver.inner.stats();
         stats
     }
 

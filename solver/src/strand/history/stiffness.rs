@@ -29,7 +29,7 @@ pub fn measure_axial_stiffness_n(
             reason: "the measuring strain must be finite and > 0".into(),
         });
     }
-    let mut problem = reference_problem(model);
+    let mut problem = reference_problem(model, options.threads)?;
     problem.start_segment(SectionMotion {
         strain,
         curvature_per_m: 0.0,
@@ -57,7 +57,7 @@ pub fn measure_axial_stiffness_n(
         from_curvature: 0.0,
         to_strain: strain,
         to_curvature: 0.0,
-        source,
+        source: Box::new(source),
     })?;
     let force = section_force_n(model, problem.state(), 0.5 * model.strand.model_length_m)?;
     Ok(force / strain)
