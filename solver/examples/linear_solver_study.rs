@@ -201,9 +201,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .sqrt()
             / r.iter().map(|b| b * b).sum::<f64>().sqrt()
     };
-    for ordering in [FillOrdering::Amd, FillOrdering::NestedDissection] {
+    for (ordering, threads) in [
+        (FillOrdering::Amd, 1),
+        (FillOrdering::NestedDissection, 1),
+        (FillOrdering::NestedDissection, 2),
+    ] {
+        let par = if threads > 1 {
+            Par::rayon(threads)
+        } else {
+            Par::Seq
+        };
         let t = Instant::now();
-        let mut ldlt = SparseCholesky::with_ordering(&up, CholeskyKind::Ldlt, Par::Seq, ordering)?;
+        let mut ldlt = SparseCholesky::with_ordering(&up, CholeskyKind::Ldlt, par, ordering)?;
         let sym_ch = t.elapsed().as_secs_f64();
         let mut times = Vec::new();
         for _ in 0..reps {
@@ -220,7 +229,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             solves.push(t.elapsed().as_secs_f64());
         }
         println!(
-            "LDLt of the symmetric part, {ordering:?} ordering: symbolic {:.1} ms, factorise \
+            "LDLt of the symmetric part, {ordering:?} ordering, {threads} thread(s): symbolic \
+             {:.1} ms, factorise \
              {:.1} ms (median), solve {:.2} ms (median), supernodal {}, factor {} values, \
              relative residual {:.1e}",
             1e3 * sym_ch,
