@@ -43,8 +43,10 @@ fn tension_history() -> String {
     s
 }
 
+/// `moorfret run strand` on the benchmark profile; the EA cache lives beside `out`.
 fn run(load: &Path, out: &Path, extra: &[&str]) -> Output {
     moorfret()
+        .env("MOORFRET_CACHE_DIR", out.with_file_name("cache"))
         .args(["run", "strand"])
         .arg(profile())
         .arg("--load")
@@ -143,6 +145,7 @@ fn a_tension_history_writes_physical_outputs_and_resumes_identically() {
         summary["axial_stiffness"]["measured_at_strain"].as_f64(),
         Some(1e-3)
     );
+    assert_eq!(summary["axial_stiffness"]["source"], "measured");
     assert!(
         (ea - ea_estimate).abs() < 0.03 * ea_estimate,
         "EA {ea} vs {ea_estimate}"
@@ -256,6 +259,32 @@ fn a_tension_history_writes_physical_outputs_and_resumes_identically() {
             .unwrap();
     assert_eq!(records.as_array().map(Vec::len), Some(contacts_total));
 
+    // the same model again (same checkpoint cadence, which resets the preconditioner
+    // history): EA comes from the cache, to the bit, and so do the results
+    let again = dir.path().join("again");
+    let cp_again = dir.path().join("again.checkpoint");
+    let o = run(
+        &load,
+        &again,
+        &[
+            "--checkpoint",
+            cp_again.to_str().unwrap(),
+            "--checkpoint-every",
+            "2",
+        ],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let cached: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(again.join("summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(cached["axial_stiffness"]["source"], "cached");
+    assert_eq!(cached["axial_stiffness"]["ea_n"].as_f64(), Some(ea));
+    assert!(
+        std::fs::read(full.join("contacts.csv")).unwrap()
+            == std::fs::read(again.join("contacts.csv")).unwrap(),
+        "contacts.csv differs with the cached EA"
+    );
+
     // interrupted after 3 segments (last checkpoint after 2), then resumed; both with the EA
     // measured above given instead of measured again
     let part = dir.path().join("part");
@@ -299,6 +328,7 @@ fn a_tension_history_writes_physical_outputs_and_resumes_identically() {
         serde_json::from_str(&std::fs::read_to_string(part.join("summary.json")).unwrap()).unwrap();
     assert_eq!(resumed["resumed_from_checkpoint"], true);
     assert_eq!(resumed["axial_stiffness"]["ea_n"].as_f64(), Some(ea));
+    assert_eq!(resumed["axial_stiffness"]["source"], "given");
     assert!(resumed["axial_stiffness"]["measured_at_strain"].is_null());
     // the linear solver's counts carry over the checkpoint
     assert_eq!(

@@ -82,11 +82,11 @@ impl ModelSizes {
     }
 }
 
-/// The profile of `args`, its validated strand and the model with the chosen regularisation
-/// and ends.
+/// The profile of `args`, its validated strand, the model with the chosen regularisation and
+/// ends, and those model parameters.
 pub(crate) fn load_model(
     args: &StrandArgs,
-) -> anyhow::Result<(StrandProfile, Strand, StrandModel)> {
+) -> anyhow::Result<(StrandProfile, Strand, StrandModel, StrandModelParameters)> {
     let text = std::fs::read_to_string(&args.profile)
         .with_context(|| format!("reading strand profile {}", args.profile.display()))?;
     let profile = match &args.profile_name {
@@ -128,7 +128,7 @@ pub(crate) fn load_model(
         args.ends.end_kind(),
     );
     let model = StrandModel::new(&strand, &params)?;
-    Ok((profile, strand, model))
+    Ok((profile, strand, model, params))
 }
 
 #[derive(Debug, Serialize)]
@@ -195,7 +195,7 @@ pub fn execute(args: StrandArgs) -> anyhow::Result<()> {
     if let Some(load) = &args.load {
         return super::strand_history::execute(&args, load);
     }
-    let (profile, strand, model) = load_model(&args)?;
+    let (profile, strand, model, _) = load_model(&args)?;
     let loading = profile
         .loading
         .clone()

@@ -4,7 +4,8 @@
 //! LOAD.csv has a header naming three columns, in any order: `time_s`, `curvature_per_m` and
 //! either `tension_n` or `axial_strain`. A tension history becomes the axial strain
 //! ε = T / EA with EA measured on the model itself by a tension step
-//! (`measure_axial_stiffness_n`, at `--stiffness-strain`); slack samples (T < 0) are refused
+//! (`measure_axial_stiffness_n`, at `--stiffness-strain`; kept in a cache per model, see
+//! [`StiffnessCache`], or given by `--axial-stiffness-n`); slack samples (T < 0) are refused
 //! unless `--slack-as-zero` loads them as ε = 0. The whole history is checked before anything
 //! is solved or written: an unknown or missing column, a value that is not a finite number,
 //! a time that does not increase, a negative load or a curvature beyond the strand's
@@ -34,6 +35,7 @@ use std::time::Instant;
 use anyhow::{anyhow, bail, Context};
 use clap::Args;
 use moorfret_solver::fretting::ContactRecord;
+use moorfret_solver::linalg::NewtonParams;
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
 use moorfret_solver::strand::history::monitors::{MonitorChannel, MonitorGroup, MonitorTarget};
 use moorfret_solver::strand::history::stiffness::{
@@ -43,8 +45,9 @@ use moorfret_solver::strand::history::{
     run_history_from, validate_samples, HistoryError, HistoryObserver, HistoryOptions,
     HistoryProgress, HistoryResult, HistoryStats, LoadSample,
 };
-use moorfret_solver::strand::model::StrandModel;
+use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
 use serde::Serialize;
+use sha2::{Digest, Sha256};
 
 use super::strand::{load_model, ModelSizes, StrandArgs};
 use crate::plot::{strand_history_svgs, LoadPlot};
@@ -70,6 +73,13 @@ pub struct HistoryArgs {
     /// earlier run's summary on the same model (saves the tension step).
     #[arg(long, conflicts_with = "stiffness_strain")]
     pub axial_stiffness_n: Option<f64>,
+    /// Directory of the cache of measured EA values, one file per model and measuring strain
+    /// (default: `$XDG_CACHE_HOME/moorfret`, else `~/.cache/moorfret`).
+    #[arg(long, env = "MOORFRET_CACHE_DIR")]
+    pub cache_dir: Option<PathBuf>,
+    /// Measure EA even if the cache holds it (the new value replaces the cached one).
+    #[arg(long)]
+    pub no_cache: bool,
     /// Checkpoint file of the history run (written every `--checkpoint-every` segments).
     #[arg(long)]
     pub checkpoint: Option<PathBuf>,
@@ -268,8 +278,10 @@ impl HistoryObserver for Observer {
 struct AxialStiffness {
     /// EA used (N).
     ea_n: f64,
-    /// Strain of the tension step that measured it on the model, or null when it was given
-    /// (`--axial-stiffness-n`).
+    /// "measured" (by this run), "cached" (measured by an earlier run on the same model) or
+    /// "given" (`--axial-stiffness-n`).
+    source: &'static str,
+    /// Strain of the tension step that measured it on the model, or null when it was given.
     measured_at_strain: Option<f64>,
     /// Straight-strand estimates for comparison (N).
     straight_strand_simple_n: f64,
@@ -412,10 +424,84 @@ fn peaks_by_interface(contacts: &[ContactRecord]) -> BTreeMap<String, InterfaceP
     out
 }
 
+/// Cache of EA values measured on strand models ([`measure_axial_stiffness_n`]): one small JSON
+/// file per (model, measuring strain, Newton settings), named by the SHA-256 of their
+/// description, written by temp file and rename. A changed profile, regularisation, end
+/// condition, measuring strain or program version is a different key: a stale value is never
+/// used, at worst EA is measured again.
+struct StiffnessCache {
+    file: PathBuf,
+}
+
+#[derive(Debug, Serialize, serde::Deserialize)]
+struct CachedStiffness {
+    ea_n: f64,
+    measured_at_strain: f64,
+    /// What the key hashes, for a reader of the cache.
+    model: String,
+}
+
+impl StiffnessCache {
+    /// The cache entry of `model` (built with `params`) measured at `strain` with `newton`;
+    /// `None` when no cache directory is known.
+    fn new(
+        dir: Option<&Path>,
+        model: &StrandModel,
+        params: &StrandModelParameters,
+        strain: f64,
+        newton: &NewtonParams,
+    ) -> Option<(Self, String)> {
+        let dir = match dir {
+            Some(d) => d.to_path_buf(),
+            None => std::env::var_os("XDG_CACHE_HOME")
+                .filter(|v| !v.is_empty())
+                .map(PathBuf::from)
+                .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))?
+                .join("moorfret"),
+        };
+        let description = format!(
+            "moorfret {} axial stiffness; strand {:?}; model {:?}; strain {:e}; newton {:?}",
+            env!("CARGO_PKG_VERSION"),
+            model.strand,
+            params,
+            strain,
+            newton
+        );
+        let key: String = Sha256::digest(description.as_bytes())
+            .iter()
+            .map(|b| format!("{b:02x}"))
+            .collect();
+        let file = dir.join("axial_stiffness").join(format!("{key}.json"));
+        Some((Self { file }, description))
+    }
+
+    /// The cached EA, if the entry exists and reads back as a finite positive value.
+    fn get(&self) -> Option<f64> {
+        let text = std::fs::read_to_string(&self.file).ok()?;
+        let entry: CachedStiffness = serde_json::from_str(&text).ok()?;
+        (entry.ea_n.is_finite() && entry.ea_n > 0.0).then_some(entry.ea_n)
+    }
+
+    /// Stores `entry`; a cache that cannot be written only costs a measurement next time.
+    fn put(&self, entry: &CachedStiffness) {
+        let write = || -> std::io::Result<()> {
+            let dir = self.file.parent().expect("cache file has a directory");
+            std::fs::create_dir_all(dir)?;
+            let tmp = dir.join(format!(".tmp-{}", std::process::id()));
+            std::fs::write(&tmp, serde_json::to_vec_pretty(entry)?)?;
+            std::fs::rename(&tmp, &self.file)
+        };
+        if let Err(e) = write() {
+            tracing::warn!(error = %e, file = %self.file.display(), "EA not cached");
+        }
+    }
+}
+
 /// The load samples of `table` on `model`, with the EA used and the slack sample count.
 fn samples_of(
     table: &LoadTable,
     model: &StrandModel,
+    params: &StrandModelParameters,
     args: &HistoryArgs,
     options: &HistoryOptions,
 ) -> anyhow::Result<(Vec<LoadSample>, Option<AxialStiffness>, usize)> {
@@ -432,7 +518,7 @@ fn samples_of(
         }
         LoadKind::Tension => {
             let estimate = straight_strand_stiffness(&model.strand);
-            let (ea, measured_at_strain) = match args.axial_stiffness_n {
+            let (ea, source, measured_at_strain) = match args.axial_stiffness_n {
                 Some(ea) => {
                     if !(ea.is_finite() && ea > 0.0) {
                         anyhow::bail!(
@@ -445,17 +531,42 @@ fn samples_of(
                          Costello-corrected {:.6e} N)",
                         estimate.simple_n, estimate.corrected_n
                     );
-                    (ea, None)
+                    (ea, "given", None)
                 }
                 None => {
-                    let ea = measure_axial_stiffness_n(model, args.stiffness_strain, options)
-                        .context("measuring the axial stiffness EA of the strand model")?;
-                    println!(
-                        "axial stiffness EA = {ea:.6e} N (measured on the model at ε = {}; \
-                         straight strand {:.6e} N, Costello-corrected {:.6e} N)",
-                        args.stiffness_strain, estimate.simple_n, estimate.corrected_n
+                    let strain = args.stiffness_strain;
+                    let cache = StiffnessCache::new(
+                        args.cache_dir.as_deref(),
+                        model,
+                        params,
+                        strain,
+                        &options.initialisation_newton(),
                     );
-                    (ea, Some(args.stiffness_strain))
+                    let cached = cache
+                        .as_ref()
+                        .filter(|_| !args.no_cache)
+                        .and_then(|(c, _)| c.get());
+                    let (ea, source) = match cached {
+                        Some(ea) => (ea, "cached"),
+                        None => {
+                            let ea = measure_axial_stiffness_n(model, strain, options)
+                                .context("measuring the axial stiffness EA of the strand model")?;
+                            if let Some((c, description)) = &cache {
+                                c.put(&CachedStiffness {
+                                    ea_n: ea,
+                                    measured_at_strain: strain,
+                                    model: description.clone(),
+                                });
+                            }
+                            (ea, "measured")
+                        }
+                    };
+                    println!(
+                        "axial stiffness EA = {ea:.6e} N ({source} on the model at ε = {strain}; \
+                         straight strand {:.6e} N, Costello-corrected {:.6e} N)",
+                        estimate.simple_n, estimate.corrected_n
+                    );
+                    (ea, source, Some(strain))
                 }
             };
             let series = HotSpotSeries {
@@ -466,6 +577,7 @@ fn samples_of(
             let (samples, slack) = strand_load(&series, ea, 1);
             let stiffness = AxialStiffness {
                 ea_n: ea,
+                source,
                 measured_at_strain,
                 straight_strand_simple_n: estimate.simple_n,
                 straight_strand_costello_n: estimate.corrected_n,
@@ -508,7 +620,7 @@ pub(super) fn execute(args: &StrandArgs, load: &Path) -> anyhow::Result<()> {
         bail!("--checkpoint-every must be >= 1");
     }
     let table = read_load(load, h.slack_as_zero)?;
-    let (_, _, model) = load_model(args)?;
+    let (_, _, model, params) = load_model(args)?;
     let mut options = HistoryOptions {
         checkpoint_interval_segments: if h.checkpoint.is_some() || h.stop_after_segments.is_some() {
             h.checkpoint_every
@@ -522,7 +634,7 @@ pub(super) fn execute(args: &StrandArgs, load: &Path) -> anyhow::Result<()> {
         options.turning_point_tolerance = t;
     }
     let options = options.validated()?;
-    let (samples, stiffness, slack_samples) = samples_of(&table, &model, h, &options)?;
+    let (samples, stiffness, slack_samples) = samples_of(&table, &model, &params, h, &options)?;
     validate_samples(&model, &samples, &options).map_err(|e| refused(load, table.kind, e))?;
     let resume = match (&h.checkpoint, h.resume) {
         (Some(path), true) if path.exists() => {
