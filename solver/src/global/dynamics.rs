@@ -311,7 +311,10 @@ pub fn run_dynamics(
     }
     stats.dynamics_s = clock.elapsed().as_secs_f64();
     for run in &runs {
-        stats.cut_steps += run.integrator.stats().cut_steps;
+        let line = run.integrator.stats();
+        stats.cut_steps += line.cut_steps;
+        stats.line_factorizations += line.factorizations;
+        stats.line_assemblies += line.assemblies;
     }
     stats.cache_misses = caches.iter().flatten().map(|c| c.misses()).sum();
     stats.floater_table_misses = floater_table.as_ref().map_or(0, |t| t.misses());
