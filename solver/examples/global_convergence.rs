@@ -70,7 +70,9 @@ fn options() -> Result<Options, String> {
             "--repeat" => o.repeat = value("--repeat")?.max(1.0) as usize,
             "--sea-duration-s" => o.sea_duration_s = Some(value("--sea-duration-s")?),
             "--series-dir" | "--compare-dir" => {
-                let dir = args.next().ok_or_else(|| format!("{a} needs a directory"))?;
+                let dir = args
+                    .next()
+                    .ok_or_else(|| format!("{a} needs a directory"))?;
                 let dir = Some(std::path::PathBuf::from(dir));
                 if a == "--series-dir" {
                     o.series_dir = dir;
@@ -251,7 +253,10 @@ fn compare_series(path: &std::path::Path, variant: &str, r: &GlobalResult) -> Re
     for line in text.lines().skip(1) {
         let v: Vec<f64> = line
             .split(',')
-            .map(|x| x.parse::<f64>().map_err(|e| format!("{}: {e}", path.display())))
+            .map(|x| {
+                x.parse::<f64>()
+                    .map_err(|e| format!("{}: {e}", path.display()))
+            })
             .collect::<Result<_, _>>()?;
         if v.len() != 3 {
             return Err(format!("{}: expected 3 columns", path.display()));
