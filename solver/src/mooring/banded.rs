@@ -15,6 +15,8 @@ pub struct BandMatrix {
     b: usize,
     width: usize,
     data: Vec<f64>,
+    /// Reciprocals of the pivots of the last factorisation.
+    inverse_pivots: Vec<f64>,
 }
 
 impl BandMatrix {
@@ -26,6 +28,7 @@ impl BandMatrix {
             b,
             width,
             data: vec![0.0; n * width],
+            inverse_pivots: vec![0.0; n],
         }
     }
 
@@ -105,6 +108,7 @@ impl BandMatrix {
                 return Err((k, pivot));
             }
             let inv = 1.0 / pivot;
+            self.inverse_pivots[k] = inv;
             let last = (k + b).min(n - 1);
             for i in k + 1..=last {
                 // Entry (i, k) sits at column offset k + b − i of row i.
@@ -130,6 +134,11 @@ impl BandMatrix {
     }
 
     /// Solves A x = rhs in place after [`BandMatrix::factorize`].
+    ///
+    /// Both substitutions subtract the known unknowns from a row in the order in which they
+    /// became known, the latest last: the subtractions of the earlier ones then run while the
+    /// latest is still being computed, instead of the whole row waiting for it. The division
+    /// by a pivot is a multiplication by the reciprocal the factorisation stored.
     pub fn solve_in_place(&self, x: &mut [f64]) {
         let n = self.n;
         let b = self.b;
@@ -147,10 +156,14 @@ impl BandMatrix {
             let hi = (i + b).min(n - 1);
             let row = i * w + b - i;
             let mut s = x[i];
-            for (a, xj) in self.data[row + i + 1..=row + hi].iter().zip(&x[i + 1..=hi]) {
+            for (a, xj) in self.data[row + i + 1..=row + hi]
+                .iter()
+                .zip(&x[i + 1..=hi])
+                .rev()
+            {
                 s -= a * xj;
             }
-            x[i] = s / self.data[row + i];
+            x[i] = s * self.inverse_pivots[i];
         }
     }
 
@@ -180,14 +193,14 @@ impl BandMatrix {
             let base = i * w + b - i;
             let row = &self.data[base + i + 1..=base + hi];
             let (mut s0, mut s1, mut s2) = (x0[i], x1[i], x2[i]);
-            for (k, a) in row.iter().enumerate() {
+            for (k, a) in row.iter().enumerate().rev() {
                 let j = i + 1 + k;
                 s0 -= a * x0[j];
                 s1 -= a * x1[j];
                 s2 -= a * x2[j];
             }
-            let d = self.data[base + i];
-            (x0[i], x1[i], x2[i]) = (s0 / d, s1 / d, s2 / d);
+            let d = self.inverse_pivots[i];
+            (x0[i], x1[i], x2[i]) = (s0 * d, s1 * d, s2 * d);
         }
     }
 }
