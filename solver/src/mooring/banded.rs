@@ -69,6 +69,17 @@ impl BandMatrix {
         self.data[k] += v;
     }
 
+    /// Adds `v` to the consecutive entries (i, j), (i, j + 1), … of row i, which must lie in
+    /// the band (they are contiguous in storage).
+    #[inline]
+    pub fn add_row(&mut self, i: usize, j: usize, v: &[f64]) {
+        let k = self.index(i, j);
+        debug_assert!(j + v.len() <= i + self.b + 1);
+        for (a, x) in self.data[k..k + v.len()].iter_mut().zip(v) {
+            *a += x;
+        }
+    }
+
     /// Replaces row and column `i` by those of the identity (for a prescribed unknown).
     pub fn set_identity_row_col(&mut self, i: usize) {
         let lo = i.saturating_sub(self.b);
