@@ -262,6 +262,23 @@ mod tests {
         }
         let scale = sec.ea_n / 5.0;
         assert!(worst < 1e-7 * scale, "worst column error {worst:e}");
+        // The residual-only kernel gives the system's residual, by the same operations; in
+        // statics too, and for a slack bar (no axial force).
+        assert_eq!(bar_residual(&ctx, &x0, &water), sys.r);
+        let statics = ElementContext {
+            dynamic: false,
+            ..ctx
+        };
+        assert_eq!(
+            bar_residual(&statics, &x0, &water),
+            bar_system(&statics, &x0, &water).r
+        );
+        let mut slack = x0;
+        slack.q[1] = x0.q[0] + d * 0.9;
+        assert_eq!(
+            bar_residual(&ctx, &slack, &water),
+            bar_system(&ctx, &slack, &water).r
+        );
     }
 
     #[test]

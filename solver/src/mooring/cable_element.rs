@@ -353,6 +353,17 @@ mod tests {
             worst < 1e-6 * scale,
             "worst column error {worst:e} vs scale {scale:e}"
         );
+        // The residual-only kernel gives the system's residual, by the same operations; in
+        // statics too.
+        assert_eq!(cable_residual(&ctx, &x0, &water), sys.r);
+        let statics = ElementContext {
+            dynamic: false,
+            ..ctx
+        };
+        assert_eq!(
+            cable_residual(&statics, &x0, &water),
+            cable_system(&statics, &x0, &water).r
+        );
     }
 
     #[test]
