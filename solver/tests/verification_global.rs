@@ -258,8 +258,10 @@ fn mirrored_lines_share_their_precomputed_sea() {
     assert!(shares(0, 1) && shares(2, 5) && shares(3, 4));
     assert!(!shares(0, 2) && !shares(0, 3) && !shares(2, 3));
     // Line 6 (index 5) from the series of line 3 against its own series.
-    let own = LineSeaCache::new(lines[5].0, lines[5].1, &model.sea, ramp, &params, 30.0, 60.0)
-        .unwrap();
+    let own = LineSeaCache::new(
+        lines[5].0, lines[5].1, &model.sea, ramp, &params, 30.0, 60.0,
+    )
+    .unwrap();
     let points = moorfret_solver::global::sea::sampled_points(lines[5].0, lines[5].1);
     let mut worst: f64 = 0.0;
     let mut largest: f64 = 0.0;
