@@ -19,6 +19,10 @@
 //! ```
 //!
 //! `--repeat N` runs each variant N times and reports the median wall time (one thread).
+//! `--series-dir DIR` writes the hot spot series of each variant to `DIR/VARIANT.csv`
+//! (time, tension, curvature); `--compare-dir DIR` reads `DIR/VARIANT.csv` written by an earlier
+//! run (e.g. of another build) and prints min, max and standard deviation of both and the
+//! largest absolute difference of the series.
 //! `--sea-duration-s S` realises the sea for S seconds (transient included) instead of the
 //! simulated time, so that a short run samples the sea of a long one (same components and
 //! repeat period: e.g. `--sea-duration-s 1050` gives a short run the per-step cost of the
@@ -38,6 +42,8 @@ struct Options {
     transient_s: f64,
     repeat: usize,
     sea_duration_s: Option<f64>,
+    series_dir: Option<std::path::PathBuf>,
+    compare_dir: Option<std::path::PathBuf>,
     variants: Vec<String>,
 }
 
@@ -47,6 +53,8 @@ fn options() -> Result<Options, String> {
         transient_s: 50.0,
         repeat: 1,
         sea_duration_s: None,
+        series_dir: None,
+        compare_dir: None,
         variants: Vec::new(),
     };
     let mut args = std::env::args().skip(1);
@@ -61,6 +69,17 @@ fn options() -> Result<Options, String> {
             "--transient-s" => o.transient_s = value("--transient-s")?,
             "--repeat" => o.repeat = value("--repeat")?.max(1.0) as usize,
             "--sea-duration-s" => o.sea_duration_s = Some(value("--sea-duration-s")?),
+            "--series-dir" | "--compare-dir" => {
+                let dir = args
+                    .next()
+                    .ok_or_else(|| format!("{a} needs a directory"))?;
+                let dir = Some(std::path::PathBuf::from(dir));
+                if a == "--series-dir" {
+                    o.series_dir = dir;
+                } else {
+                    o.compare_dir = dir;
+                }
+            }
             "base" | "dt" | "mesh" | "tight" | "direct" => o.variants.push(a),
             other => return Err(format!("unknown argument {other}")),
         }
@@ -126,7 +145,7 @@ fn main() -> Result<(), String> {
         o.duration_s, o.transient_s
     );
     println!(
-        "{:<6} {:>12} {:>8} {:>12} {:>8} {:>11} {:>11} {:>9} {:>7} {:>8} {:>6} {:>6}",
+        "{:<6} {:>12} {:>8} {:>12} {:>8} {:>11} {:>11} {:>9} {:>7} {:>8} {:>6} {:>8} {:>8} {:>8}",
         "case",
         "T range N",
         "dT %",
@@ -138,7 +157,9 @@ fn main() -> Result<(), String> {
         "steps",
         "passes",
         "cuts",
-        "line it"
+        "line it",
+        "line LU",
+        "line asm"
     );
     let mut base: Option<(SeriesSummary, SeriesSummary)> = None;
     let mut first_motion: Option<Vec<[f64; 6]>> = None;
@@ -160,7 +181,7 @@ fn main() -> Result<(), String> {
         let (b_t, b_k) = *base.get_or_insert((t, k));
         let s = r.stats;
         println!(
-            "{:<6} {:>12.1} {:>8.3} {:>12.5e} {:>8.3} {:>11.1} {:>11.4e} {:>9.2} {:>7} {:>8} {:>6} {:>6}",
+            "{:<6} {:>12.1} {:>8.3} {:>12.5e} {:>8.3} {:>11.1} {:>11.4e} {:>9.2} {:>7} {:>8} {:>6} {:>8} {:>8} {:>8}",
             v,
             t.range,
             100.0 * (t.range / b_t.range - 1.0),
@@ -172,9 +193,17 @@ fn main() -> Result<(), String> {
             s.steps,
             s.coupling_iterations,
             s.cut_coupled_steps,
-            s.line_iterations
+            s.line_iterations,
+            s.line_factorizations,
+            s.line_assemblies
         );
         eprintln!("{v}: {s:?}; T {t:?}; k {k:?}");
+        if let Some(dir) = &o.series_dir {
+            write_series(&dir.join(format!("{v}.csv")), &r)?;
+        }
+        if let Some(dir) = &o.compare_dir {
+            compare_series(&dir.join(format!("{v}.csv")), v, &r)?;
+        }
         // Floater motion: standard deviations, and the largest difference from the first
         // variant (the motions, unlike the slack events at the hot spot, are smooth functions of
         // the wave loads).
@@ -200,6 +229,75 @@ fn main() -> Result<(), String> {
             max_diff(0),
             max_diff(2),
             max_diff(4)
+        );
+    }
+    Ok(())
+}
+
+/// Writes time, tension and curvature of the first hot spot.
+fn write_series(path: &std::path::Path, r: &GlobalResult) -> Result<(), String> {
+    use std::fmt::Write;
+    let hs = r.hot_spots.first().ok_or("no hot spot")?;
+    let mut text = String::from("time_s,tension_n,curvature_per_m\n");
+    for ((t, x), k) in r.time_s.iter().zip(&hs.tension_n).zip(&hs.curvature_per_m) {
+        writeln!(text, "{t},{x:e},{k:e}").map_err(|e| e.to_string())?;
+    }
+    std::fs::write(path, text).map_err(|e| format!("writing {}: {e}", path.display()))
+}
+
+/// Compares the first hot spot with the series written to `path` by an earlier run.
+fn compare_series(path: &std::path::Path, variant: &str, r: &GlobalResult) -> Result<(), String> {
+    let text =
+        std::fs::read_to_string(path).map_err(|e| format!("reading {}: {e}", path.display()))?;
+    let (mut t_ref, mut k_ref) = (Vec::new(), Vec::new());
+    for line in text.lines().skip(1) {
+        let v: Vec<f64> = line
+            .split(',')
+            .map(|x| {
+                x.parse::<f64>()
+                    .map_err(|e| format!("{}: {e}", path.display()))
+            })
+            .collect::<Result<_, _>>()?;
+        if v.len() != 3 {
+            return Err(format!("{}: expected 3 columns", path.display()));
+        }
+        t_ref.push(v[1]);
+        k_ref.push(v[2]);
+    }
+    let hs = r.hot_spots.first().ok_or("no hot spot")?;
+    if t_ref.len() != hs.tension_n.len() {
+        return Err(format!(
+            "{}: {} samples, this run {}",
+            path.display(),
+            t_ref.len(),
+            hs.tension_n.len()
+        ));
+    }
+    let largest = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max)
+    };
+    for (name, now, before) in [
+        ("T N", &hs.tension_n, &t_ref),
+        ("k 1/m", &hs.curvature_per_m, &k_ref),
+    ] {
+        let (a, b) = (SeriesSummary::of(now), SeriesSummary::of(before));
+        println!(
+            "{variant:<6} {name:<6} vs {}: std {:.6e} / {:.6e} ({:+.4} %), max {:.6e} / {:.6e} \
+             ({:+.4} %), min {:.6e} / {:.6e}, largest difference {:.3e} ({:.3} % of the std)",
+            path.display(),
+            a.std,
+            b.std,
+            100.0 * (a.std / b.std - 1.0),
+            a.max,
+            b.max,
+            100.0 * (a.max / b.max - 1.0),
+            a.min,
+            b.min,
+            largest(now, before),
+            100.0 * largest(now, before) / b.std
         );
     }
     Ok(())

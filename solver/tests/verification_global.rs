@@ -229,3 +229,54 @@ fn floater_wave_loads_from_the_table_match_direct_summation() {
     assert!(worst < 1e-4 * largest, "{worst} vs {largest}");
     assert_eq!(table.misses(), 0);
 }
+
+/// In the paper case's head sea the line pairs 1/2, 3/6 and 4/5 lie symmetrically about the
+/// wave direction, so each pair samples the sea at the same (x_β, z) points: the second line
+/// of a pair shares the first one's precomputed series, and what it samples from it equals
+/// what its own series gives, at its own points.
+#[test]
+fn mirrored_lines_share_their_precomputed_sea() {
+    use moorfret_solver::global::sea::{LineSeaCache, Ramp};
+    use moorfret_solver::mooring::LineModel;
+    use moorfret_solver::waves::{SeaKinematics, SeriesParams};
+
+    let model = GlobalModel::new(&case(), floater(), Some(60.0)).unwrap();
+    let eq = solve_coupled_statics(&model, &StaticsParams::default(), None).unwrap();
+    let lines: Vec<(&LineModel, &[f64])> = eq
+        .line_models
+        .iter()
+        .zip(&eq.line_solutions)
+        .map(|(m, s)| (m, s.q.as_slice()))
+        .collect();
+    let ramp = Ramp { duration_s: 0.0 };
+    let params = SeriesParams::default();
+    let caches =
+        LineSeaCache::for_lines(&lines, &model.sea, ramp, &params, 30.0, 60.0, None).unwrap();
+    let ids: Vec<u32> = model.lines.iter().map(|l| l.id).collect();
+    assert_eq!(ids, [1, 2, 3, 4, 5, 6]);
+    let shares = |a: usize, b: usize| caches[a].shares_series_with(&caches[b]);
+    assert!(shares(0, 1) && shares(2, 5) && shares(3, 4));
+    assert!(!shares(0, 2) && !shares(0, 3) && !shares(2, 3));
+    // Line 6 (index 5) from the series of line 3 against its own series.
+    let own = LineSeaCache::new(
+        lines[5].0, lines[5].1, &model.sea, ramp, &params, 30.0, 60.0,
+    )
+    .unwrap();
+    let points = moorfret_solver::global::sea::sampled_points(lines[5].0, lines[5].1);
+    let mut worst: f64 = 0.0;
+    let mut largest: f64 = 0.0;
+    for t in [3.3, 17.05, 42.7] {
+        for p in &points {
+            let a = caches[5].kinematics(p, t);
+            let b = own.kinematics(p, t);
+            worst = worst
+                .max((a.velocity - b.velocity).amax())
+                .max((a.acceleration - b.acceleration).amax());
+            largest = largest.max(b.velocity.amax()).max(b.acceleration.amax());
+        }
+    }
+    println!("largest kinematics {largest:.3e}, largest difference {worst:.3e}");
+    assert!(largest > 0.1);
+    assert!(worst < 1e-9 * largest, "{worst} vs {largest}");
+    assert_eq!(caches[5].misses() + own.misses(), 0);
+}

@@ -26,10 +26,11 @@ use super::coupling::{coupled_step, Alpha, FloaterStart, LineRun, StepContext};
 use super::error::GlobalError;
 use super::results::{FloaterSeries, GlobalResult, HotSpotResult, LineResult, RunStats};
 use super::sea::{FloaterSeaTable, LineSeaCache, PassSea, Ramp, RampedSea};
-use super::system::{for_lines, FloaterModel, GlobalModel, StaticEquilibrium};
+use super::system::{FloaterModel, GlobalModel, StaticEquilibrium};
 use crate::floater::BodyState;
 use crate::mooring::dynamics::{DynamicParams, LineIntegrator, LineState};
 use crate::mooring::hotspot::{node_values, LineRecorder};
+use crate::mooring::LineModel;
 use crate::waves::{SeaKinematics, SeriesParams, TableParams};
 
 /// Settings of the coupled dynamics.
@@ -122,21 +123,24 @@ pub fn run_dynamics(
     // Precomputed line kinematics.
     let clock = Instant::now();
     let caches: Vec<Option<LineSeaCache<'_>>> = if params.precompute_line_kinematics {
-        let built = for_lines(model.lines.len(), pool, |k| {
-            LineSeaCache::new(
-                &eq.line_models[k],
-                &eq.line_solutions[k].q,
-                &model.sea,
-                ramp,
-                &params.series,
-                params.guard_distance_m,
-                t_end + h,
-            )
-        });
-        built
-            .into_iter()
-            .map(|c| c.map(Some))
-            .collect::<Result<_, _>>()?
+        let lines: Vec<(&LineModel, &[f64])> = eq
+            .line_models
+            .iter()
+            .zip(&eq.line_solutions)
+            .map(|(m, s)| (m, s.q.as_slice()))
+            .collect();
+        LineSeaCache::for_lines(
+            &lines,
+            &model.sea,
+            ramp,
+            &params.series,
+            params.guard_distance_m,
+            t_end + h,
+            pool,
+        )?
+        .into_iter()
+        .map(Some)
+        .collect()
     } else {
         model.lines.iter().map(|_| None).collect()
     };
@@ -311,7 +315,10 @@ pub fn run_dynamics(
     }
     stats.dynamics_s = clock.elapsed().as_secs_f64();
     for run in &runs {
-        stats.cut_steps += run.integrator.stats().cut_steps;
+        let line = run.integrator.stats();
+        stats.cut_steps += line.cut_steps;
+        stats.line_factorizations += line.factorizations;
+        stats.line_assemblies += line.assemblies;
     }
     stats.cache_misses = caches.iter().flatten().map(|c| c.misses()).sum();
     stats.floater_table_misses = floater_table.as_ref().map_or(0, |t| t.misses());

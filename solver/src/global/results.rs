@@ -64,8 +64,12 @@ pub struct RunStats {
     pub coupling_iterations: usize,
     /// Largest coupling pass count of a step.
     pub max_coupling_iterations: usize,
-    /// Line Newton iterations (factorisations) over all lines and steps.
+    /// Line Newton iterations (linear solves) over all lines and steps.
     pub line_iterations: usize,
+    /// Factorisations of the line iteration matrices (modified Newton reuses them).
+    pub line_factorizations: usize,
+    /// Line residual assemblies (with or without the iteration matrix).
+    pub line_assemblies: usize,
     /// Line steps that had to be cut.
     pub cut_steps: usize,
     /// Coupled steps that failed and were retried with half the step.

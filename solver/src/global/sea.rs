@@ -17,7 +17,12 @@
 //! some metres, small against the ≈ 400 m peak wavelength. A query farther than
 //! `guard_distance_m` from the point it is matched with (a change of the sampling order, or a
 //! very large excursion) is answered by direct summation instead, so a mismatch costs time,
-//! never accuracy.
+//! never accuracy. A unidirectional sea depends on the horizontal position only through the
+//! distance x_β along its direction, so lines laid symmetrically about that direction (lines
+//! 1/2, 3/6 and 4/5 of the paper case in a head sea) sample it at the same (x_β, z) points:
+//! such a line shares the series of the first line whose points match within
+//! [`SHARED_SERIES_TOLERANCE_M`] ([`LineSeaCache::for_lines`]), which halves the precomputation
+//! and its memory there.
 //!
 //! Floater table: the floater samples the sea at every wetted strip centre of its members
 //! (≈ 1 m strips) in its current pose, several times per step. [`FloaterSeaTable`] answers
@@ -28,7 +33,7 @@
 //! by direct summation and counted.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 use nalgebra::Vector3;
 
@@ -107,11 +112,37 @@ impl SeaKinematics for Recorder {
     }
 }
 
+/// Largest difference (m) of x_β and of z between the corresponding sampling points of two
+/// lines for them to share one precomputed series: the kinematics change by k · 1e-6 m,
+/// far below the interpolation error of the series.
+pub const SHARED_SERIES_TOLERANCE_M: f64 = 1e-6;
+
+/// The points at which `model` in state `q` samples the sea, in its sampling order.
+pub fn sampled_points(model: &LineModel, q: &[f64]) -> Vec<Vector3<f64>> {
+    let recorder = Recorder(Mutex::new(Vec::new()));
+    let mut water: WaterCache = Vec::new();
+    update_water(model, q, 0.0, &recorder, &mut water);
+    recorder.0.into_inner().unwrap_or_default()
+}
+
+/// Whether the unidirectional `sea` has the same kinematics at the points `a` as at `b`, point
+/// by point (equal x_β and z within [`SHARED_SERIES_TOLERANCE_M`]).
+pub fn same_sea_at(sea: &IrregularSea, a: &[Vector3<f64>], b: &[Vector3<f64>]) -> bool {
+    let f = sea.field();
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(p, q)| {
+            (f.along(p.x, p.y) - f.along(q.x, q.y)).abs() <= SHARED_SERIES_TOLERANCE_M
+                && (p.z - q.z).abs() <= SHARED_SERIES_TOLERANCE_M
+        })
+}
+
 /// Precomputed kinematics of one line (see the module documentation).
 #[derive(Debug)]
 pub struct LineSeaCache<'a> {
     sea: &'a IrregularSea,
-    series: PointKinematicsSeries,
+    series: Arc<PointKinematicsSeries>,
+    /// The line's own sampling points (those of a shared series may be mirrored ones).
+    points: Vec<Vector3<f64>>,
     ramp: Ramp,
     guard_distance_m: f64,
     cursor: AtomicUsize,
@@ -130,29 +161,99 @@ impl<'a> LineSeaCache<'a> {
         guard_distance_m: f64,
         end_time_s: f64,
     ) -> Result<Self, WavesError> {
-        let recorder = Recorder(Mutex::new(Vec::new()));
-        let mut water: WaterCache = Vec::new();
-        update_water(model, q, 0.0, &recorder, &mut water);
-        let points = recorder.0.into_inner().unwrap_or_default();
+        let points = sampled_points(model, q);
         let series = PointKinematicsSeries::new_until(sea, &points, params, end_time_s)?;
-        Ok(Self {
+        Ok(Self::with_series(
+            sea,
+            Arc::new(series),
+            points,
+            ramp,
+            guard_distance_m,
+        ))
+    }
+
+    /// Caches for the lines `lines` (model, static state), as [`LineSeaCache::new`] each,
+    /// except that a line sampling the sea at the same (x_β, z) points as an earlier one
+    /// ([`same_sea_at`]) shares that line's series; the series are built on `pool`, one line
+    /// per task.
+    pub fn for_lines(
+        lines: &[(&LineModel, &[f64])],
+        sea: &'a IrregularSea,
+        ramp: Ramp,
+        params: &SeriesParams,
+        guard_distance_m: f64,
+        end_time_s: f64,
+        pool: Option<&rayon::ThreadPool>,
+    ) -> Result<Vec<Self>, WavesError> {
+        let points: Vec<Vec<Vector3<f64>>> =
+            lines.iter().map(|(m, q)| sampled_points(m, q)).collect();
+        // The line whose series each line uses: the first earlier owner with the same sea.
+        let mut owner: Vec<usize> = Vec::with_capacity(points.len());
+        for k in 0..points.len() {
+            let found = (0..k).find(|&j| owner[j] == j && same_sea_at(sea, &points[j], &points[k]));
+            owner.push(found.unwrap_or(k));
+        }
+        let build = |k: usize| {
+            (owner[k] == k)
+                .then(|| PointKinematicsSeries::new_until(sea, &points[k], params, end_time_s))
+                .transpose()
+        };
+        let built: Vec<Result<Option<PointKinematicsSeries>, WavesError>> = match pool {
+            Some(p) => {
+                use rayon::prelude::*;
+                p.install(|| (0..points.len()).into_par_iter().map(build).collect())
+            }
+            None => (0..points.len()).map(build).collect(),
+        };
+        let mut series: Vec<Option<Arc<PointKinematicsSeries>>> = Vec::new();
+        for b in built {
+            series.push(b?.map(Arc::new));
+        }
+        let mut caches = Vec::with_capacity(points.len());
+        for (k, p) in points.into_iter().enumerate() {
+            let shared = series[owner[k]]
+                .clone()
+                .ok_or(WavesError::InvalidParameter {
+                    field: "line series owner",
+                    value: owner[k] as f64,
+                    rule: "an owner builds its series",
+                })?;
+            caches.push(Self::with_series(sea, shared, p, ramp, guard_distance_m));
+        }
+        Ok(caches)
+    }
+
+    fn with_series(
+        sea: &'a IrregularSea,
+        series: Arc<PointKinematicsSeries>,
+        points: Vec<Vector3<f64>>,
+        ramp: Ramp,
+        guard_distance_m: f64,
+    ) -> Self {
+        Self {
             sea,
             series,
+            points,
             ramp,
             guard_distance_m,
             cursor: AtomicUsize::new(0),
             misses: AtomicUsize::new(0),
-        })
+        }
     }
 
     /// Number of cached points.
     pub fn points(&self) -> usize {
-        self.series.points().len()
+        self.points.len()
     }
 
-    /// Memory held by the precomputed series (bytes).
+    /// Memory held by the precomputed series (bytes; a shared series counts for each line).
     pub fn memory_bytes(&self) -> usize {
         self.series.memory_bytes()
+    }
+
+    /// Whether this cache and `other` use the same precomputed series.
+    pub fn shares_series_with(&self, other: &LineSeaCache<'_>) -> bool {
+        Arc::ptr_eq(&self.series, &other.series)
     }
 
     /// Queries answered by direct summation because they were too far from their cached point
@@ -165,7 +266,7 @@ impl<'a> LineSeaCache<'a> {
 impl SeaKinematics for LineSeaCache<'_> {
     fn kinematics(&self, x: &Vector3<f64>, t: f64) -> FluidKinematics {
         let r = self.ramp.factor(t);
-        let n = self.series.points().len();
+        let n = self.points.len();
         if n == 0 {
             return scaled(self.sea.kinematics(x, t), r);
         }
@@ -173,7 +274,7 @@ impl SeaKinematics for LineSeaCache<'_> {
         if r == 0.0 {
             return FluidKinematics::default();
         }
-        let p = &self.series.points()[i];
+        let p = &self.points[i];
         if (p - x).norm() > self.guard_distance_m || t > self.series.covered_until_s() {
             self.misses.fetch_add(1, Ordering::Relaxed);
             return scaled(self.sea.kinematics(x, t), r);

@@ -123,12 +123,13 @@ pub fn assemble(
                     v: d.map(|i| vec3(x.v, i)),
                     a: d.map(|i| vec3(x.a, i)),
                 };
-                let sys = if matrix.is_some() {
-                    cable_system(&ctx, &vals, w)
-                } else {
-                    cable_residual(&ctx, &vals, w)
-                };
-                scatter(&d, &sys.r, &sys.k, residual, matrix.as_deref_mut());
+                match matrix.as_deref_mut() {
+                    Some(m) => {
+                        let sys = cable_system(&ctx, &vals, w);
+                        scatter(&d, &sys.r, &sys.k, residual, Some(m));
+                    }
+                    None => scatter_residual(&d, &cable_residual(&ctx, &vals, w), residual),
+                }
             }
             ElementKind::Bar => {
                 let dd = [d[0], d[1]];
@@ -137,13 +138,26 @@ pub fn assemble(
                     v: dd.map(|i| vec3(x.v, i)),
                     a: dd.map(|i| vec3(x.a, i)),
                 };
-                let sys = if matrix.is_some() {
-                    bar_system(&ctx, &vals, w)
-                } else {
-                    bar_residual(&ctx, &vals, w)
-                };
-                scatter(&dd, &sys.r, &sys.k, residual, matrix.as_deref_mut());
+                match matrix.as_deref_mut() {
+                    Some(m) => {
+                        let sys = bar_system(&ctx, &vals, w);
+                        scatter(&dd, &sys.r, &sys.k, residual, Some(m));
+                    }
+                    None => scatter_residual(&dd, &bar_residual(&ctx, &vals, w), residual),
+                }
             }
+        }
+    }
+}
+
+fn scatter_residual<const NC: usize>(
+    dofs: &[usize; NC],
+    r: &[Vector3<f64>; NC],
+    residual: &mut [f64],
+) {
+    for (&dof, ra) in dofs.iter().zip(r) {
+        for i in 0..3 {
+            residual[dof + i] += ra[i];
         }
     }
 }
@@ -165,9 +179,11 @@ fn scatter<const NC: usize>(
             for b in 0..NC {
                 let blk = &k[a][b];
                 for i in 0..3 {
-                    for j in 0..3 {
-                        m.add(dofs[a] + i, dofs[b] + j, blk[(i, j)]);
-                    }
+                    m.add_row(
+                        dofs[a] + i,
+                        dofs[b],
+                        &[blk[(i, 0)], blk[(i, 1)], blk[(i, 2)]],
+                    );
                 }
             }
         }

@@ -14,35 +14,65 @@ use super::hydro::{morison, morison_force};
 use super::loads::{
     slack_axial_force, LocalSystem, PointKinematics, PointLoad, SLACK_SMOOTHING_STRAIN,
 };
-use super::seabed::{seabed_energy, seabed_load};
+use super::seabed::{seabed_energy, seabed_force, seabed_load};
 use crate::waves::FluidKinematics;
 
 /// Number of quadrature points (the nodes) of a bar.
 pub const BAR_POINTS: usize = 2;
+
+/// Residual of a bar alone: the residual of [`bar_system`] without its derivatives, by the
+/// same operations in the same order.
+pub(crate) fn bar_residual(
+    ctx: &ElementContext<'_>,
+    x: &ElementValues<2>,
+    water: &[FluidKinematics],
+) -> [Vector3<f64>; 2] {
+    let sec = ctx.sec;
+    let l = ctx.length_m;
+    let mut r = [Vector3::zeros(); 2];
+    let d = x.q[1] - x.q[0];
+    let len = d.norm();
+    if len > 0.0 {
+        let e = d / len;
+        let (elastic, _, _) = slack_axial_force(sec.ea_n, len / l - 1.0);
+        let c = if ctx.dynamic {
+            sec.axial_damping_n_s(l, ctx.coef.axial_damping_ratio)
+        } else {
+            0.0
+        };
+        let (phi, _) = slack_slope(len / l - 1.0);
+        let rate = e.dot(&(x.v[1] - x.v[0])) / l;
+        let force = elastic + c * phi * rate;
+        r[0] -= e * force;
+        r[1] += e * force;
+    }
+    let w = 0.5 * l;
+    for (node, water_at_node) in water.iter().take(2).enumerate() {
+        if ctx.dynamic {
+            r[node] += x.a[node] * (w * sec.mass_kg_per_m);
+        }
+        let k = PointKinematics {
+            r: x.q[node],
+            r_x: d / l,
+            v: x.v[node],
+            a: x.a[node],
+        };
+        let mut f = Vector3::new(0.0, 0.0, -sec.weight_n_per_m);
+        f += seabed_force(sec, ctx.bed, ctx.depth_m, &k.r, &k.v);
+        if ctx.dynamic {
+            f += morison_force(sec, &k, water_at_node);
+        }
+        // The nodal rule: shape value 1 at its own node, 0 at the other.
+        r[node] -= f * w;
+    }
+    r
+}
 
 /// Residual M q̈ + f_int − f_ext and iteration matrix of a bar.
 pub fn bar_system(
     ctx: &ElementContext<'_>,
     x: &ElementValues<2>,
     water: &[FluidKinematics],
-) -> LocalSystem<2> {
-    bar_kernel(ctx, x, water, true)
-}
-
-/// Residual of a bar; the iteration matrix is left zero.
-pub(crate) fn bar_residual(
-    ctx: &ElementContext<'_>,
-    x: &ElementValues<2>,
-    water: &[FluidKinematics],
-) -> LocalSystem<2> {
-    bar_kernel(ctx, x, water, false)
-}
-
-fn bar_kernel(
-    ctx: &ElementContext<'_>,
-    x: &ElementValues<2>,
-    water: &[FluidKinematics],
-    with_matrix: bool,
 ) -> LocalSystem<2> {
     let sec = ctx.sec;
     let l = ctx.length_m;
@@ -96,17 +126,9 @@ fn bar_kernel(
         load.f.z = -sec.weight_n_per_m;
         load.add(&seabed_load(sec, ctx.bed, ctx.depth_m, &k.r, &k.v));
         if ctx.dynamic {
-            if with_matrix {
-                load.add(&morison(sec, &k, water_at_node));
-            } else {
-                load.f += morison_force(sec, &k, water_at_node);
-            }
+            load.add(&morison(sec, &k, water_at_node));
         }
-        if with_matrix {
-            out.add_point_load(&n, &dn, w, &load, &ctx.coef);
-        } else {
-            out.add_point_force(&n, w, &load.f);
-        }
+        out.add_point_load(&n, &dn, w, &load, &ctx.coef);
     }
     out
 }
@@ -240,6 +262,23 @@ mod tests {
         }
         let scale = sec.ea_n / 5.0;
         assert!(worst < 1e-7 * scale, "worst column error {worst:e}");
+        // The residual-only kernel gives the system's residual, by the same operations; in
+        // statics too, and for a slack bar (no axial force).
+        assert_eq!(bar_residual(&ctx, &x0, &water), sys.r);
+        let statics = ElementContext {
+            dynamic: false,
+            ..ctx
+        };
+        assert_eq!(
+            bar_residual(&statics, &x0, &water),
+            bar_system(&statics, &x0, &water).r
+        );
+        let mut slack = x0;
+        slack.q[1] = x0.q[0] + d * 0.9;
+        assert_eq!(
+            bar_residual(&ctx, &slack, &water),
+            bar_system(&ctx, &slack, &water).r
+        );
     }
 
     #[test]

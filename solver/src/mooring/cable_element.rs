@@ -24,7 +24,7 @@ use nalgebra::{Matrix3, Vector3};
 use super::hermite::{bending_integrals, hermite, mass_integrals, GAUSS3};
 use super::hydro::{morison, morison_force};
 use super::loads::{Coefficients, LocalSystem, PointKinematics, PointLoad};
-use super::seabed::{seabed_energy, seabed_load};
+use super::seabed::{seabed_energy, seabed_force, seabed_load};
 use super::section::Section;
 use super::spec::SeabedSpec;
 use crate::waves::FluidKinematics;
@@ -60,30 +60,67 @@ pub struct ElementValues<const NC: usize> {
     pub a: [Vector3<f64>; NC],
 }
 
+/// Residual of a cable element alone (modified Newton iterations reuse an earlier
+/// factorisation): the residual of [`cable_system`] without its derivatives, by the same
+/// operations in the same order.
+pub(crate) fn cable_residual(
+    ctx: &ElementContext<'_>,
+    x: &ElementValues<4>,
+    water: &[FluidKinematics; CABLE_POINTS],
+) -> [Vector3<f64>; 4] {
+    let sec = ctx.sec;
+    let l = ctx.length_m;
+    let mut r = [Vector3::zeros(); 4];
+    add_scalar_product(&mut r, &bending_integrals(l), sec.ei_nm2, &x.q);
+    if ctx.dynamic {
+        add_scalar_product(&mut r, &mass_integrals(l), sec.mass_kg_per_m, &x.a);
+    }
+    let c = if ctx.dynamic {
+        sec.axial_damping_n_s(l, ctx.coef.axial_damping_ratio)
+    } else {
+        0.0
+    };
+    for (g, &(xi, wg)) in GAUSS3.iter().enumerate() {
+        let s = hermite(xi, l);
+        let w = wg * l;
+        let k = PointKinematics::interpolate(&s.n, &s.dn, &x.q, &x.v, &x.a);
+        let stretch = k.r_x.norm();
+        let t = k.r_x / stretch;
+        let v_x =
+            s.dn.iter()
+                .zip(&x.v)
+                .fold(Vector3::zeros(), |acc, (d, v)| acc + v * *d);
+        let force = sec.ea_n * (stretch - 1.0) + c * t.dot(&v_x);
+        for (ra, dna) in r.iter_mut().zip(&s.dn) {
+            *ra += t * (w * force * dna);
+        }
+        let mut f = Vector3::new(0.0, 0.0, -sec.weight_n_per_m);
+        f += seabed_force(sec, ctx.bed, ctx.depth_m, &k.r, &k.v);
+        if ctx.dynamic {
+            f += morison_force(sec, &k, &water[g]);
+        }
+        for (ra, na) in r.iter_mut().zip(&s.n) {
+            *ra -= f * (w * na);
+        }
+    }
+    r
+}
+
+/// r += s C x for a constant coefficient matrix C (the residual part of
+/// [`LocalSystem::add_scalar_matrix`]).
+fn add_scalar_product(r: &mut [Vector3<f64>; 4], c: &[[f64; 4]; 4], s: f64, x: &[Vector3<f64>; 4]) {
+    for (ra, row) in r.iter_mut().zip(c) {
+        for (&cab, xb) in row.iter().zip(x) {
+            *ra += xb * (s * cab);
+        }
+    }
+}
+
 /// Residual M q̈ + f_int − f_ext and iteration matrix of a cable element.
 pub fn cable_system(
     ctx: &ElementContext<'_>,
     x: &ElementValues<4>,
     water: &[FluidKinematics; CABLE_POINTS],
-) -> LocalSystem<4> {
-    cable_kernel(ctx, x, water, true)
-}
-
-/// Residual of a cable element; the iteration matrix is left zero (modified Newton
-/// iterations reuse an earlier factorisation).
-pub(crate) fn cable_residual(
-    ctx: &ElementContext<'_>,
-    x: &ElementValues<4>,
-    water: &[FluidKinematics; CABLE_POINTS],
-) -> LocalSystem<4> {
-    cable_kernel(ctx, x, water, false)
-}
-
-fn cable_kernel(
-    ctx: &ElementContext<'_>,
-    x: &ElementValues<4>,
-    water: &[FluidKinematics; CABLE_POINTS],
-    with_matrix: bool,
 ) -> LocalSystem<4> {
     let sec = ctx.sec;
     let l = ctx.length_m;
@@ -113,17 +150,15 @@ fn cable_kernel(
         for a in 0..4 {
             out.r[a] += t * (w * force * s.dn[a]);
         }
-        if with_matrix {
-            let ttt = t * t.transpose();
-            let p = Matrix3::identity() - ttt;
-            // ∂N/∂r' = EA t + c P ṙ' / |r'|, ∂N/∂ṙ' = c t.
-            let dn_drx = t * dforce + p * v_x * (c / stretch);
-            let kt = (t * dn_drx.transpose() + ttt * (c * ctx.coef.gamma_p)) * w
-                + p * (w * force / stretch);
-            for a in 0..4 {
-                for b in 0..4 {
-                    out.k[a][b] += kt * (s.dn[a] * s.dn[b]);
-                }
+        let ttt = t * t.transpose();
+        let p = Matrix3::identity() - ttt;
+        // ∂N/∂r' = EA t + c P ṙ' / |r'|, ∂N/∂ṙ' = c t.
+        let dn_drx = t * dforce + p * v_x * (c / stretch);
+        let kt =
+            (t * dn_drx.transpose() + ttt * (c * ctx.coef.gamma_p)) * w + p * (w * force / stretch);
+        for a in 0..4 {
+            for b in 0..4 {
+                out.k[a][b] += kt * (s.dn[a] * s.dn[b]);
             }
         }
         // External loads.
@@ -131,17 +166,9 @@ fn cable_kernel(
         load.f.z = -sec.weight_n_per_m;
         load.add(&seabed_load(sec, ctx.bed, ctx.depth_m, &k.r, &k.v));
         if ctx.dynamic {
-            if with_matrix {
-                load.add(&morison(sec, &k, &water[g]));
-            } else {
-                load.f += morison_force(sec, &k, &water[g]);
-            }
+            load.add(&morison(sec, &k, &water[g]));
         }
-        if with_matrix {
-            out.add_point_load(&s.n, &s.dn, w, &load, &ctx.coef);
-        } else {
-            out.add_point_force(&s.n, w, &load.f);
-        }
+        out.add_point_load(&s.n, &s.dn, w, &load, &ctx.coef);
     }
     out
 }
@@ -325,6 +352,17 @@ mod tests {
         assert!(
             worst < 1e-6 * scale,
             "worst column error {worst:e} vs scale {scale:e}"
+        );
+        // The residual-only kernel gives the system's residual, by the same operations; in
+        // statics too.
+        assert_eq!(cable_residual(&ctx, &x0, &water), sys.r);
+        let statics = ElementContext {
+            dynamic: false,
+            ..ctx
+        };
+        assert_eq!(
+            cable_residual(&statics, &x0, &water),
+            cable_system(&statics, &x0, &water).r
         );
     }
 

@@ -9,7 +9,7 @@
 //!
 //! (DNV-RP-C205 §6.2 and DNV-OS-E301 Ch.2 Sec.2 for the split into normal and tangential
 //! parts). The dependence on the direction uses d[t (t·x)]/dt = (t·x) I + t xᵀ =: W(x) and
-//! dt/dr' = P / |r'|. The drag speed is regularised as √(|u|² + ε²) with ε = 1e-6 m/s so the
+//! dt/dr' = P / |r'| (written out in the projections in [`morison`]). The drag speed is regularised as √(|u|² + ε²) with ε = 1e-6 m/s so the
 //! tangent stays finite at rest. The water kinematics are frozen during a step's iterations
 //! (their gradient with respect to the line position is not linearised).
 
@@ -21,20 +21,20 @@ use crate::waves::FluidKinematics;
 
 const SPEED_REGULARISATION_M_S: f64 = 1e-6;
 
-fn w_matrix(t: &Vector3<f64>, x: &Vector3<f64>) -> Matrix3<f64> {
-    Matrix3::identity() * t.dot(x) + t * x.transpose()
-}
-
-/// Quadratic drag c |u| u and its derivative with respect to u.
-fn quadratic(c: f64, u: &Vector3<f64>) -> (Vector3<f64>, Matrix3<f64>) {
+/// Quadratic drag force c |u| u with the regularised speed |u| = √(u·u + ε²), and that speed.
+fn quadratic(c: f64, u: &Vector3<f64>) -> (Vector3<f64>, f64) {
     let s = (u.norm_squared() + SPEED_REGULARISATION_M_S * SPEED_REGULARISATION_M_S).sqrt();
-    (
-        u * (c * s),
-        (Matrix3::identity() * s + u * u.transpose() / s) * c,
-    )
+    (u * (c * s), s)
 }
 
 /// Morison load at a point of a line with section `sec`, kinematics `k` and water `water`.
+///
+/// The derivatives are written out in the projections: with ℓ = |r'|, x_n = P x and
+/// M(x) = W(x) P / ℓ = ((t·x) P + t x_nᵀ) / ℓ the derivative of t (t·x) with respect to r',
+/// and D(u) = c (s I + u uᵀ / s) that of the drag c s u (s the regularised speed):
+/// D(u_n) P = c_n (s_n P + u_n u_nᵀ / s_n), D(u_t) t tᵀ = c_t (s_t t tᵀ + u_t u_tᵀ / s_t) and
+/// (D(u_t) − D(u_n)) M(u) = (c_t s_t − c_n s_n) M(u) + (t·u)/ℓ (c_t u_t / s_t − c_n u_n / s_n) u_nᵀ,
+/// since u_tᵀ P = 0, u_nᵀ t = 0 and u_tᵀ t = t·u.
 pub fn morison(sec: &Section, k: &PointKinematics, water: &FluidKinematics) -> PointLoad {
     let mut load = PointLoad::zero();
     let stretch = k.r_x.norm();
@@ -44,19 +44,26 @@ pub fn morison(sec: &Section, k: &PointKinematics, water: &FluidKinematics) -> P
     let t = k.r_x / stretch;
     let ttt = t * t.transpose();
     let p = Matrix3::identity() - ttt;
-    let dt_drx = p / stretch;
+    // M(x) for a vector x with t·x = tx and normal part xn.
+    let m = |tx: f64, xn: &Vector3<f64>| (p * tx + t * xn.transpose()) / stretch;
 
     // Drag.
-    if sec.drag_normal_kg_per_m2 > 0.0 || sec.drag_tangential_kg_per_m2 > 0.0 {
+    let (cn, ct) = (sec.drag_normal_kg_per_m2, sec.drag_tangential_kg_per_m2);
+    if cn > 0.0 || ct > 0.0 {
         let u = water.velocity - k.v;
-        let ut = t * t.dot(&u);
+        let tu = t.dot(&u);
+        let ut = t * tu;
         let un = u - ut;
-        let (fn_, dn) = quadratic(sec.drag_normal_kg_per_m2, &un);
-        let (ft, dtan) = quadratic(sec.drag_tangential_kg_per_m2, &ut);
+        let (fn_, sn) = quadratic(cn, &un);
+        let (ft, st) = quadratic(ct, &ut);
         load.f += fn_ + ft;
         // ∂u/∂v = −I.
-        load.d_v -= dn * p + dtan * ttt;
-        load.d_rx += (dtan - dn) * w_matrix(&t, &u) * dt_drx;
+        load.d_v -= p * (cn * sn)
+            + un * un.transpose() * (cn / sn)
+            + ttt * (ct * st)
+            + ut * ut.transpose() * (ct / st);
+        load.d_rx += m(tu, &un) * (ct * st - cn * sn)
+            + (ut * (ct / st) - un * (cn / sn)) * un.transpose() * (tu / stretch);
     }
 
     // Added mass on the structural acceleration.
@@ -67,16 +74,19 @@ pub fn morison(sec: &Section, k: &PointKinematics, water: &FluidKinematics) -> P
     if man > 0.0 || mat > 0.0 {
         let ta = t.dot(&k.a);
         let a_t = t * ta;
-        load.f -= (k.a - a_t) * man + a_t * mat;
+        let a_n = k.a - a_t;
+        load.f -= a_n * man + a_t * mat;
         load.d_a -= p * man + ttt * mat;
-        load.d_rx -= w_matrix(&t, &k.a) * dt_drx * (mat - man);
+        load.d_rx -= m(ta, &a_n) * (mat - man);
     }
 
     // Froude–Krylov and diffraction on the normal water acceleration.
     let aw = water.acceleration;
     if sec.froude_krylov_kg_per_m > 0.0 && aw.norm_squared() > 0.0 {
-        load.f += (aw - t * t.dot(&aw)) * sec.froude_krylov_kg_per_m;
-        load.d_rx -= w_matrix(&t, &aw) * dt_drx * sec.froude_krylov_kg_per_m;
+        let taw = t.dot(&aw);
+        let aw_n = aw - t * taw;
+        load.f += aw_n * sec.froude_krylov_kg_per_m;
+        load.d_rx -= m(taw, &aw_n) * sec.froude_krylov_kg_per_m;
     }
     load
 }

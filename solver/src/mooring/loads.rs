@@ -124,13 +124,6 @@ impl<const NC: usize> LocalSystem<NC> {
         }
     }
 
-    /// Adds only the residual part of [`LocalSystem::add_point_load`] for a force `f`.
-    pub fn add_point_force(&mut self, n: &[f64; NC], w: f64, f: &Vector3<f64>) {
-        for (r, &na) in self.r.iter_mut().zip(n) {
-            *r -= f * (w * na);
-        }
-    }
-
     /// Adds a constant matrix of the form C ⊗ I₃ (scaled by `s`) acting on `x`: residual
     /// += s C x, matrix += `k_scale` · s C ⊗ I₃.
     pub fn add_scalar_matrix(

@@ -82,6 +82,30 @@ pub fn seabed_load(
     load
 }
 
+/// The force of [`seabed_load`] alone, without its derivatives (N/m).
+pub fn seabed_force(
+    sec: &Section,
+    bed: &SeabedSpec,
+    depth_m: f64,
+    r: &Vector3<f64>,
+    v: &Vector3<f64>,
+) -> Vector3<f64> {
+    let g = -depth_m - r.z;
+    let (fs, _, frac, _) = spring(sec.seabed_stiffness_n_per_m2, g);
+    if frac <= 0.0 {
+        return Vector3::zeros();
+    }
+    let fz = fs - sec.seabed_damping_n_s_per_m2 * frac * v.z;
+    let mut f = Vector3::new(0.0, 0.0, fz);
+    let mu = bed.friction_coefficient;
+    if mu > 0.0 && fz > 0.0 {
+        let vh = Vector3::new(v.x, v.y, 0.0);
+        let s = (vh.norm_squared() + bed.friction_velocity_m_s * bed.friction_velocity_m_s).sqrt();
+        f -= (vh / s) * (mu * fz);
+    }
+    f
+}
+
 /// Energy stored in the seabed spring per unit length at `r` (J/m).
 pub fn seabed_energy(sec: &Section, depth_m: f64, r: &Vector3<f64>) -> f64 {
     let g = -depth_m - r.z;
@@ -130,6 +154,27 @@ mod tests {
             seabed: Default::default(),
         };
         Section::new(&lt, &seg, &env)
+    }
+
+    #[test]
+    fn force_only_path_equals_the_full_load() {
+        let sec = section();
+        let v = Vector3::new(0.3, -0.2, 0.05);
+        for mu in [0.0, 0.4] {
+            let bed = SeabedSpec {
+                friction_coefficient: mu,
+                ..SeabedSpec::default()
+            };
+            for z in [-100.0 - 0.004, -100.0 + 0.002, -100.0 - 0.02, -99.0] {
+                let r = Vector3::new(1.0, 2.0, z);
+                let full = seabed_load(&sec, &bed, 100.0, &r, &v).f;
+                assert_eq!(
+                    seabed_force(&sec, &bed, 100.0, &r, &v),
+                    full,
+                    "z {z}, μ {mu}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -31,6 +31,13 @@ pub struct LineWorkspace {
     fairlead_modes: [Vec<f64>; 3],
     /// Whether `fairlead_modes` holds a condensation.
     has_modes: bool,
+    /// Factorisations made so far, and the one `condensed` and `fairlead_modes` belong to: the
+    /// condensation is a function of the factorisation alone, so a step that reused the
+    /// factorisation of an earlier one reuses its condensation too.
+    factorizations: u64,
+    condensed_factorization: Option<u64>,
+    /// K_c of the last condensation (N/m).
+    condensed: Matrix3<f64>,
 }
 
 impl LineWorkspace {
@@ -47,6 +54,9 @@ impl LineWorkspace {
             fairlead_rows: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             fairlead_modes: [vec![0.0; n], vec![0.0; n], vec![0.0; n]],
             has_modes: false,
+            factorizations: 0,
+            condensed_factorization: None,
+            condensed: Matrix3::zeros(),
         }
     }
 
@@ -76,6 +86,7 @@ impl LineWorkspace {
         for (i, (r, x)) in self.rhs.iter_mut().zip(&self.residual).enumerate() {
             *r = if model.is_constrained(i) { 0.0 } else { -x };
         }
+        self.factorizations += 1;
         self.matrix
             .factorize(tiny_pivot)
             .map_err(|(dof, pivot)| LineError::SingularMatrix {
@@ -98,20 +109,20 @@ impl LineWorkspace {
         self.matrix.solve_in_place(&mut self.rhs);
     }
 
-    /// Schur complement of the factorised matrix onto the fairlead DOFs (N/m).
+    /// Schur complement of the factorised matrix onto the fairlead DOFs (N/m); computed once
+    /// per factorisation (the three columns in one sweep over the factors).
     pub(crate) fn condense_fairlead(&mut self, model: &LineModel) -> Matrix3<f64> {
-        let mut k = Matrix3::zeros();
-        for j in 0..3 {
-            let x = &mut self.rhs;
-            for (i, xi) in x.iter_mut().enumerate() {
-                *xi = if model.is_constrained(i) {
-                    0.0
-                } else {
-                    self.fairlead_columns[j][i]
-                };
+        if self.has_modes && self.condensed_factorization == Some(self.factorizations) {
+            return self.condensed;
+        }
+        for (mode, column) in self.fairlead_modes.iter_mut().zip(&self.fairlead_columns) {
+            for (i, (m, c)) in mode.iter_mut().zip(column).enumerate() {
+                *m = if model.is_constrained(i) { 0.0 } else { *c };
             }
-            self.matrix.solve_in_place(x);
-            self.fairlead_modes[j].copy_from_slice(x);
+        }
+        self.matrix.solve3_in_place(&mut self.fairlead_modes);
+        let mut k = Matrix3::zeros();
+        for (j, x) in self.fairlead_modes.iter().enumerate() {
             for p in 0..3 {
                 let mut s = self.fairlead_rows[p][j];
                 for (i, xi) in x.iter().enumerate() {
@@ -123,6 +134,8 @@ impl LineWorkspace {
             }
         }
         self.has_modes = true;
+        self.condensed_factorization = Some(self.factorizations);
+        self.condensed = k;
         k
     }
 
