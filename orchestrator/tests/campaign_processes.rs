@@ -1,14 +1,17 @@
 //! Crash safety of the worker loop and the campaign driver with real processes
 //! (`moorfret worker`, `moorfret campaign resume`) on an SQLite store, using the test job kind
-//! (sleeps, crashes) for the queue mechanics and a short lease so that expiry is quick.
+//! (sleeps, crashes) for the queue mechanics and a short lease so that expiry is quick; then
+//! the real stages: one short sea state end to end, and a worker killed in the middle of a
+//! strand job whose successor resumes from the job's checkpoint (campaign files of their own
+//! in `tests/campaigns/`).
 
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use moorfret_orchestrator::store::{
-    AttemptOutcome, CampaignId, JobKind, JobState, NewCampaign, PlannedJob, Store, StoreOptions,
-    TestPayload,
+    AttemptOutcome, CampaignId, JobKind, JobResults, JobState, NewCampaign, PlannedJob, Store,
+    StoreOptions, TestPayload,
 };
 
 /// The tests run one at a time: each starts several processes on a 2-core machine, and a
@@ -447,4 +450,264 @@ fn demo_sea_state_runs_through_both_real_stages() {
     ] {
         assert!(measures.contains(&m), "{m} missing from {measures:?}");
     }
+}
+
+/// Lease of the workers of the strand crash test, ms: the strand solver keeps both cores
+/// busy, so heartbeats (every 300 ms) get more slack than with the sleeping test jobs.
+const STRAND_LEASE_MS: &str = "3000";
+
+/// Plans the strand crash-test campaign (`tests/campaigns/strand_resume.json`: one sea
+/// state, one `global` and one `strand` job) into a new store `db`.
+fn plan_strand_resume_campaign(db: &str) -> CampaignId {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/campaigns/strand_resume.json");
+    let resolved = moorfret_orchestrator::campaign::resolve(&file).unwrap();
+    rt().block_on(async {
+        let store = Store::open(db, StoreOptions::default()).await.unwrap();
+        let (id, jobs) = moorfret_orchestrator::campaign::create(&store, &resolved)
+            .await
+            .unwrap();
+        assert_eq!(jobs.len(), 2);
+        store.close().await;
+        id
+    })
+}
+
+/// A standalone worker on `db` with lease `lease_ms` (the store default if `None`), its log
+/// to `log`; it exits once the store has no work left.
+fn strand_worker(db: &str, lease_ms: Option<&str>, log: &Path) -> Child {
+    let mut args = vec!["worker", "--db", db, "--exit-when-idle", "--poll-ms", "50"];
+    if let Some(lease) = lease_ms {
+        args.extend(["--lease-ms", lease]);
+    }
+    moorfret(&args)
+        .stderr(std::fs::File::create(log).unwrap())
+        .spawn()
+        .unwrap()
+}
+
+/// Waits for `worker` to exit successfully; its log in the message otherwise.
+fn wait_success(mut worker: Child, log: &Path) {
+    let status = worker.wait().unwrap();
+    assert!(
+        status.success(),
+        "worker exited with {status}:\n{}",
+        std::fs::read_to_string(log).unwrap_or_default()
+    );
+}
+
+/// Everything a campaign run leaves as results: the stored results of every job (with the
+/// strand job's `resumed_from_checkpoint` marker taken out into `resumed`, as it tells how
+/// the result was reached rather than what it is) and what `moorfret query` prints from the
+/// result views, as CSV.
+struct CampaignResults {
+    jobs: Vec<(JobKind, JobResults)>,
+    queries: Vec<(String, String)>,
+}
+
+/// The [`CampaignResults`] of the done campaign `id` of `strand_resume.json` in `db`, and
+/// whether its strand job was resumed from a checkpoint.
+fn campaign_results(db: &str, id: CampaignId) -> (CampaignResults, bool) {
+    let mut resumed = None;
+    let jobs = rt().block_on(async {
+        let store = Store::open(db, StoreOptions::default()).await.unwrap();
+        let mut out = Vec::new();
+        for job in store.jobs_of_campaign(id).await.unwrap() {
+            assert_eq!(job.state, JobState::Done, "job {}", job.id);
+            let mut results = store.results_of(job.id).await.unwrap();
+            if job.kind == JobKind::Strand {
+                let marker = results
+                    .result
+                    .as_object_mut()
+                    .and_then(|r| r.remove("resumed_from_checkpoint"));
+                resumed = marker.as_ref().and_then(serde_json::Value::as_bool);
+            }
+            out.push((job.kind, results));
+        }
+        store.close().await;
+        out
+    });
+    let mut queries = Vec::new();
+    for (kind, measure) in [
+        ("contacts", "fretting_max"),
+        ("damage-inputs", "fretting_max"),
+        ("damage-inputs", "fretting_mean"),
+        ("sea-states", "fretting_max"),
+        ("lifetime", "fretting_max"),
+    ] {
+        let out = moorfret(&[
+            "query",
+            kind,
+            "--campaign",
+            "strand_resume",
+            "--db",
+            db,
+            "--format",
+            "csv",
+            "--measure",
+            measure,
+        ])
+        .stdout(Stdio::piped())
+        .output()
+        .unwrap();
+        assert!(
+            out.status.success(),
+            "query {kind}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let csv = String::from_utf8(out.stdout).unwrap();
+        assert!(csv.lines().count() > 1, "query {kind} has no rows:\n{csv}");
+        queries.push((format!("{kind} {measure}"), csv));
+    }
+    let resumed = resumed.expect("the strand job's result says whether it was resumed");
+    (CampaignResults { jobs, queries }, resumed)
+}
+
+/// The real stages (not the test job kind): a worker is killed with SIGKILL while the strand
+/// job runs, after it has written a checkpoint; a second worker re-claims the job once the
+/// lease has expired, resumes from the checkpoint and completes it. The campaign's results
+/// equal those of an uninterrupted run in another store, row for row and to the bit.
+#[test]
+fn killed_strand_job_resumes_from_its_checkpoint_with_the_uninterrupted_results() {
+    let _serial = serial();
+    let dir = tempfile::tempdir().unwrap();
+
+    // reference: one worker, no interruption, the default (long) lease
+    let reference_db = dir.path().join("reference.sqlite");
+    let reference_db = reference_db.to_string_lossy().into_owned();
+    let reference_id = plan_strand_resume_campaign(&reference_db);
+    let log = dir.path().join("reference.log");
+    wait_success(strand_worker(&reference_db, None, &log), &log);
+    let (reference, resumed) = campaign_results(&reference_db, reference_id);
+    assert!(!resumed);
+
+    // crash: the first worker is killed once the strand job has written a checkpoint
+    let db = dir
+        .path()
+        .join("crash.sqlite")
+        .to_string_lossy()
+        .into_owned();
+    let id = plan_strand_resume_campaign(&db);
+    let first_log = dir.path().join("first.log");
+    let mut first = strand_worker(&db, Some(STRAND_LEASE_MS), &first_log);
+    let strand_job = rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let jobs = store.jobs_of_campaign(id).await.unwrap();
+        let strand = jobs
+            .into_iter()
+            .find(|j| j.kind == JobKind::Strand)
+            .unwrap();
+        let pointer = dir
+            .path()
+            .join("crash.sqlite.artifacts/checkpoints")
+            .join(strand.cache_key.as_deref().unwrap());
+        let deadline = Instant::now() + Duration::from_secs(240);
+        loop {
+            let state = store.job(strand.id).await.unwrap().state;
+            assert_ne!(
+                state,
+                JobState::Done,
+                "the strand job completed before a checkpoint was seen:\n{}",
+                std::fs::read_to_string(&first_log).unwrap_or_default()
+            );
+            if state == JobState::Running && pointer.exists() {
+                break;
+            }
+            if Instant::now() >= deadline {
+                panic!(
+                    "timed out waiting for a strand checkpoint (job {state:?}):\n{}",
+                    std::fs::read_to_string(&first_log).unwrap_or_default()
+                );
+            }
+            tokio::time::sleep(Duration::from_millis(50)).await;
+        }
+        store.close().await;
+        strand.id
+    });
+    first.kill().unwrap(); // SIGKILL: no chance to release the lease
+    first.wait().unwrap();
+    let first_log_text = std::fs::read_to_string(&first_log).unwrap_or_default();
+    rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let job = store.job(strand_job).await.unwrap();
+        assert_eq!(job.state, JobState::Running, "{first_log_text}");
+        store.close().await;
+    });
+    let second_log = dir.path().join("second.log");
+    let second = strand_worker(&db, Some(STRAND_LEASE_MS), &second_log);
+    let second_pid = i64::from(second.id());
+    wait_success(second, &second_log);
+    let second_log_text = std::fs::read_to_string(&second_log).unwrap();
+    assert!(
+        second_log_text.contains("strand job resumes from its checkpoint"),
+        "{second_log_text}"
+    );
+
+    rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let job = store.job(strand_job).await.unwrap();
+        assert_eq!(job.state, JobState::Done);
+        assert_eq!(job.lost_count, 1);
+        let mut attempts: Vec<_> = store
+            .attempts_of_campaign(id)
+            .await
+            .unwrap()
+            .into_iter()
+            .filter(|a| a.job == strand_job)
+            .collect();
+        attempts.sort_by_key(|a| a.claim_number);
+        let outcomes: Vec<_> = attempts.iter().map(|a| a.outcome).collect();
+        assert_eq!(
+            outcomes,
+            [Some(AttemptOutcome::Lost), Some(AttemptOutcome::Done)],
+            "{attempts:?}"
+        );
+        assert_eq!(attempts[0].pid, i64::from(first.id()));
+        assert_eq!(attempts[1].pid, second_pid);
+        // re-claimed only after the sweep found the first lease expired
+        let lost_at = attempts[0].ended_at_ms.unwrap();
+        let lease_ms: i64 = STRAND_LEASE_MS.parse().unwrap();
+        assert!(
+            lost_at >= attempts[0].started_at_ms + lease_ms,
+            "{attempts:?}"
+        );
+        assert!(attempts[1].started_at_ms >= lost_at, "{attempts:?}");
+        store.close().await;
+    });
+    assert_each_done_once(&db, id);
+
+    let (crashed, resumed) = campaign_results(&db, id);
+    assert!(resumed);
+    // nothing doubled: one row per contact of the strand result
+    let (_, strand) = crashed
+        .jobs
+        .iter()
+        .find(|(kind, _)| *kind == JobKind::Strand)
+        .unwrap();
+    assert_eq!(
+        strand.contacts.len() as u64,
+        strand.result["contacts"].as_u64().unwrap()
+    );
+    assert_same_results(&crashed, &reference);
+}
+
+/// `got` equals `want` to the bit, compared part by part so that a failure names the part.
+fn assert_same_results(got: &CampaignResults, want: &CampaignResults) {
+    assert_eq!(got.jobs.len(), want.jobs.len());
+    for ((kind, got), (want_kind, want)) in got.jobs.iter().zip(&want.jobs) {
+        assert_eq!(kind, want_kind);
+        // the strand result holds the hash of the full contact records and the work counts
+        assert_eq!(got.result, want.result, "{kind} job result");
+        assert_eq!(got.artifacts, want.artifacts, "{kind} job artifacts");
+        assert!(got.hot_spots == want.hot_spots, "{kind} job hot-spot rows");
+        assert!(got.contacts == want.contacts, "{kind} job contact rows");
+        assert!(
+            got.damage_inputs == want.damage_inputs,
+            "{kind} job damage input rows"
+        );
+        assert!(
+            got.class_damage_inputs == want.class_damage_inputs,
+            "{kind} job class damage input rows"
+        );
+    }
+    assert_eq!(got.queries, want.queries);
 }

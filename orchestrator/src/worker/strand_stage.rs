@@ -16,10 +16,13 @@
 //! Checkpoints: the history run hands its full state over every few segments; at most every
 //! `checkpoint_interval_s` of wall time it is written to the artifact store and a pointer file
 //! `checkpoints/<job cache key>` (temp file + rename) names the newest one. A re-claimed job
-//! resumes from it; the solver guarantees the result is bit-identical to an uninterrupted run.
+//! resumes from it (and says so in its result, `resumed_from_checkpoint`); the solver
+//! guarantees the result is bit-identical to an uninterrupted run. A checkpoint that cannot be
+//! read, or that the solver refuses as another model's or history's, is logged and the job
+//! starts over.
 //! Slack samples (T < 0) are loaded as ε = 0 and counted in the job result.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use moorfret_solver::fretting::{
@@ -125,9 +128,15 @@ impl CheckpointWriter<'_> {
             .map_err(|e| e.to_string())?;
         let dir = pointer.parent().unwrap_or(self.artifacts.dir());
         std::fs::create_dir_all(dir).map_err(|e| e.to_string())?;
-        let tmp = pointer.with_extension("tmp");
-        std::fs::write(&tmp, artifact.sha256.as_bytes()).map_err(|e| e.to_string())?;
-        std::fs::rename(&tmp, pointer).map_err(|e| e.to_string())?;
+        // A temp name of its own: a worker whose lease was swept away may still be writing
+        // the same job's pointer while its new claimant does.
+        let tmp = pointer.with_extension(format!("{}.tmp", uuid::Uuid::new_v4()));
+        let renamed = std::fs::write(&tmp, artifact.sha256.as_bytes())
+            .and_then(|()| std::fs::rename(&tmp, pointer));
+        if let Err(e) = renamed {
+            let _ = std::fs::remove_file(&tmp);
+            return Err(e.to_string());
+        }
         self.written += 1;
         Ok(())
     }
@@ -146,11 +155,29 @@ impl HistoryObserver for CheckpointWriter<'_> {
     }
 }
 
-/// The newest checkpoint named by `pointer`, if any and readable.
-fn read_checkpoint(artifacts: &ArtifactStore, pointer: &PathBuf) -> Option<HistoryCheckpoint> {
-    let sha = std::fs::read_to_string(pointer).ok()?;
-    let bytes = artifacts.get(sha.trim()).ok()?;
-    HistoryCheckpoint::from_bytes(&bytes).ok()
+/// The newest checkpoint named by `pointer`: `None` when there is none, or when it cannot be
+/// read (missing or damaged artifact, format of another build), which is logged: the job then
+/// starts over.
+fn read_checkpoint(artifacts: &ArtifactStore, pointer: &Path) -> Option<HistoryCheckpoint> {
+    let sha = match std::fs::read_to_string(pointer) {
+        Ok(sha) => sha,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return None,
+        Err(e) => {
+            tracing::warn!(pointer = %pointer.display(), error = %e, "checkpoint pointer not readable; starting over");
+            return None;
+        }
+    };
+    let read = artifacts
+        .get(sha.trim())
+        .map_err(|e| e.to_string())
+        .and_then(|bytes| HistoryCheckpoint::from_bytes(&bytes).map_err(|e| e.to_string()));
+    match read {
+        Ok(checkpoint) => Some(checkpoint),
+        Err(e) => {
+            tracing::warn!(pointer = %pointer.display(), error = %e, "checkpoint not readable; starting over");
+            None
+        }
+    }
 }
 
 /// The model parameters of the campaign's strand settings.
@@ -245,9 +272,12 @@ pub fn run_strand(
         last: Instant::now(),
         written: 0,
     };
-    if resume.is_some() {
-        tracing::info!(job = %lease.job, "strand job resumes from its checkpoint");
+    if let Some(cp) = &resume {
+        tracing::info!(job = %lease.job, segment = cp.next_segment,
+            segments = cp.kept_samples.len().saturating_sub(1),
+            "strand job resumes from its checkpoint");
     }
+    let mut resumed = resume.is_some();
     let result = match run_history_from(&model, &samples, &options, resume.as_ref(), &mut writer) {
         Ok(r) => r,
         // A checkpoint from another build or input is not used: start over.
@@ -255,6 +285,7 @@ pub fn run_strand(
             if resume.is_some() =>
         {
             tracing::warn!(job = %lease.job, %reason, "checkpoint refused; starting over");
+            resumed = false;
             run_history_from(&model, &samples, &options, None, &mut writer)
                 .map_err(|e| permanent("strand_history", e))?
         }
@@ -289,7 +320,7 @@ pub fn run_strand(
             "contact_records_sha256": artifact.sha256,
             "effective_duration_s": damage.effective_duration_s,
             "run_in_samples": damage.run_in_samples,
-            "resumed_from_checkpoint": resume.is_some(),
+            "resumed_from_checkpoint": resumed,
             "work": {
                 "kept_samples": s.kept_samples,
                 "substeps": s.substeps,
@@ -361,5 +392,21 @@ mod tests {
         let k: Vec<f64> = load.iter().map(|s| s.curvature_per_m).collect();
         assert_eq!(k, vec![0.01, 0.03, 0.05]);
         assert_eq!(slack, 1);
+    }
+
+    #[test]
+    fn no_checkpoint_without_a_pointer_or_with_a_pointer_to_an_unreadable_one() {
+        let dir = tempfile::tempdir().unwrap();
+        let artifacts = ArtifactStore::open(dir.path()).unwrap();
+        let pointer = dir.path().join("checkpoints").join("key");
+        assert!(read_checkpoint(&artifacts, &pointer).is_none());
+        std::fs::create_dir_all(pointer.parent().unwrap()).unwrap();
+        // a pointer to an artifact that is not there
+        std::fs::write(&pointer, "ab".repeat(32)).unwrap();
+        assert!(read_checkpoint(&artifacts, &pointer).is_none());
+        // a pointer to an artifact that is no checkpoint
+        let other = artifacts.put("contact_records", b"[]").unwrap();
+        std::fs::write(&pointer, &other.sha256).unwrap();
+        assert!(read_checkpoint(&artifacts, &pointer).is_none());
     }
 }
