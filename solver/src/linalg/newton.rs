@@ -850,6 +850,8 @@ mod tests {
     struct SkewChain {
         u: Vec<f64>,
         committed: Vec<f64>,
+        /// Full-storage pattern of the chain's elements ([`chain_pattern`]).
+        pattern: SparsePattern,
     }
 
     impl SkewChain {
@@ -883,7 +885,6 @@ mod tests {
             if let Some(k) = k {
                 // element e couples (e, e + 1), column-major 2 × 2 blocks; a node's diagonal
                 // 2K + 3C u² comes from the two elements touching it (both halves at the ends)
-                let p = chain_pattern(n);
                 for e in 0..n - 1 {
                     let mut block = [0.0; 4];
                     block[0] = Self::K
@@ -897,7 +898,7 @@ mod tests {
                     // ∂r_{e+1}/∂u_e = −K − S, ∂r_e/∂u_{e+1} = −K + S
                     block[1] = -Self::K - Self::SKEW;
                     block[2] = -Self::K + Self::SKEW;
-                    p.add_element_matrix(k, e, &block);
+                    self.pattern.add_element_matrix(k, e, &block);
                 }
             }
             Ok(lambda * 3.0)
@@ -929,6 +930,7 @@ mod tests {
             let mut chain = SkewChain {
                 u: vec![0.0; n],
                 committed: vec![0.0; n],
+                pattern: p.clone(),
             };
             let params = NewtonParams {
                 linear_forcing,

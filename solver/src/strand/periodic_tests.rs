@@ -71,6 +71,16 @@ fn solved(model: &StrandModel, strain: f64, curvature: f64) -> StrandProblem<'_>
     problem
 }
 
+/// Contacts of the last evaluated state that slide.
+fn slipping_contacts(problem: &StrandProblem<'_>) -> usize {
+    problem
+        .responses()
+        .iter()
+        .flatten()
+        .filter(|r| r.status == crate::contact::ContactStatus::Slip)
+        .count()
+}
+
 #[test]
 fn layout_anchors_the_outer_arc_ends_and_the_reference_configuration_satisfies_it() {
     let model = periodic_model();
@@ -175,12 +185,7 @@ fn eliminated_tangent_is_the_derivative_of_the_eliminated_residual() {
     strand.friction_coefficient = 1e3;
     let model = StrandModel::new(&strand, &periodic_params()).unwrap();
     let mut problem = solved(&model, 1e-3, 5e-3);
-    let slipping = problem
-        .responses()
-        .iter()
-        .flatten()
-        .filter(|r| r.status == crate::contact::ContactStatus::Slip)
-        .count();
+    let slipping = slipping_contacts(&problem);
     assert_eq!(slipping, 0);
     let n = model.pattern.size();
     let eqs = reduced_equations(&model);
@@ -219,12 +224,7 @@ fn element_work_on_threads_assembles_the_same_system_to_the_bit() {
     // periodic elimination after the parallel element work
     let model = periodic_model();
     let problem = solved(&model, 1e-3, 3e-2);
-    let slipping = problem
-        .responses()
-        .iter()
-        .flatten()
-        .filter(|r| r.status == crate::contact::ContactStatus::Slip)
-        .count();
+    let slipping = slipping_contacts(&problem);
     assert!(slipping > 0);
     let (n, nnz) = (model.pattern.size(), model.pattern.nnz());
     let evaluate = |mut p: StrandProblem<'_>, lambda: f64| {

@@ -24,7 +24,7 @@ use crate::beam::frame::{
 use crate::contact::{
     ContactHistory, ContactResponse, ElementMatrix, ElementVector, NodeKinematics,
 };
-use crate::linalg::NonlinearProblem;
+use crate::linalg::{NonlinearProblem, SparsePattern};
 
 /// How the load factor maps to the section motion.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -83,6 +83,52 @@ struct ContactWork {
     tangent: ElementMatrix,
     surrogate: ElementMatrix,
     response: Option<ContactResponse>,
+}
+
+impl ContactWork {
+    /// Contact `c` of `model` in `state`: its force and, if `with_tangent`, its tangent and
+    /// symmetric surrogate ([`crate::contact::ContactPair::residual_tangent_and_surrogate`]).
+    fn evaluate(
+        &mut self,
+        model: &StrandModel,
+        state: &FrameState,
+        histories: &[ContactHistory],
+        c: usize,
+        with_tangent: bool,
+    ) {
+        let pair = &model.contacts[c];
+        let [a, b] = model.mesh.contacts[c].nodes;
+        let (k1, k2) = (kinematics(state, a.0), kinematics(state, b.0));
+        self.response = Some(if with_tangent {
+            pair.residual_tangent_and_surrogate(
+                &histories[c],
+                &k1,
+                &k2,
+                &mut self.force,
+                &mut self.tangent,
+                &mut self.surrogate,
+            )
+        } else {
+            pair.residual(&histories[c], &k1, &k2, &mut self.force)
+        });
+    }
+
+    /// Adds the evaluated contact (pattern element `pe`) to the tangent and surrogate, if
+    /// given, and to the residual; its response.
+    fn add_to(
+        &self,
+        pattern: &SparsePattern,
+        pe: usize,
+        residual: &mut [f64],
+        tangent: &mut Option<(&mut [f64], &mut [f64])>,
+    ) -> ContactResponse {
+        if let Some((values, surrogate)) = tangent.as_mut() {
+            pattern.add_element_matrix(values, pe, self.tangent.as_slice());
+            pattern.add_element_matrix(surrogate, pe, self.surrogate.as_slice());
+        }
+        pattern.add_element_vector(residual, pe, self.force.as_slice());
+        self.response.expect("contact evaluated before it is added")
+    }
 }
 
 /// Buffers of the extended system assembled before the periodic elimination.
@@ -204,10 +250,6 @@ impl<'a> StrandProblem<'a> {
     /// Contact responses of the last evaluation (the committed state after a converged solve).
     pub fn responses(&self) -> &[Option<ContactResponse>] {
         &self.responses
-    }
-
-    fn kinematics(&self, node: usize) -> NodeKinematics {
-        kinematics(&self.trial, node)
     }
 
     fn predict(&mut self, load_factor: f64) {
@@ -341,112 +383,55 @@ impl StrandProblem<'_> {
     ) -> Result<f64, FrameError> {
         let model = self.model;
         let pattern = model.assembly_pattern();
-        let mut scale2 = 0.0;
-        if let Some(parallel) = self.parallel.as_mut() {
-            assemble_frame_parallel(
-                &parallel.pool,
-                &model.frame,
-                &self.trial,
-                pattern,
-                0,
-                residual,
-                tangent.as_mut().map(|(t, _)| &mut **t),
-                &mut parallel.frame,
-            )?;
-            if let Some((t, s)) = tangent.as_mut() {
-                s.copy_from_slice(t);
+        let with_tangent = tangent.is_some();
+        let (trial, histories) = (&self.trial, &self.histories);
+        let frame_tangent = tangent.as_mut().map(|(t, _)| &mut **t);
+        match self.parallel.as_mut() {
+            Some(parallel) => {
+                assemble_frame_parallel(
+                    &parallel.pool,
+                    &model.frame,
+                    trial,
+                    pattern,
+                    0,
+                    residual,
+                    frame_tangent,
+                    &mut parallel.frame,
+                )?;
+                parallel.pool.install(|| {
+                    parallel
+                        .contacts
+                        .par_iter_mut()
+                        .enumerate()
+                        .for_each(|(c, w)| w.evaluate(model, trial, histories, c, with_tangent));
+                });
             }
-            let with_tangent = tangent.is_some();
-            let (trial, histories) = (&self.trial, &self.histories);
-            parallel.pool.install(|| {
-                parallel
-                    .contacts
-                    .par_iter_mut()
-                    .zip(model.contacts.par_iter())
-                    .enumerate()
-                    .for_each(|(c, (w, pair))| {
-                        let [a, b] = model.mesh.contacts[c].nodes;
-                        let (k1, k2) = (kinematics(trial, a.0), kinematics(trial, b.0));
-                        w.response = Some(if with_tangent {
-                            pair.residual_tangent_and_surrogate(
-                                &histories[c],
-                                &k1,
-                                &k2,
-                                &mut w.force,
-                                &mut w.tangent,
-                                &mut w.surrogate,
-                            )
-                        } else {
-                            pair.residual(&histories[c], &k1, &k2, &mut w.force)
-                        });
-                    });
-            });
-            for (c, w) in parallel.contacts.iter().enumerate() {
-                let pe = model.contact_pattern_element(c);
-                if let Some((values, surrogate)) = tangent.as_mut() {
-                    pattern.add_element_matrix(values, pe, w.tangent.as_slice());
-                    pattern.add_element_matrix(surrogate, pe, w.surrogate.as_slice());
-                }
-                pattern.add_element_vector(residual, pe, w.force.as_slice());
-                let response = w.response.expect("evaluated above");
-                scale2 += response.normal_force_n * response.normal_force_n;
-                self.responses[c] = Some(response);
-            }
-        } else {
-            assemble_frame(
-                &model.frame,
-                &self.trial,
-                pattern,
-                0,
-                residual,
-                tangent.as_mut().map(|(t, _)| &mut **t),
-            )?;
-            if let Some((t, s)) = tangent.as_mut() {
-                s.copy_from_slice(t);
-            }
-            self.assemble_contacts(residual, tangent.as_mut(), &mut scale2);
+            None => assemble_frame(&model.frame, trial, pattern, 0, residual, frame_tangent)?,
         }
-        self.assemble_ties(load_factor, residual, tangent, scale2)
-    }
-
-    /// Contacts on the calling thread (the sequential path of [`Self::assemble`]).
-    fn assemble_contacts(
-        &mut self,
-        residual: &mut [f64],
-        mut tangent: Option<&mut (&mut [f64], &mut [f64])>,
-        scale2: &mut f64,
-    ) {
-        let model = self.model;
-        let pattern = model.assembly_pattern();
-        let (mut fe, mut ke, mut pe_m) = (
-            ElementVector::zeros(),
-            ElementMatrix::zeros(),
-            ElementMatrix::zeros(),
-        );
-        for (c, pair) in model.contacts.iter().enumerate() {
-            let [a, b] = model.mesh.contacts[c].nodes;
-            let (k1, k2) = (self.kinematics(a.0), self.kinematics(b.0));
-            let pe = model.contact_pattern_element(c);
-            let response = match tangent.as_mut() {
-                Some((values, surrogate)) => {
-                    let r = pair.residual_tangent_and_surrogate(
-                        &self.histories[c],
-                        &k1,
-                        &k2,
-                        &mut fe,
-                        &mut ke,
-                        &mut pe_m,
-                    );
-                    pattern.add_element_matrix(values, pe, ke.as_slice());
-                    pattern.add_element_matrix(surrogate, pe, pe_m.as_slice());
-                    r
+        if let Some((t, s)) = tangent.as_mut() {
+            s.copy_from_slice(t);
+        }
+        // contacts added in contact order, evaluated above on the pool or here one by one
+        let mut scale2 = 0.0;
+        let mut scratch = ContactWork::default();
+        for c in 0..model.contacts.len() {
+            let w = match self.parallel.as_ref() {
+                Some(parallel) => &parallel.contacts[c],
+                None => {
+                    scratch.evaluate(model, &self.trial, &self.histories, c, with_tangent);
+                    &scratch
                 }
-                None => pair.residual(&self.histories[c], &k1, &k2, &mut fe),
             };
-            pattern.add_element_vector(residual, pe, fe.as_slice());
-            *scale2 += response.normal_force_n * response.normal_force_n;
+            let response = w.add_to(
+                pattern,
+                model.contact_pattern_element(c),
+                residual,
+                &mut tangent,
+            );
+            scale2 += response.normal_force_n * response.normal_force_n;
             self.responses[c] = Some(response);
         }
+        self.assemble_ties(load_factor, residual, tangent, scale2)
     }
 
     /// Tie forces and tangents, added to `residual` and `tangent`; the force scale from the
