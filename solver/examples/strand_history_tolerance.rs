@@ -37,6 +37,8 @@ use moorfret_solver::strand::profile::{profile_from_json, profiles_from_json};
 
 #[path = "support/irregular.rs"]
 mod irregular;
+#[path = "support/logging.rs"]
+mod logging;
 use irregular::irregular_history;
 
 const BENCHMARK: &str = include_str!(concat!(
@@ -255,12 +257,7 @@ fn six_layer(args: &[String]) -> Result<(), Error> {
 }
 
 fn main() -> Result<(), Error> {
-    tracing_subscriber::fmt()
-        .with_env_filter(tracing_subscriber::EnvFilter::from_default_env())
-        .with_writer(std::io::stderr)
-        .with_ansi(false)
-        .with_timer(tracing_subscriber::fmt::time::uptime())
-        .init();
+    logging::init();
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.iter().any(|a| a == "--six-layer") {
         return six_layer(&args);

@@ -30,6 +30,8 @@ use moorfret_solver::strand::profile::profiles_from_json;
 mod directional;
 #[path = "support/irregular.rs"]
 mod irregular;
+#[path = "support/logging.rs"]
+mod logging;
 use directional::{directional_check, norm, statuses};
 use irregular::irregular_history;
 
@@ -39,12 +41,7 @@ const PROFILES: &str = include_str!(concat!(
 ));
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    tracing_subscriber::fmt()
-        .with_env_filter(tracing_subscriber::EnvFilter::from_default_env())
-        .with_writer(std::io::stderr)
-        .with_ansi(false)
-        .with_timer(tracing_subscriber::fmt::time::uptime())
-        .init();
+    logging::init();
     let args: Vec<f64> = std::env::args()
         .skip(1)
         .map(|a| a.parse::<f64>())

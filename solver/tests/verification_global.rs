@@ -237,17 +237,11 @@ fn floater_wave_loads_from_the_table_match_direct_summation() {
 #[test]
 fn mirrored_lines_share_their_precomputed_sea() {
     use moorfret_solver::global::sea::{LineSeaCache, Ramp};
-    use moorfret_solver::mooring::LineModel;
     use moorfret_solver::waves::{SeaKinematics, SeriesParams};
 
     let model = GlobalModel::new(&case(), floater(), Some(60.0)).unwrap();
     let eq = solve_coupled_statics(&model, &StaticsParams::default(), None).unwrap();
-    let lines: Vec<(&LineModel, &[f64])> = eq
-        .line_models
-        .iter()
-        .zip(&eq.line_solutions)
-        .map(|(m, s)| (m, s.q.as_slice()))
-        .collect();
+    let lines = eq.line_configurations();
     let ramp = Ramp { duration_s: 0.0 };
     let params = SeriesParams::default();
     let caches =

@@ -8,7 +8,7 @@ use moorfret_solver::mooring::hotspot::{tension_curvature_at, LineRecorder};
 use moorfret_solver::mooring::line::LineModel;
 use moorfret_solver::mooring::spec::{Environment, LineEnds, LineSpec, SeabedSpec, SegmentSpec};
 use moorfret_solver::mooring::statics::{solve_statics, StaticParams, StaticSolution, StaticStart};
-use moorfret_solver::mooring::trajectory::{SmoothMove, Stationary};
+use moorfret_solver::mooring::trajectory::{HarmonicMotion, SmoothMove, Stationary};
 use moorfret_solver::mooring::workspace::LineWorkspace;
 use moorfret_solver::mooring::LineError;
 use moorfret_solver::waves::{RegularWave, StillWater};
@@ -352,27 +352,40 @@ fn forced_divergence_reports_time_node_and_residual() {
     assert_eq!(state, before);
 }
 
-#[test]
-fn regular_wave_run_records_finite_hot_spot_histories_and_envelopes() {
-    let (spec, env, ends) = paper_case(Some(4.0));
-    let model = LineModel::new("line-1", &spec, ends, &env).unwrap();
-    let sol = statics(&model);
+/// A regular wave of `height_m` and `period_s` from 0°, and a fairlead moving harmonically
+/// about its place with `amplitude_m` at the same period, ramped up over one period.
+fn regular_excitation(
+    env: &Environment,
+    ends: &LineEnds,
+    height_m: f64,
+    period_s: f64,
+    amplitude_m: Vector3<f64>,
+) -> (RegularWave, HarmonicMotion) {
     let wave = RegularWave::new(
-        4.0,
-        10.0,
+        height_m,
+        period_s,
         0.0,
         0.0,
         env.water_depth_m,
         env.water_density_kg_m3,
     )
     .unwrap();
-    let motion = moorfret_solver::mooring::trajectory::HarmonicMotion {
+    let motion = HarmonicMotion {
         mean_m: ends.fairlead_m,
-        amplitude_m: Vector3::new(2.0, 0.0, 0.0),
-        period_s: 10.0,
+        amplitude_m,
+        period_s,
         phase_rad: 0.0,
-        ramp_s: 10.0,
+        ramp_s: period_s,
     };
+    (wave, motion)
+}
+
+#[test]
+fn regular_wave_run_records_finite_hot_spot_histories_and_envelopes() {
+    let (spec, env, ends) = paper_case(Some(4.0));
+    let model = LineModel::new("line-1", &spec, ends, &env).unwrap();
+    let sol = statics(&model);
+    let (wave, motion) = regular_excitation(&env, &ends, 4.0, 10.0, Vector3::new(2.0, 0.0, 0.0));
     let mut integ = LineIntegrator::new(&model, DynamicParams::default()).unwrap();
     let mut state = LineState::at_rest(&sol, 0.0);
     let mut rec = LineRecorder::new(&model, &[79.0], 0.5, 0.0).unwrap();
@@ -486,22 +499,7 @@ fn hot_spot_chatter(spectral_radius: f64, dt: f64, record_s: f64) -> (f64, f64) 
     let (spec, env, ends) = paper_case(None);
     let model = LineModel::new("line-1", &spec, ends, &env).unwrap();
     let sol = statics(&model);
-    let wave = RegularWave::new(
-        6.0,
-        12.0,
-        0.0,
-        0.0,
-        env.water_depth_m,
-        env.water_density_kg_m3,
-    )
-    .unwrap();
-    let motion = moorfret_solver::mooring::trajectory::HarmonicMotion {
-        mean_m: ends.fairlead_m,
-        amplitude_m: Vector3::new(1.5, 0.0, 0.5),
-        period_s: 12.0,
-        phase_rad: 0.0,
-        ramp_s: 12.0,
-    };
+    let (wave, motion) = regular_excitation(&env, &ends, 6.0, 12.0, Vector3::new(1.5, 0.0, 0.5));
     let params = DynamicParams {
         spectral_radius,
         condense_fairlead: false,

@@ -30,7 +30,6 @@ use super::system::{FloaterModel, GlobalModel, StaticEquilibrium};
 use crate::floater::BodyState;
 use crate::mooring::dynamics::{DynamicParams, LineIntegrator, LineState};
 use crate::mooring::hotspot::{node_values, LineRecorder};
-use crate::mooring::LineModel;
 use crate::waves::{SeaKinematics, SeriesParams, TableParams};
 
 /// Settings of the coupled dynamics.
@@ -123,14 +122,8 @@ pub fn run_dynamics(
     // Precomputed line kinematics.
     let clock = Instant::now();
     let caches: Vec<Option<LineSeaCache<'_>>> = if params.precompute_line_kinematics {
-        let lines: Vec<(&LineModel, &[f64])> = eq
-            .line_models
-            .iter()
-            .zip(&eq.line_solutions)
-            .map(|(m, s)| (m, s.q.as_slice()))
-            .collect();
         LineSeaCache::for_lines(
-            &lines,
+            &eq.line_configurations(),
             &model.sea,
             ramp,
             &params.series,

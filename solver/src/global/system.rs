@@ -240,6 +240,17 @@ pub struct StaticEquilibrium {
     pub residual: f64,
 }
 
+impl StaticEquilibrium {
+    /// Every line model with its equilibrium nodal unknowns, in line order.
+    pub fn line_configurations(&self) -> Vec<(&LineModel, &[f64])> {
+        self.line_models
+            .iter()
+            .zip(&self.line_solutions)
+            .map(|(m, s)| (m, s.q.as_slice()))
+            .collect()
+    }
+}
+
 /// Runs `f(k)` for every line, in parallel on `pool` when given; results in line order.
 pub(crate) fn for_lines<T: Send>(
     n: usize,
