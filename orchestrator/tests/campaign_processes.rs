@@ -59,6 +59,20 @@ fn moorfret(args: &[&str]) -> Command {
     cmd
 }
 
+/// Standard output of `moorfret query KIND --campaign CAMPAIGN --db DB EXTRA…`, which must
+/// succeed.
+fn query_output(db: &str, campaign: &str, kind: &str, extra: &[&str]) -> Vec<u8> {
+    let mut args = vec!["query", kind, "--campaign", campaign, "--db", db];
+    args.extend_from_slice(extra);
+    let out = moorfret(&args).stdout(Stdio::piped()).output().unwrap();
+    assert!(
+        out.status.success(),
+        "query {kind}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out.stdout
+}
+
 /// A standalone worker on `db` whose log goes to `log` (read back by [`wait_until`] when a
 /// test times out, so that a worker that exited early shows why).
 fn worker(db: &str, log: &Path) -> Child {
@@ -397,25 +411,7 @@ fn demo_sea_state_runs_through_both_real_stages() {
         classes
     });
     let query = |kind: &str| -> Vec<serde_json::Value> {
-        let out = moorfret(&[
-            "query",
-            kind,
-            "--campaign",
-            "demo",
-            "--db",
-            &db,
-            "--format",
-            "json",
-        ])
-        .stdout(Stdio::piped())
-        .output()
-        .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        serde_json::from_slice(&out.stdout).unwrap()
+        serde_json::from_slice(&query_output(&db, "demo", kind, &["--format", "json"])).unwrap()
     };
     // the test scatter has one sea state: one row per contact class
     let rows = query("damage-inputs");
@@ -534,27 +530,13 @@ fn campaign_results(db: &str, id: CampaignId) -> (CampaignResults, bool) {
         ("sea-states", "fretting_max"),
         ("lifetime", "fretting_max"),
     ] {
-        let out = moorfret(&[
-            "query",
-            kind,
-            "--campaign",
-            "strand_resume",
-            "--db",
+        let out = query_output(
             db,
-            "--format",
-            "csv",
-            "--measure",
-            measure,
-        ])
-        .stdout(Stdio::piped())
-        .output()
-        .unwrap();
-        assert!(
-            out.status.success(),
-            "query {kind}: {}",
-            String::from_utf8_lossy(&out.stderr)
+            "strand_resume",
+            kind,
+            &["--format", "csv", "--measure", measure],
         );
-        let csv = String::from_utf8(out.stdout).unwrap();
+        let csv = String::from_utf8(out).unwrap();
         assert!(csv.lines().count() > 1, "query {kind} has no rows:\n{csv}");
         queries.push((format!("{kind} {measure}"), csv));
     }

@@ -58,6 +58,19 @@ fn run(load: &Path, out: &Path, extra: &[&str]) -> Output {
         .unwrap()
 }
 
+/// [`run`] writing a checkpoint `OUT.checkpoint` beside `out` every 2 segments.
+fn run_checkpointed(load: &Path, out: &Path, extra: &[&str]) -> Output {
+    let cp = out.with_extension("checkpoint");
+    let mut args = vec![
+        "--checkpoint",
+        cp.to_str().unwrap(),
+        "--checkpoint-every",
+        "2",
+    ];
+    args.extend_from_slice(extra);
+    run(load, out, &args)
+}
+
 fn column(header: &[String], data: &[Vec<f64>], name: &str) -> Vec<f64> {
     let i = header
         .iter()
@@ -92,18 +105,9 @@ fn a_tension_history_writes_physical_outputs_and_resumes_identically() {
 
     // uninterrupted run, checkpoints written on the way
     let full = dir.path().join("full");
-    let cp_full = dir.path().join("full.checkpoint");
+    let cp_full = full.with_extension("checkpoint");
     let started = std::time::Instant::now();
-    let o = run(
-        &load,
-        &full,
-        &[
-            "--checkpoint",
-            cp_full.to_str().unwrap(),
-            "--checkpoint-every",
-            "2",
-        ],
-    );
+    let o = run_checkpointed(&load, &full, &[]);
     eprintln!("full run: {:.1} s", started.elapsed().as_secs_f64());
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let stdout = String::from_utf8_lossy(&o.stdout);
@@ -262,17 +266,7 @@ fn a_tension_history_writes_physical_outputs_and_resumes_identically() {
     // the same model again (same checkpoint cadence, which resets the preconditioner
     // history): EA comes from the cache, to the bit, and so do the results
     let again = dir.path().join("again");
-    let cp_again = dir.path().join("again.checkpoint");
-    let o = run(
-        &load,
-        &again,
-        &[
-            "--checkpoint",
-            cp_again.to_str().unwrap(),
-            "--checkpoint-every",
-            "2",
-        ],
-    );
+    let o = run_checkpointed(&load, &again, &[]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let cached: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(again.join("summary.json")).unwrap())
@@ -288,40 +282,18 @@ fn a_tension_history_writes_physical_outputs_and_resumes_identically() {
     // interrupted after 3 segments (last checkpoint after 2), then resumed; both with the EA
     // measured above given instead of measured again
     let part = dir.path().join("part");
-    let cp = dir.path().join("part.checkpoint");
-    let cp_arg = cp.to_str().unwrap();
+    let cp = part.with_extension("checkpoint");
     let ea_arg = format!("{ea}");
-    let o = run(
+    let o = run_checkpointed(
         &load,
         &part,
-        &[
-            "--checkpoint",
-            cp_arg,
-            "--checkpoint-every",
-            "2",
-            "--stop-after-segments",
-            "3",
-            "--axial-stiffness-n",
-            &ea_arg,
-        ],
+        &["--stop-after-segments", "3", "--axial-stiffness-n", &ea_arg],
     );
     assert!(!o.status.success());
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("--resume"), "{err}");
     assert!(cp.exists() && !part.join("monitors.csv").exists());
-    let o = run(
-        &load,
-        &part,
-        &[
-            "--checkpoint",
-            cp_arg,
-            "--checkpoint-every",
-            "2",
-            "--resume",
-            "--axial-stiffness-n",
-            &ea_arg,
-        ],
-    );
+    let o = run_checkpointed(&load, &part, &["--resume", "--axial-stiffness-n", &ea_arg]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(String::from_utf8_lossy(&o.stdout).contains("(given;"));
     let resumed: serde_json::Value =

@@ -232,11 +232,7 @@ struct Observer {
 impl Observer {
     fn write(&self, path: &Path, checkpoint: &HistoryCheckpoint) -> anyhow::Result<()> {
         let bytes = checkpoint.to_bytes()?;
-        let mut tmp = path.as_os_str().to_owned();
-        tmp.push(".tmp");
-        let tmp = PathBuf::from(tmp);
-        std::fs::write(&tmp, bytes).with_context(|| format!("writing {}", tmp.display()))?;
-        std::fs::rename(&tmp, path).with_context(|| format!("renaming to {}", path.display()))
+        replace_file(path, &bytes).with_context(|| format!("writing {}", path.display()))
     }
 }
 
@@ -424,6 +420,16 @@ fn peaks_by_interface(contacts: &[ContactRecord]) -> BTreeMap<String, InterfaceP
     out
 }
 
+/// Replaces `path` by `bytes` through a temporary file beside it and a rename, so that a
+/// reader never sees a partial file.
+fn replace_file(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(format!(".tmp-{}", std::process::id()));
+    let tmp = PathBuf::from(tmp);
+    std::fs::write(&tmp, bytes)?;
+    std::fs::rename(&tmp, path)
+}
+
 /// Cache of EA values measured on strand models ([`measure_axial_stiffness_n`]): one small JSON
 /// file per (model, measuring strain, Newton settings), named by the SHA-256 of their
 /// description, written by temp file and rename. A changed profile, regularisation, end
@@ -431,6 +437,8 @@ fn peaks_by_interface(contacts: &[ContactRecord]) -> BTreeMap<String, InterfaceP
 /// used, at worst EA is measured again.
 struct StiffnessCache {
     file: PathBuf,
+    /// What the key hashes.
+    description: String,
 }
 
 #[derive(Debug, Serialize, serde::Deserialize)]
@@ -450,7 +458,7 @@ impl StiffnessCache {
         params: &StrandModelParameters,
         strain: f64,
         newton: &NewtonParams,
-    ) -> Option<(Self, String)> {
+    ) -> Option<Self> {
         let dir = match dir {
             Some(d) => d.to_path_buf(),
             None => std::env::var_os("XDG_CACHE_HOME")
@@ -472,7 +480,7 @@ impl StiffnessCache {
             .map(|b| format!("{b:02x}"))
             .collect();
         let file = dir.join("axial_stiffness").join(format!("{key}.json"));
-        Some((Self { file }, description))
+        Some(Self { file, description })
     }
 
     /// The cached EA, if the entry exists and reads back as a finite positive value.
@@ -482,19 +490,60 @@ impl StiffnessCache {
         (entry.ea_n.is_finite() && entry.ea_n > 0.0).then_some(entry.ea_n)
     }
 
-    /// Stores `entry`; a cache that cannot be written only costs a measurement next time.
-    fn put(&self, entry: &CachedStiffness) {
-        let write = || -> std::io::Result<()> {
-            let dir = self.file.parent().expect("cache file has a directory");
-            std::fs::create_dir_all(dir)?;
-            let tmp = dir.join(format!(".tmp-{}", std::process::id()));
-            std::fs::write(&tmp, serde_json::to_vec_pretty(entry)?)?;
-            std::fs::rename(&tmp, &self.file)
+    /// Stores `ea_n` measured at `strain`; a cache that cannot be written only costs a
+    /// measurement next time.
+    fn put(&self, ea_n: f64, strain: f64) {
+        let entry = CachedStiffness {
+            ea_n,
+            measured_at_strain: strain,
+            model: self.description.clone(),
         };
-        if let Err(e) = write() {
+        let written = self
+            .file
+            .parent()
+            .map_or(Ok(()), std::fs::create_dir_all)
+            .and_then(|()| replace_file(&self.file, &serde_json::to_vec_pretty(&entry)?));
+        if let Err(e) = written {
             tracing::warn!(error = %e, file = %self.file.display(), "EA not cached");
         }
     }
+}
+
+/// EA for a tension history: given (`--axial-stiffness-n`), from the cache, or measured on
+/// `model` (and cached); with its source and the measuring strain (none when given).
+fn axial_stiffness_n(
+    model: &StrandModel,
+    params: &StrandModelParameters,
+    args: &HistoryArgs,
+    options: &HistoryOptions,
+) -> anyhow::Result<(f64, &'static str, Option<f64>)> {
+    if let Some(ea) = args.axial_stiffness_n {
+        if !(ea.is_finite() && ea > 0.0) {
+            bail!("--axial-stiffness-n {ea}: the axial stiffness must be finite and > 0 N");
+        }
+        return Ok((ea, "given", None));
+    }
+    let strain = args.stiffness_strain;
+    let cache = StiffnessCache::new(
+        args.cache_dir.as_deref(),
+        model,
+        params,
+        strain,
+        &options.initialisation_newton(),
+    );
+    if let Some(ea) = cache
+        .as_ref()
+        .filter(|_| !args.no_cache)
+        .and_then(StiffnessCache::get)
+    {
+        return Ok((ea, "cached", Some(strain)));
+    }
+    let ea = measure_axial_stiffness_n(model, strain, options)
+        .context("measuring the axial stiffness EA of the strand model")?;
+    if let Some(c) = &cache {
+        c.put(ea, strain);
+    }
+    Ok((ea, "measured", Some(strain)))
 }
 
 /// The load samples of `table` on `model`, with the EA used and the slack sample count.
@@ -518,57 +567,16 @@ fn samples_of(
         }
         LoadKind::Tension => {
             let estimate = straight_strand_stiffness(&model.strand);
-            let (ea, source, measured_at_strain) = match args.axial_stiffness_n {
-                Some(ea) => {
-                    if !(ea.is_finite() && ea > 0.0) {
-                        anyhow::bail!(
-                            "--axial-stiffness-n {ea}: the axial stiffness must be finite and \
-                             > 0 N"
-                        );
-                    }
-                    println!(
-                        "axial stiffness EA = {ea:.6e} N (given; straight strand {:.6e} N, \
-                         Costello-corrected {:.6e} N)",
-                        estimate.simple_n, estimate.corrected_n
-                    );
-                    (ea, "given", None)
-                }
-                None => {
-                    let strain = args.stiffness_strain;
-                    let cache = StiffnessCache::new(
-                        args.cache_dir.as_deref(),
-                        model,
-                        params,
-                        strain,
-                        &options.initialisation_newton(),
-                    );
-                    let cached = cache
-                        .as_ref()
-                        .filter(|_| !args.no_cache)
-                        .and_then(|(c, _)| c.get());
-                    let (ea, source) = match cached {
-                        Some(ea) => (ea, "cached"),
-                        None => {
-                            let ea = measure_axial_stiffness_n(model, strain, options)
-                                .context("measuring the axial stiffness EA of the strand model")?;
-                            if let Some((c, description)) = &cache {
-                                c.put(&CachedStiffness {
-                                    ea_n: ea,
-                                    measured_at_strain: strain,
-                                    model: description.clone(),
-                                });
-                            }
-                            (ea, "measured")
-                        }
-                    };
-                    println!(
-                        "axial stiffness EA = {ea:.6e} N ({source} on the model at ε = {strain}; \
-                         straight strand {:.6e} N, Costello-corrected {:.6e} N)",
-                        estimate.simple_n, estimate.corrected_n
-                    );
-                    (ea, source, Some(strain))
-                }
+            let (ea, source, measured_at_strain) = axial_stiffness_n(model, params, args, options)?;
+            let how = match measured_at_strain {
+                Some(strain) => format!("{source} on the model at ε = {strain}"),
+                None => source.to_string(),
             };
+            println!(
+                "axial stiffness EA = {ea:.6e} N ({how}; straight strand {:.6e} N, \
+                 Costello-corrected {:.6e} N)",
+                estimate.simple_n, estimate.corrected_n
+            );
             let series = HotSpotSeries {
                 time_s: table.time_s.clone(),
                 tension_n: table.value.clone(),
