@@ -31,20 +31,9 @@ pub(crate) fn bar_residual(
     let l = ctx.length_m;
     let mut r = [Vector3::zeros(); 2];
     let d = x.q[1] - x.q[0];
-    let len = d.norm();
-    if len > 0.0 {
-        let e = d / len;
-        let (elastic, _, _) = slack_axial_force(sec.ea_n, len / l - 1.0);
-        let c = if ctx.dynamic {
-            sec.axial_damping_n_s(l, ctx.coef.axial_damping_ratio)
-        } else {
-            0.0
-        };
-        let (phi, _) = slack_slope(len / l - 1.0);
-        let rate = e.dot(&(x.v[1] - x.v[0])) / l;
-        let force = elastic + c * phi * rate;
-        r[0] -= e * force;
-        r[1] += e * force;
+    if let Some(ax) = BarAxial::of(ctx, x, &d) {
+        r[0] -= ax.e * ax.force;
+        r[1] += ax.e * ax.force;
     }
     let w = 0.5 * l;
     for (node, water_at_node) in water.iter().take(2).enumerate() {
@@ -68,6 +57,59 @@ pub(crate) fn bar_residual(
     r
 }
 
+/// Axial state of a bar of chord `d` = q_j − q_i (none for a bar of zero length): the
+/// tension-only elastic law and the axial structural damping on ε̇ = e · (v_j − v_i) / L,
+/// weighted by the slope φ of that law (φ = 1 taut, 0 slack) so that a slack chain resists no
+/// compression.
+struct BarAxial {
+    /// Unit chord.
+    e: Vector3<f64>,
+    /// Chord length ℓ (m).
+    len: f64,
+    /// dN/dε of the elastic law (N).
+    dforce: f64,
+    /// Damping coefficient (N s; 0 in statics).
+    c: f64,
+    /// φ and dφ/dε.
+    phi: f64,
+    dphi: f64,
+    /// Relative velocity v_j − v_i (m/s) and strain rate ε̇ (1/s).
+    w_rel: Vector3<f64>,
+    rate: f64,
+    /// Axial force N (N).
+    force: f64,
+}
+
+impl BarAxial {
+    fn of(ctx: &ElementContext<'_>, x: &ElementValues<2>, d: &Vector3<f64>) -> Option<Self> {
+        let (sec, l) = (ctx.sec, ctx.length_m);
+        // zero or NaN length: no axial state
+        let len = Some(d.norm()).filter(|&len| len > 0.0)?;
+        let e = d / len;
+        let (elastic, dforce, _) = slack_axial_force(sec.ea_n, len / l - 1.0);
+        let c = if ctx.dynamic {
+            sec.axial_damping_n_s(l, ctx.coef.axial_damping_ratio)
+        } else {
+            0.0
+        };
+        let (phi, dphi) = slack_slope(len / l - 1.0);
+        let w_rel = x.v[1] - x.v[0];
+        let rate = e.dot(&w_rel) / l;
+        let force = elastic + c * phi * rate;
+        Some(Self {
+            e,
+            len,
+            dforce,
+            c,
+            phi,
+            dphi,
+            w_rel,
+            rate,
+            force,
+        })
+    }
+}
+
 /// Residual M q̈ + f_int − f_ext and iteration matrix of a bar.
 pub fn bar_system(
     ctx: &ElementContext<'_>,
@@ -78,21 +120,18 @@ pub fn bar_system(
     let l = ctx.length_m;
     let mut out = LocalSystem::<2>::zero();
     let d = x.q[1] - x.q[0];
-    let len = d.norm();
-    if len > 0.0 {
-        let e = d / len;
-        let (elastic, dforce, _) = slack_axial_force(sec.ea_n, len / l - 1.0);
-        // Axial structural damping on ε̇ = e · (v_j − v_i) / L, weighted by the slope φ of the
-        // tension-only law (φ = 1 taut, 0 slack) so that a slack chain resists no compression.
-        let c = if ctx.dynamic {
-            sec.axial_damping_n_s(l, ctx.coef.axial_damping_ratio)
-        } else {
-            0.0
-        };
-        let (phi, dphi) = slack_slope(len / l - 1.0);
-        let w_rel = x.v[1] - x.v[0];
-        let rate = e.dot(&w_rel) / l;
-        let force = elastic + c * phi * rate;
+    if let Some(BarAxial {
+        e,
+        len,
+        dforce,
+        c,
+        phi,
+        dphi,
+        w_rel,
+        rate,
+        force,
+    }) = BarAxial::of(ctx, x, &d)
+    {
         let eet = e * e.transpose();
         let p = Matrix3::identity() - eet;
         // ∂N/∂d = (N'(ε) + c ε̇ φ'(ε)) e / L + c φ P w / (L ℓ), ∂N/∂w = c φ e / L.
