@@ -87,11 +87,7 @@ impl BarAxial {
         let len = Some(d.norm()).filter(|&len| len > 0.0)?;
         let e = d / len;
         let (elastic, dforce, _) = slack_axial_force(sec.ea_n, len / l - 1.0);
-        let c = if ctx.dynamic {
-            sec.axial_damping_n_s(l, ctx.coef.axial_damping_ratio)
-        } else {
-            0.0
-        };
+        let c = ctx.axial_damping_n_s();
         let (phi, dphi) = slack_slope(len / l - 1.0);
         let w_rel = x.v[1] - x.v[0];
         let rate = e.dot(&w_rel) / l;

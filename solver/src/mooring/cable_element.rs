@@ -49,6 +49,50 @@ pub struct ElementContext<'a> {
     pub dynamic: bool,
 }
 
+impl ElementContext<'_> {
+    /// Coefficient c (N s) of the axial structural damping on the strain rate; 0 in statics.
+    pub(crate) fn axial_damping_n_s(&self) -> f64 {
+        if self.dynamic {
+            self.sec
+                .axial_damping_n_s(self.length_m, self.coef.axial_damping_ratio)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// Axial state of a cable element at a Gauss point.
+struct CableAxial {
+    /// |r'|.
+    stretch: f64,
+    /// Unit tangent t = r' / |r'|.
+    t: Vector3<f64>,
+    /// ṙ'.
+    v_x: Vector3<f64>,
+    /// Axial force N = EA (|r'| − 1) + c t · ṙ' (N).
+    force: f64,
+}
+
+impl CableAxial {
+    /// At the point with gradient `r_x` and shape derivatives `dn`, nodal rates `v`, damping
+    /// coefficient `c`.
+    fn at(sec: &Section, c: f64, r_x: &Vector3<f64>, dn: &[f64; 4], v: &[Vector3<f64>; 4]) -> Self {
+        let stretch = r_x.norm();
+        let t = r_x / stretch;
+        let v_x = dn
+            .iter()
+            .zip(v)
+            .fold(Vector3::zeros(), |acc, (d, v)| acc + v * *d);
+        let force = sec.ea_n * (stretch - 1.0) + c * t.dot(&v_x);
+        Self {
+            stretch,
+            t,
+            v_x,
+            force,
+        }
+    }
+}
+
 /// Nodal values of an element with `NC` vector coefficients.
 #[derive(Debug, Clone, Copy)]
 pub struct ElementValues<const NC: usize> {
@@ -75,22 +119,12 @@ pub(crate) fn cable_residual(
     if ctx.dynamic {
         add_scalar_product(&mut r, &mass_integrals(l), sec.mass_kg_per_m, &x.a);
     }
-    let c = if ctx.dynamic {
-        sec.axial_damping_n_s(l, ctx.coef.axial_damping_ratio)
-    } else {
-        0.0
-    };
+    let c = ctx.axial_damping_n_s();
     for (g, &(xi, wg)) in GAUSS3.iter().enumerate() {
         let s = hermite(xi, l);
         let w = wg * l;
         let k = PointKinematics::interpolate(&s.n, &s.dn, &x.q, &x.v, &x.a);
-        let stretch = k.r_x.norm();
-        let t = k.r_x / stretch;
-        let v_x =
-            s.dn.iter()
-                .zip(&x.v)
-                .fold(Vector3::zeros(), |acc, (d, v)| acc + v * *d);
-        let force = sec.ea_n * (stretch - 1.0) + c * t.dot(&v_x);
+        let CableAxial { t, force, .. } = CableAxial::at(sec, c, &k.r_x, &s.dn, &x.v);
         for (ra, dna) in r.iter_mut().zip(&s.dn) {
             *ra += t * (w * force * dna);
         }
@@ -129,24 +163,19 @@ pub fn cable_system(
     if ctx.dynamic {
         out.add_scalar_matrix(&mass_integrals(l), sec.mass_kg_per_m, &x.a, ctx.coef.beta_p);
     }
+    // Axial structural damping on the strain rate ε̇ = t · ṙ' (dynamics only).
+    let c = ctx.axial_damping_n_s();
     for (g, &(xi, wg)) in GAUSS3.iter().enumerate() {
         let s = hermite(xi, l);
         let w = wg * l;
         let k = PointKinematics::interpolate(&s.n, &s.dn, &x.q, &x.v, &x.a);
-        // Axial force.
-        let stretch = k.r_x.norm();
-        let t = k.r_x / stretch;
-        // Axial structural damping on the strain rate ε̇ = t · ṙ' (dynamics only).
-        let c = if ctx.dynamic {
-            sec.axial_damping_n_s(l, ctx.coef.axial_damping_ratio)
-        } else {
-            0.0
-        };
-        let v_x =
-            s.dn.iter()
-                .zip(&x.v)
-                .fold(Vector3::zeros(), |acc, (d, v)| acc + v * *d);
-        let (force, dforce) = (sec.ea_n * (stretch - 1.0) + c * t.dot(&v_x), sec.ea_n);
+        let CableAxial {
+            stretch,
+            t,
+            v_x,
+            force,
+        } = CableAxial::at(sec, c, &k.r_x, &s.dn, &x.v);
+        let dforce = sec.ea_n;
         for a in 0..4 {
             out.r[a] += t * (w * force * s.dn[a]);
         }
