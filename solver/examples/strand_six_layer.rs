@@ -387,7 +387,45 @@ fn layer_report(
             max,
             pen
         );
+        wire_force_spread(model, problem, k)?;
     }
+    Ok(())
+}
+
+/// Periodicity in tension: the axial force of every element of layer `k`'s wires, the
+/// reference wire (wire 0 of the layer) apart, as mean / min / max over the interior and over
+/// the end elements.
+fn wire_force_spread(
+    model: &StrandModel,
+    problem: &StrandProblem<'_>,
+    k: usize,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use moorfret_solver::strand::history::monitors::element_axial_force;
+    let reference = model.strand.first_wire_of_layer(k);
+    let wires = model.strand.wires();
+    let mut groups = [(0.0f64, f64::INFINITY, f64::NEG_INFINITY, 0usize); 4];
+    for w in wires.iter().filter(|w| w.layer == Some(k)) {
+        let own: Vec<usize> = (0..model.mesh.elements.len())
+            .filter(|&e| model.mesh.elements[e].wire == w.id)
+            .collect();
+        for (i, &e) in own.iter().enumerate() {
+            let f = element_axial_force(model, problem.state(), e)?;
+            let end = i == 0 || i + 1 == own.len();
+            let g = &mut groups[2 * usize::from(w.id == reference) + usize::from(end)];
+            *g = (g.0 + f, g.1.min(f), g.2.max(f), g.3 + 1);
+        }
+    }
+    let show = |g: (f64, f64, f64, usize)| {
+        format!("{:.0} [{:.0}, {:.0}]", g.0 / g.3.max(1) as f64, g.1, g.2)
+    };
+    println!(
+        "    wire force (N), mean [min, max]: other wires interior {}, ends {}; reference \
+         wire interior {}, ends {}",
+        show(groups[0]),
+        show(groups[1]),
+        show(groups[2]),
+        show(groups[3])
+    );
     Ok(())
 }
 

@@ -3,29 +3,43 @@
 //!
 //! The core wire is fully imposed by the section motion (ε, κ) ([`super::loading`]), so its
 //! points C are known functions of the load, with positions x_C = c(z) and rotations R_C = R(z).
-//! In every helical layer, wire 0 is the reference wire; its phase puts its z = 0 end at the
-//! outer arc (θ = π/2, the profile's default phase).
+//! Under a constant (ε, κ) the state of a wire point depends only on its layer and its angle θ
+//! from the bending axis (seed Sec. 2.3): the relative position R(z)ᵀ (x − c(z)) of every point
+//! at the same θ in a layer is the same up to the rotation about the strand axis that carries
+//! one angle to the other. In every helical layer, wire 0 is the reference wire; its phase puts
+//! its z = 0 end at the outer arc (θ = π/2, the profile's default phase).
 //! - A reference-wire end at the outer arc, Q, is anchored: it keeps its place in the cross
 //!   section and the section's rotation, x_Q = map(X_Q), Λ_Q = R(z_Q) (fully prescribed).
-//! - Every other wire end P follows the point R of the reference wire at the same angle θ,
-//!   relative to the core (Eq. 12), and the rotation of its cross section (Eq. 13):
-//!   R(z_P)ᵀ (x_P − c(z_P)) = R(z_R)ᵀ (x_R − c(z_R)) + e₀,   Λ_P = R(z_P),
-//!   where x_R = N_a x_a + N_b x_b interpolates the element of the reference wire containing R
-//!   (linear in z between its nodes a, b) and e₀ is the reference mismatch of that interpolation
-//!   (the chord sag, zero when R is a node), so that the reference configuration satisfies the
-//!   constraint exactly. R is the point at angle θ_P nearest mid-length (inner layers, whose lay
-//!   length is shorter than the model, have several) whose element has no eliminated end; when
-//!   the model length is not exactly a lay length, the reference wire's far end is eliminated
-//!   too, and its R, one lay length back, may lie just outside the model (linear extrapolation
-//!   of the first element).
+//! - Every other far end P (z = L) follows the start ends S (z = 0) of its layer at the angles
+//!   around its own, relative to the core (Eq. 12), and the rotation of its cross section
+//!   (Eq. 13):
+//!   R(z_P)ᵀ (x_P − c(z_P)) = Σ_S w_S T(θ_P − θ_S) R(z_S)ᵀ (x_S − c(z_S)) + e₀,   Λ_P = R(z_P),
+//!   with T(φ) the rotation by φ about the strand axis, w_S the weights of the cubic
+//!   interpolation in angle through the four start ends nearest θ_P ([`angular_interpolation`]),
+//!   and e₀ the round-off of the reference configuration.
 //!
-//! Because C_P, C_R are prescribed, the constraint is affine in the unknowns:
-//!   x_P = c(z_P) + A (N_a x_a + N_b x_b − c(z_R)) + R(z_P) e₀,   A = R(z_P) R(z_R)ᵀ,
-//! so its linearisation δx_P = A (N_a δx_a + N_b δx_b) is exact: the eliminated system
+//! Why start ends and not, as in the seed, the point R of the reference wire at the angle θ_P:
+//! the tie's reaction is the end force of P's wire (the wire tension), and a tie to an interior
+//! point of the reference wire applies it there as a point load that the infinite strand does
+//! not have. Where a far end and a start end of a wire share their angle and their point R, the
+//! two loads cancel; in a layer whose lay length does not divide the model length (the inner
+//! five layers of the paper strand) they do not, and the six-layer model in pure tension
+//! carried reference-wire forces from −3.1 to +7.5 kN against 2.3-2.9 kN in the other wires.
+//! A start end is a cut like P, so the reaction goes where the wire continues. With weights
+//! that sum to 1 and every far end of a layer at the same angle from its nearest start ends,
+//! every start end receives the full end force once: pure tension is carried over exactly,
+//! and in bending the error is that of the cubic interpolation of the sin θ stick field,
+//! O((2π/n)⁴) for a layer of n wires. A layer that closes on itself over the model length
+//! (far end at a start end's angle: the outer layer, model length = its lay length) ties
+//! every far end to the start end at its angle, the seed's tie.
+//!
+//! Because C_P, C_S are prescribed, the constraint is affine in the unknowns:
+//!   x_P = c(z_P) + Σ_S w_S A_S (x_S − c(z_S)) + R(z_P) e₀,   A_S = R(z_P) T(θ_P − θ_S) R(z_S)ᵀ,
+//! so its linearisation δx_P = Σ_S w_S A_S δx_S is exact: the eliminated system
 //! K_red = Tᵀ K T, r_red = Tᵀ r (T the map from the reduced unknowns to the extended ones) is
-//! the consistent tangent of the reduced problem and Newton keeps its quadratic convergence
-//! (the seed's partial linearisation is not needed). No interior outer-arc point is coupled
-//! (seed Sec. 2.3: it created artefacts).
+//! the consistent tangent of the reduced problem, symmetric where the contact tangent is, and
+//! Newton keeps its quadratic convergence (the seed's partial linearisation is not needed). No
+//! interior outer-arc point is coupled (seed Sec. 2.3: it created artefacts).
 //!
 //! Assembly runs on the extended pattern (every unknown but the core, the anchored ends and the
 //! end rotations, P translations included) and is reduced entry by entry with a plan computed
@@ -43,36 +57,53 @@ use crate::linalg::{Equation, PatternError, SparsePattern, Storage};
 /// Which DOFs of every node are prescribed: the core, the anchored ends, the end rotations.
 pub type Prescription = Vec<[bool; NODE_DOFS]>;
 
-/// One eliminated wire end P (module docs).
+/// One start end S that an eliminated end interpolates (module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Master {
+    /// The node S.
+    pub node: usize,
+    /// Its reference axial coordinate (m).
+    pub z_m: f64,
+    /// Interpolation weight w(θ_P − θ_S).
+    pub weight: f64,
+    /// Rotation about the strand axis that carries S's angle to P's, θ_P − θ_S (rad).
+    pub turn_rad: f64,
+}
+
+/// One eliminated wire end P (module docs).
+#[derive(Clone, Debug, PartialEq)]
 pub struct EndConstraint {
     /// The node P.
     pub node: usize,
     /// Its reference axial coordinate (m).
     pub z_p_m: f64,
-    /// Reference axial coordinate of R (m).
-    pub z_r_m: f64,
-    /// Nodes a, b of the reference-wire element containing R.
-    pub masters: [usize; 2],
-    /// Interpolation weights N_a, N_b.
-    pub weights: [f64; 2],
-    /// Reference mismatch e₀ in the section frame (m).
+    /// The start ends of P's layer it interpolates.
+    pub masters: Vec<Master>,
+    /// Reference mismatch e₀ in the section frame (m): round-off of the interpolation.
     pub offset_m: Vector3<f64>,
 }
 
+/// Rotation by `angle` about the strand axis.
+fn turn(angle: f64) -> Matrix3<f64> {
+    let (s, c) = angle.sin_cos();
+    Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
+}
+
 impl EndConstraint {
-    /// A = R(z_P) R(z_R)ᵀ under `motion`.
-    pub fn transfer(&self, motion: &SectionMotion) -> Matrix3<f64> {
-        motion.rotation(self.z_p_m) * motion.rotation(self.z_r_m).transpose()
+    /// A_S = R(z_P) T(θ_P − θ_S) R(z_S)ᵀ of master `s` under `motion`.
+    pub fn transfer(&self, s: usize, motion: &SectionMotion) -> Matrix3<f64> {
+        let m = &self.masters[s];
+        motion.rotation(self.z_p_m) * turn(m.turn_rad) * motion.rotation(m.z_m).transpose()
     }
 
     /// Position of P that satisfies the constraint for the current master positions.
     pub fn position(&self, motion: &SectionMotion, positions: &[Vector3<f64>]) -> Vector3<f64> {
-        let x_r = self.weights[0] * positions[self.masters[0]]
-            + self.weights[1] * positions[self.masters[1]];
-        motion.axis_point(self.z_p_m)
-            + self.transfer(motion) * (x_r - motion.axis_point(self.z_r_m))
-            + motion.rotation(self.z_p_m) * self.offset_m
+        let mut x = motion.axis_point(self.z_p_m) + motion.rotation(self.z_p_m) * self.offset_m;
+        for (s, m) in self.masters.iter().enumerate() {
+            x += m.weight
+                * (self.transfer(s, motion) * (positions[m.node] - motion.axis_point(m.z_m)));
+        }
+        x
     }
 }
 
@@ -90,10 +121,57 @@ pub struct EndLayout {
 /// Angle tolerance for an end to count as lying at the outer arc (rad).
 const OUTER_ARC_TOLERANCE_RAD: f64 = 1e-6;
 
+/// Points of the angular interpolation: the start ends nearest an eliminated end's angle, two
+/// on either side (all of them in a layer of fewer than four wires).
+pub const INTERPOLATION_POINTS: usize = 4;
+
+/// Lagrange weights, at angle 0, of the interpolation through the angles `deltas` (rad, each
+/// θ_S − θ_P wrapped to (−π, π]) of the [`INTERPOLATION_POINTS`] nearest of them, two on either
+/// side; returns (index into `deltas`, weight). The weights sum to 1, so a field that is the
+/// same at every angle (pure tension) is carried over exactly; the error in bending, whose
+/// stick field varies as sin θ, is of order (2π/n)⁴ (cubic interpolation, n wires).
+pub fn angular_interpolation(deltas: &[f64]) -> Vec<(usize, f64)> {
+    use std::f64::consts::TAU;
+    let n = deltas.len();
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| deltas[a].total_cmp(&deltas[b]));
+    // (index, angle unwrapped around the eliminated end's, at 0)
+    let chosen: Vec<(usize, f64)> = if n <= INTERPOLATION_POINTS {
+        order.iter().map(|&i| (i, deltas[i])).collect()
+    } else {
+        let above = order.iter().position(|&i| deltas[i] >= 0.0).unwrap_or(n) as isize;
+        let half = (INTERPOLATION_POINTS / 2) as isize;
+        (0..INTERPOLATION_POINTS as isize)
+            .map(|k| {
+                let pos = above + k - half;
+                let (at, shift) = if pos < 0 {
+                    (pos + n as isize, -TAU)
+                } else if pos >= n as isize {
+                    (pos - n as isize, TAU)
+                } else {
+                    (pos, 0.0)
+                };
+                let i = order[at as usize];
+                (i, deltas[i] + shift)
+            })
+            .collect()
+    };
+    chosen
+        .iter()
+        .map(|&(i, a)| {
+            let w = chosen
+                .iter()
+                .filter(|&&(j, _)| j != i)
+                .fold(1.0, |acc, &(_, b)| acc * (-b) / (a - b));
+            (i, w)
+        })
+        .collect()
+}
+
 /// Anchored ends and constraints of `mesh` (module docs).
 pub fn end_layout(strand: &Strand, mesh: &StrandMesh) -> Result<EndLayout, StrandModelError> {
+    use std::f64::consts::{FRAC_PI_2, PI};
     let wires = strand.wires();
-    let length = strand.model_length_m;
     let mut prescription: Prescription = mesh
         .nodes
         .iter()
@@ -101,73 +179,70 @@ pub fn end_layout(strand: &Strand, mesh: &StrandMesh) -> Result<EndLayout, Stran
         .collect();
     let mut anchored = Vec::new();
     let mut constraints = Vec::new();
-    let at_outer_arc = |theta: f64| {
-        let d = (theta - std::f64::consts::FRAC_PI_2).rem_euclid(2.0 * std::f64::consts::PI);
-        d.min(2.0 * std::f64::consts::PI - d) < OUTER_ARC_TOLERANCE_RAD
-    };
+    let wrap = |x: f64| (x + PI).rem_euclid(2.0 * PI) - PI;
+    let at_outer_arc = |theta: f64| wrap(theta - FRAC_PI_2).abs() < OUTER_ARC_TOLERANCE_RAD;
     for k in 0..strand.layers.len() {
         let reference = strand.first_wire_of_layer(k);
-        let ref_nodes = mesh.wire_nodes[reference.0].clone();
-        if ref_nodes.len() < 2 {
-            continue;
-        }
-        let helix = wires[reference.0].helix;
-        // the reference wire's ends at the outer arc are anchored; its other end, if any, is
-        // eliminated like every other wire end and may not serve as a master point
-        let free_ends: Vec<usize> = [ref_nodes.start, ref_nodes.end - 1]
-            .into_iter()
-            .filter(|&n| !at_outer_arc(helix.angle(mesh.nodes[n].z_m)))
+        let layer: Vec<_> = wires
+            .iter()
+            .filter(|w| w.layer == Some(k) && mesh.wire_nodes[w.id.0].len() >= 2)
             .collect();
-        let ref_elements: Vec<(usize, usize)> = (ref_nodes.start..ref_nodes.end - 1)
-            .map(|i| (i, i + 1))
+        // the start ends S (z = 0) with their angles
+        let starts: Vec<(usize, f64)> = layer
+            .iter()
+            .map(|w| {
+                let node = mesh.wire_nodes[w.id.0].start;
+                (node, w.helix.angle(mesh.nodes[node].z_m))
+            })
             .collect();
-        for w in wires.iter().filter(|w| w.layer == Some(k)) {
-            let range = mesh.wire_nodes[w.id.0].clone();
-            if range.len() < 2 {
-                continue;
-            }
-            for node in [range.start, range.end - 1] {
-                let z_p = mesh.nodes[node].z_m;
-                let theta = w.helix.angle(z_p);
-                if w.id == reference && !free_ends.contains(&node) {
-                    anchored.push(node);
-                    prescription[node] = [true; NODE_DOFS];
+        for (w, &(start, theta_s)) in layer.iter().zip(&starts) {
+            let finish = mesh.wire_nodes[w.id.0].end - 1;
+            let theta = w.helix.angle(mesh.nodes[finish].z_m);
+            if w.id == reference {
+                for (node, angle) in [(start, theta_s), (finish, theta)] {
+                    if at_outer_arc(angle) {
+                        anchored.push(node);
+                        prescription[node] = [true; NODE_DOFS];
+                    }
+                }
+                if at_outer_arc(theta) {
                     continue;
                 }
-                let master =
-                    reference_point(mesh, &helix, &ref_elements, &free_ends, theta, length).ok_or(
-                        StrandModelError::InvalidParameter {
-                            field: "model_length_m",
-                            value: length,
-                            reason: "a wire end has no admissible point at its angle on the \
-                                 reference wire of its layer",
-                        },
-                    )?;
-                let (z_r, (a, b), weights) = master;
-                let x_r = weights[0] * mesh.nodes[a].position + weights[1] * mesh.nodes[b].position;
-                let x_p = mesh.nodes[node].position;
-                let offset_m =
-                    (x_p - Vector3::new(0.0, 0.0, z_p)) - (x_r - Vector3::new(0.0, 0.0, z_r));
-                prescription[node] = [false, false, false, true, true, true];
-                constraints.push(EndConstraint {
-                    node,
-                    z_p_m: z_p,
-                    z_r_m: z_r,
-                    masters: [a, b],
-                    weights,
-                    offset_m,
-                });
             }
+            let deltas: Vec<f64> = starts.iter().map(|&(_, t)| wrap(t - theta)).collect();
+            let masters: Vec<Master> = angular_interpolation(&deltas)
+                .into_iter()
+                .map(|(i, weight)| Master {
+                    node: starts[i].0,
+                    z_m: mesh.nodes[starts[i].0].z_m,
+                    weight,
+                    turn_rad: -deltas[i],
+                })
+                .collect();
+            let z_p = mesh.nodes[finish].z_m;
+            let relative = |node: usize| {
+                mesh.nodes[node].position - Vector3::new(0.0, 0.0, mesh.nodes[node].z_m)
+            };
+            let interpolated = masters.iter().fold(Vector3::zeros(), |acc, m| {
+                acc + m.weight * (turn(m.turn_rad) * relative(m.node))
+            });
+            prescription[finish] = [false, false, false, true, true, true];
+            constraints.push(EndConstraint {
+                node: finish,
+                z_p_m: z_p,
+                masters,
+                offset_m: relative(finish) - interpolated,
+            });
         }
     }
     for c in &constraints {
         if c.masters
             .iter()
-            .any(|m| constraints.iter().any(|d| d.node == *m))
+            .any(|m| constraints.iter().any(|d| d.node == m.node))
         {
             return Err(StrandModelError::InvalidParameter {
                 field: "model_length_m",
-                value: length,
+                value: strand.model_length_m,
                 reason: "a periodic master point lies on an eliminated wire end",
             });
         }
@@ -177,56 +252,6 @@ pub fn end_layout(strand: &Strand, mesh: &StrandMesh) -> Result<EndLayout, Stran
         constraints,
         prescription,
     })
-}
-
-/// The point R of the reference wire (`helix`, elements `elements` in increasing z) at angle
-/// `theta` (mod 2π) nearest mid-length among the admissible ones: its element's nodes must not
-/// be eliminated ends (`free_ends`), and it may lie up to one element beyond the wire's ends
-/// (linear extrapolation: a model length slightly shorter than the lay length puts the point
-/// matching the far end just before z = 0). Returns (z_R, element nodes, weights N_a, N_b).
-fn reference_point(
-    mesh: &StrandMesh,
-    helix: &super::helix::Helix,
-    elements: &[(usize, usize)],
-    free_ends: &[usize],
-    theta: f64,
-    length: f64,
-) -> Option<(f64, (usize, usize), [f64; 2])> {
-    let rate = helix.rate_rad_per_m;
-    if rate == 0.0 || elements.is_empty() {
-        return None;
-    }
-    let period = (2.0 * std::f64::consts::PI / rate).abs();
-    let z0 = (theta - helix.angle(0.0)) / rate;
-    let z = |n: usize| mesh.nodes[n].z_m;
-    let (first, last) = (elements[0], elements[elements.len() - 1]);
-    let (lo, hi) = (2.0 * z(first.0) - z(first.1), 2.0 * z(last.1) - z(last.0));
-    let turns = (length / period).ceil() as i64 + 2;
-    let n0 = (-z0 / period).round() as i64;
-    let mut best: Option<(f64, (usize, usize), [f64; 2])> = None;
-    for n in (n0 - turns)..=(n0 + turns) {
-        let z_r = z0 + n as f64 * period;
-        if !(lo..=hi).contains(&z_r) {
-            continue;
-        }
-        let element = elements
-            .iter()
-            .copied()
-            .find(|&(a, b)| z(a) <= z_r && z_r <= z(b))
-            .unwrap_or(if z_r < z(first.0) { first } else { last });
-        if free_ends.contains(&element.0) || free_ends.contains(&element.1) {
-            continue;
-        }
-        let (za, zb) = (z(element.0), z(element.1));
-        let nb = if zb > za { (z_r - za) / (zb - za) } else { 0.0 };
-        let better = best.is_none_or(|(zb_best, _, _)| {
-            (z_r - 0.5 * length).abs() < (zb_best - 0.5 * length).abs()
-        });
-        if better {
-            best = Some((z_r, element, [1.0 - nb, nb]));
-        }
-    }
-    best
 }
 
 /// How an extended equation enters the reduced system: (reduced equation, coefficient slot).
@@ -247,9 +272,20 @@ pub struct PeriodicEnds {
     extra: Vec<(u32, u32, u32, u32)>,
 }
 
-/// Coefficient slot of constraint `d`, master side `s`, P component `m`, master component `c`.
-fn slot(d: usize, s: usize, m: usize, c: usize) -> usize {
-    1 + 18 * d + 9 * s + 3 * m + c
+/// First coefficient slot of every constraint (slot 0 is the identity), and the slot count.
+fn slot_bases(layout: &EndLayout) -> (Vec<usize>, usize) {
+    let mut bases = Vec::with_capacity(layout.constraints.len());
+    let mut next = 1;
+    for c in &layout.constraints {
+        bases.push(next);
+        next += 9 * c.masters.len();
+    }
+    (bases, next)
+}
+
+/// Coefficient slot of master `s`, P component `m`, master component `c` from `base`.
+fn slot(base: usize, s: usize, m: usize, c: usize) -> usize {
+    base + 9 * s + 3 * m + c
 }
 
 impl PeriodicEnds {
@@ -279,16 +315,17 @@ impl PeriodicEnds {
                 n_red += 1;
             }
         }
+        let (bases, _) = slot_bases(&layout);
         let expansions: Vec<Expansion> = (0..n_ext)
             .map(|e| match dependent[e] {
                 None => vec![(reduced_of[e], 0)],
                 Some((d, m)) => {
                     let c = &layout.constraints[d];
-                    let mut out = Vec::with_capacity(6);
-                    for (s, &node) in c.masters.iter().enumerate() {
+                    let mut out = Vec::with_capacity(3 * c.masters.len());
+                    for (s, master) in c.masters.iter().enumerate() {
                         for comp in 0..3 {
-                            if let Some(me) = dofs.equation(NodeId(node), comp).index() {
-                                out.push((reduced_of[me], slot(d, s, m, comp)));
+                            if let Some(me) = dofs.equation(NodeId(master.node), comp).index() {
+                                out.push((reduced_of[me], slot(bases[d], s, m, comp)));
                             }
                         }
                     }
@@ -357,15 +394,16 @@ impl PeriodicEnds {
 
     /// Coefficients of every slot under `motion` (slot 0 is 1).
     pub fn coefficients(&self, motion: &SectionMotion, out: &mut Vec<f64>) {
+        let (bases, count) = slot_bases(&self.layout);
         out.clear();
-        out.resize(1 + 18 * self.layout.constraints.len(), 0.0);
+        out.resize(count, 0.0);
         out[0] = 1.0;
         for (d, c) in self.layout.constraints.iter().enumerate() {
-            let a = c.transfer(motion);
-            for s in 0..2 {
+            for (s, master) in c.masters.iter().enumerate() {
+                let a = c.transfer(s, motion);
                 for m in 0..3 {
                     for comp in 0..3 {
-                        out[slot(d, s, m, comp)] = c.weights[s] * a[(m, comp)];
+                        out[slot(bases[d], s, m, comp)] = master.weight * a[(m, comp)];
                     }
                 }
             }
