@@ -18,7 +18,9 @@ use moorfret_solver::linalg::{
     solve_load_path, GmresParams, NewtonParams, NewtonStats, NewtonWorkspace, SplitSolver,
 };
 use moorfret_solver::strand::bending::{bending_stiffness_bounds, section_resultants};
-use moorfret_solver::strand::history::stiffness::straight_strand_stiffness;
+use moorfret_solver::strand::history::stiffness::{
+    contact_compliant_stiffness_n, straight_strand_stiffness,
+};
 use moorfret_solver::strand::history::timing::{TimedProblem, TimedSolver, WorkTimes};
 use moorfret_solver::strand::history::HistoryOptions;
 use moorfret_solver::strand::loading::{LoadPath, SectionMotion};
@@ -240,6 +242,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         est.corrected_n,
         100.0 * (ea / est.corrected_n - 1.0)
     );
+    if let NormalLaw::Penalty { stiffness_n_per_m } = params.contact.normal {
+        let compliant = contact_compliant_stiffness_n(&model, stiffness_n_per_m);
+        println!(
+            "  with the contacts' compliance (helix radii shortened by the penetrations): \
+             {compliant:.4e} N ({:+.2} %)",
+            100.0 * (ea / compliant - 1.0)
+        );
+    }
     layer_report(&model, &problem, strain, mid)?;
     let bounds = bending_stiffness_bounds(&strand, mid);
     println!(

@@ -34,12 +34,13 @@ use std::time::Instant;
 
 use anyhow::{anyhow, bail, Context};
 use clap::Args;
+use moorfret_solver::contact::NormalLaw;
 use moorfret_solver::fretting::ContactRecord;
 use moorfret_solver::linalg::NewtonParams;
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
 use moorfret_solver::strand::history::monitors::{MonitorChannel, MonitorGroup, MonitorTarget};
 use moorfret_solver::strand::history::stiffness::{
-    measure_axial_stiffness_n, straight_strand_stiffness,
+    contact_compliant_stiffness_n, measure_axial_stiffness_n, straight_strand_stiffness,
 };
 use moorfret_solver::strand::history::{
     run_history_from, validate_samples, HistoryError, HistoryObserver, HistoryOptions,
@@ -279,9 +280,12 @@ struct AxialStiffness {
     source: &'static str,
     /// Strain of the tension step that measured it on the model, or null when it was given.
     measured_at_strain: Option<f64>,
-    /// Straight-strand estimates for comparison (N).
+    /// Straight-strand estimates for comparison (N): wire tensions only, with Costello's
+    /// bending and twisting terms, and the latter with the helix radii shortened by the contact
+    /// penetrations (penalty normal law only).
     straight_strand_simple_n: f64,
     straight_strand_costello_n: f64,
+    straight_strand_contact_compliant_n: Option<f64>,
 }
 
 #[derive(Debug, Default, Serialize)]
@@ -572,10 +576,20 @@ fn samples_of(
                 Some(strain) => format!("{source} on the model at ε = {strain}"),
                 None => source.to_string(),
             };
+            let compliant = match params.contact.normal {
+                NormalLaw::Penalty { stiffness_n_per_m } => {
+                    Some(contact_compliant_stiffness_n(model, stiffness_n_per_m))
+                }
+                NormalLaw::Hertz => None,
+            };
             println!(
                 "axial stiffness EA = {ea:.6e} N ({how}; straight strand {:.6e} N, \
-                 Costello-corrected {:.6e} N)",
-                estimate.simple_n, estimate.corrected_n
+                 Costello-corrected {:.6e} N{})",
+                estimate.simple_n,
+                estimate.corrected_n,
+                compliant.map_or(String::new(), |c| format!(
+                    ", with the contacts' compliance {c:.6e} N"
+                ))
             );
             let series = HotSpotSeries {
                 time_s: table.time_s.clone(),
@@ -589,6 +603,7 @@ fn samples_of(
                 measured_at_strain,
                 straight_strand_simple_n: estimate.simple_n,
                 straight_strand_costello_n: estimate.corrected_n,
+                straight_strand_contact_compliant_n: compliant,
             };
             Ok((samples, Some(stiffness), slack))
         }

@@ -186,3 +186,69 @@ pub fn straight_strand_stiffness(
         corrected_n: corrected,
     }
 }
+
+/// Axial stiffness of the straight-strand theory with the helix radii shortened by the contact
+/// compliance of the model (N), for a normal law that is a penalty `normal_penalty_n_per_m`.
+///
+/// Costello's wire strain has a radial term, ξ = ε cos²β + (Δr/r) sin²β (Costello 1997, Ch. 2;
+/// his Δr comes from the wires' Poisson contraction, which beam wires do not have). Here Δr is
+/// the penetration of the contacts: a wire of tension T presses on the layer beneath with
+/// T sin²β / r per unit wire length (helix curvature sin²β / r), i.e. n T sin²β / (r cos β) per
+/// unit strand length for a layer of n wires; these radial loads pass inwards through every
+/// interface below, so interface i carries Q_i = Σ_{j ≥ i} n_j T_j sin²β_j / (r_j cos β_j),
+/// shared by its N_i contacts over the model length L: F_i = Q_i L / N_i, penetration
+/// F_i / ε_N. Layer k's radius shrinks by the penetrations of interfaces 0..=k, and with
+/// T_k = E A_k ξ_k the tensions follow from a linear system; F = E A_core ε + Σ n T cos β.
+/// (Costello's bending and twisting terms change EA by 1e-4 here and are left out.)
+pub fn contact_compliant_stiffness_n(model: &StrandModel, normal_penalty_n_per_m: f64) -> f64 {
+    use std::f64::consts::PI;
+    let strand = &model.strand;
+    let layers = &strand.layers;
+    let m = layers.len();
+    let e = strand.young_modulus_pa;
+    let mut contacts = vec![0usize; m];
+    for site in crate::strand::history::monitors::contact_sites(model) {
+        if site.interface < m {
+            contacts[site.interface] += 1;
+        }
+    }
+    // radial load per unit strand length of layer j per unit wire tension
+    let radial: Vec<f64> = layers
+        .iter()
+        .map(|l| {
+            let (s, c) = l.lay_angle_rad.sin_cos();
+            l.wires as f64 * s * s / (l.helix_radius_m * c)
+        })
+        .collect();
+    // penetration of interface i per unit load Q_i
+    let compliance: Vec<f64> = contacts
+        .iter()
+        .map(|&n| {
+            if n == 0 {
+                0.0
+            } else {
+                strand.model_length_m / (n as f64 * normal_penalty_n_per_m)
+            }
+        })
+        .collect();
+    // T_k + E A_k sin²β_k / r_k Σ_{i ≤ k} compliance_i Σ_{j ≥ i} radial_j T_j = E A_k cos²β_k ε
+    let mut a = nalgebra::DMatrix::<f64>::identity(m, m);
+    let mut rhs = nalgebra::DVector::<f64>::zeros(m);
+    for (k, l) in layers.iter().enumerate() {
+        let (s, c) = l.lay_angle_rad.sin_cos();
+        let ea = e * PI * l.wire_radius_m * l.wire_radius_m;
+        rhs[k] = ea * c * c;
+        for (i, comp) in compliance.iter().enumerate().take(k + 1) {
+            for j in i..m {
+                a[(k, j)] += ea * s * s / l.helix_radius_m * comp * radial[j];
+            }
+        }
+    }
+    let tension = a.lu().solve(&rhs).unwrap_or(rhs);
+    e * PI * strand.core_wire_radius_m.powi(2)
+        + layers
+            .iter()
+            .zip(tension.iter())
+            .map(|(l, t)| l.wires as f64 * t * l.lay_angle_rad.cos())
+            .sum::<f64>()
+}
