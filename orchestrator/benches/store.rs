@@ -10,8 +10,10 @@
 //! Measured on a shared 2-core machine under heavy load (load average ≈ 13), wall time:
 //! SQLite 400 jobs in 0.75 s (1.9 ms/job), PostgreSQL 1.49 s (3.7 ms/job); plan of 10 000 jobs
 //! with 8 000 dependencies: SQLite 70 ms, PostgreSQL 0.73 s.
-//! 16 workers, 1 600 jobs per run (dev profile, dependencies at opt-level 3, load average
-//! ≈ 10-30): PostgreSQL 364 claims/s (2.7 ms per claim + complete), SQLite 853 claims/s.
+//! 16 workers, 1 600 jobs per sample, bench profile, criterion medians of three runs with the
+//! 2 cores shared with other CPU-heavy work (load average 7.7-10.4): PostgreSQL 517, 536 and
+//! 553 claims/s (1.8-1.9 ms per claim + complete), SQLite 776, 887 and 865 claims/s; single
+//! samples 461-644/s and 647-1 111/s.
 
 use std::time::{Duration, Instant};
 

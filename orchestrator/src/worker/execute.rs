@@ -1,12 +1,15 @@
 //! Runs one claimed job on the calling (blocking) thread: decodes its payload and calls its
-//! stage. Store reads a stage needs (the upstream series of a strand job) go through `rt`.
+//! stage. Store reads a stage needs (the upstream series of a strand job) go through `rt`,
+//! retried under the worker's [`RetryPolicy`].
 
 use serde_json::json;
 use tokio::runtime::Handle;
 
 use super::{global_stage, permanent, strand_stage};
 use crate::campaign::{CampaignInputs, GlobalPayload, StrandPayload};
-use crate::store::{ArtifactStore, JobFailure, JobKind, JobResults, Lease, Store, TestPayload};
+use crate::store::{
+    ArtifactStore, JobFailure, JobKind, JobResults, Lease, RetryPolicy, Store, TestPayload,
+};
 
 fn decode<T: serde::de::DeserializeOwned>(lease: &Lease) -> Result<T, JobFailure> {
     serde_json::from_value(lease.payload.clone()).map_err(|e| {
@@ -17,11 +20,13 @@ fn decode<T: serde::de::DeserializeOwned>(lease: &Lease) -> Result<T, JobFailure
     })
 }
 
-/// Runs the job of `lease`. `inputs` are its campaign's (absent for test jobs).
+/// Runs the job of `lease`. `inputs` are its campaign's (absent for test jobs); `retry` is how
+/// the stage's store reads are retried.
 pub fn execute(
     lease: &Lease,
     inputs: Option<&CampaignInputs>,
     store: &Store,
+    retry: &RetryPolicy,
     artifacts: &ArtifactStore,
     rt: &Handle,
 ) -> Result<JobResults, JobFailure> {
@@ -35,7 +40,7 @@ pub fn execute(
         }
         JobKind::Strand => {
             let payload: StrandPayload = decode(lease)?;
-            strand_stage::run_strand(need_inputs()?, &payload, lease, store, artifacts, rt)
+            strand_stage::run_strand(need_inputs()?, &payload, lease, store, retry, artifacts, rt)
         }
     }
 }

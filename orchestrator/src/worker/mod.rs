@@ -16,8 +16,10 @@
 //! are picked up by the survivors without any coordinator.
 //!
 //! Every store call goes through the configured [`RetryPolicy`] (completion through
-//! [`complete_with_retry`]), so a database restart or a short network outage is waited out
-//! instead of ending the worker. With a [`WallTimeBudget`] only jobs whose expected cost fits
+//! [`complete_with_retry`]; the strand stage's reads of its upstream results too), so a
+//! database restart or a short network outage is waited out instead of ending the worker. The
+//! heartbeat is the exception: it is repeated every interval anyway, so a failed one is logged
+//! and the next beat tries again. With a [`WallTimeBudget`] only jobs whose expected cost fits
 //! in the remaining wall time are claimed.
 
 pub mod execute;
@@ -215,6 +217,7 @@ pub async fn run(
         let job = tokio::task::spawn_blocking({
             let lease = lease.clone();
             let store = store.clone();
+            let retry = retry.clone();
             let artifacts = Arc::clone(&artifacts);
             let handle = tokio::runtime::Handle::current();
             move || {
@@ -222,6 +225,7 @@ pub async fn run(
                     &lease,
                     campaign_inputs.as_deref(),
                     &store,
+                    &retry,
                     &artifacts,
                     &handle,
                 )

@@ -43,7 +43,8 @@ use super::{permanent, transient};
 use crate::campaign::resolve::hot_spot_line_type;
 use crate::campaign::{CampaignInputs, StrandPayload};
 use crate::store::{
-    damage_rows, ArtifactStore, ContactStatistics, JobFailure, JobResults, Lease, Store,
+    damage_rows, ArtifactStore, ContactStatistics, JobFailure, JobResults, Lease, RetryPolicy,
+    Store,
 };
 
 /// Segments between two checkpoints handed over by the solver.
@@ -75,15 +76,19 @@ pub fn strand_load(
     (samples, slack)
 }
 
-/// Loads the hot-spot series of the strand job's global job.
+/// Loads the hot-spot series of the strand job's global job. The store reads are retried
+/// under `retry` while the database is unreachable, as the worker loop's calls are.
 pub fn upstream_series(
     payload: &StrandPayload,
     store: &Store,
+    retry: &RetryPolicy,
     artifacts: &ArtifactStore,
     rt: &Handle,
 ) -> Result<HotSpotSeries, JobFailure> {
     let source = rt
-        .block_on(store.lookup_cache(&payload.global_cache_key))
+        .block_on(retry.run("look up upstream job", || {
+            store.lookup_cache(&payload.global_cache_key)
+        }))
         .map_err(|e| transient("store", e))?
         .ok_or_else(|| {
             transient(
@@ -92,7 +97,7 @@ pub fn upstream_series(
             )
         })?;
     let results = rt
-        .block_on(store.results_of(source))
+        .block_on(retry.run("read upstream results", || store.results_of(source)))
         .map_err(|e| transient("store", e))?;
     let role = series_role(payload.hot_spot_index);
     let artifact = results
@@ -238,10 +243,11 @@ pub fn run_strand(
     payload: &StrandPayload,
     lease: &Lease,
     store: &Store,
+    retry: &RetryPolicy,
     artifacts: &ArtifactStore,
     rt: &Handle,
 ) -> Result<JobResults, JobFailure> {
-    let series = upstream_series(payload, store, artifacts, rt)?;
+    let series = upstream_series(payload, store, retry, artifacts, rt)?;
     let ea = inputs
         .hot_spot_axial_stiffness_n
         .get(payload.hot_spot_index)
