@@ -61,6 +61,16 @@ impl InverseFft {
         false
     }
 
+    /// Length of the scratch that [`InverseFft::inverse_with_scratch`] needs (none).
+    pub fn scratch_len(&self) -> usize {
+        0
+    }
+
+    /// As [`InverseFft::inverse_in_place`]; the transform needs no scratch.
+    pub fn inverse_with_scratch(&self, buf: &mut [Complex<f64>], _scratch: &mut [Complex<f64>]) {
+        self.inverse_in_place(buf);
+    }
+
     /// In place z_j = Σ_b Z_b e^{+2πi b j/N}. `buf` must have length N.
     pub fn inverse_in_place(&self, buf: &mut [Complex<f64>]) {
         debug_assert_eq!(buf.len(), self.n);
