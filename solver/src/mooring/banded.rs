@@ -105,14 +105,34 @@ impl BandMatrix {
 
     /// Factorises in place into L U (unit lower L). On a pivot smaller than `tiny` times the
     /// largest diagonal entry, returns `Err((row, pivot))` and leaves the matrix unusable.
+    ///
+    /// The half-bandwidths of the line models (11 with gradient nodes, 5 for bar-only lines)
+    /// run through a copy of the elimination whose row length is a compile-time constant, so
+    /// that each row update is unrolled and vectorised in full; every entry sees the same
+    /// operations in the same order as in the general loop, so the factors are the same to
+    /// the bit.
     pub fn factorize(&mut self, tiny: f64) -> Result<(), (usize, f64)> {
+        match self.b {
+            11 => self.factorize_fixed::<11>(tiny),
+            5 => self.factorize_fixed::<5>(tiny),
+            _ => self.factorize_general(tiny),
+        }
+    }
+
+    fn pivot_threshold(&self, tiny: f64) -> f64 {
+        let (b, w) = (self.b, self.width);
+        let scale = (0..self.n)
+            .map(|i| self.data[i * w + b].abs())
+            .fold(0.0, f64::max);
+        tiny * scale.max(f64::MIN_POSITIVE)
+    }
+
+    /// [`BandMatrix::factorize`] for any half-bandwidth.
+    fn factorize_general(&mut self, tiny: f64) -> Result<(), (usize, f64)> {
         let n = self.n;
         let b = self.b;
         let w = self.width;
-        let scale = (0..n)
-            .map(|i| self.data[i * w + b].abs())
-            .fold(0.0, f64::max);
-        let threshold = tiny * scale.max(f64::MIN_POSITIVE);
+        let threshold = self.pivot_threshold(tiny);
         for k in 0..n {
             let pivot = self.data[k * w + b];
             if pivot.is_nan() || pivot.abs() <= threshold {
@@ -138,6 +158,65 @@ impl BandMatrix {
                 let pivot_row = &head[row_k + k + 1..row_k + k + 1 + len];
                 for (a, p) in tail[..len].iter_mut().zip(pivot_row) {
                     *a -= l * p;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// [`BandMatrix::factorize_general`] with the half-bandwidth `B` known at compile time:
+    /// the rows k + 1 … k + B below a pivot far from the end are updated with a copy of the
+    /// pivot row's B entries, a fixed-length loop; the last B pivots take the general path.
+    fn factorize_fixed<const B: usize>(&mut self, tiny: f64) -> Result<(), (usize, f64)> {
+        debug_assert_eq!(self.b, B);
+        let n = self.n;
+        let w = self.width;
+        let threshold = self.pivot_threshold(tiny);
+        for k in 0..n {
+            let pivot = self.data[k * w + B];
+            if pivot.is_nan() || pivot.abs() <= threshold {
+                return Err((k, pivot));
+            }
+            let inv = 1.0 / pivot;
+            self.inverse_pivots[k] = inv;
+            if k + B < n {
+                // Row k's entries k+1 … k+B start at k·w + B + 1.
+                let start = k * w + B + 1;
+                let pivot_row: [f64; B] = self.data[start..start + B]
+                    .try_into()
+                    .expect("a band row holds B entries right of its diagonal");
+                for i in k + 1..=k + B {
+                    // Entry (i, k) at column offset k + B − i of row i, its entries
+                    // k+1 … k+B right after it.
+                    let ik = i * w + k + B - i;
+                    let l = self.data[ik] * inv;
+                    if l == 0.0 {
+                        continue;
+                    }
+                    self.data[ik] = l;
+                    let row: &mut [f64; B] = (&mut self.data[ik + 1..ik + 1 + B])
+                        .try_into()
+                        .expect("a band row holds B entries right of (i, k)");
+                    for (a, p) in row.iter_mut().zip(&pivot_row) {
+                        *a -= l * p;
+                    }
+                }
+            } else {
+                let last = n - 1;
+                for i in k + 1..=last {
+                    let ik = i * w + k + B - i;
+                    let l = self.data[ik] * inv;
+                    if l == 0.0 {
+                        continue;
+                    }
+                    self.data[ik] = l;
+                    let row_k = k * w + B - k;
+                    let len = last - k;
+                    let (head, tail) = self.data.split_at_mut(ik + 1);
+                    let pivot_row = &head[row_k + k + 1..row_k + k + 1 + len];
+                    for (a, p) in tail[..len].iter_mut().zip(pivot_row) {
+                        *a -= l * p;
+                    }
                 }
             }
         }
@@ -286,6 +365,22 @@ mod tests {
         assert_eq!(a.get(0, 2), 0.0);
         assert_eq!(a.get(2, 0), 0.0);
         assert_eq!(a.get(9, 11), 0.0);
+    }
+
+    #[test]
+    fn fixed_bandwidth_factors_equal_the_general_ones_to_the_bit() {
+        for (n, b) in [(60, 11), (8, 11), (40, 5), (12, 5)] {
+            let mut a = sample(n, b);
+            // Some zero multipliers, as at the decoupled DOFs of a line.
+            a.set_identity_row_col(0);
+            a.set_identity_row_col(n - 1);
+            let mut fixed = a.clone();
+            let mut general = a.clone();
+            fixed.factorize(1e-14).unwrap();
+            general.factorize_general(1e-14).unwrap();
+            assert_eq!(fixed.data, general.data, "n {n}, b {b}");
+            assert_eq!(fixed.inverse_pivots, general.inverse_pivots);
+        }
     }
 
     #[test]

@@ -116,10 +116,12 @@ impl<const NC: usize> LocalSystem<NC> {
     ) {
         let j = (load.d_r + load.d_v * c.gamma_p + load.d_a * c.beta_p) * w;
         let jt = load.d_rx * w;
-        for a in 0..NC {
-            self.r[a] -= load.f * (w * n[a]);
-            for b in 0..NC {
-                self.k[a][b] -= j * (n[a] * n[b]) + jt * (n[a] * dn[b]);
+        // Block (a, b) is n_a (J n_b + J_{r'} n_b'): the bracket once per b.
+        let column: [Matrix3<f64>; NC] = std::array::from_fn(|b| j * n[b] + jt * dn[b]);
+        for ((r, row), &na) in self.r.iter_mut().zip(self.k.iter_mut()).zip(n) {
+            *r -= load.f * (w * na);
+            for (k, m) in row.iter_mut().zip(&column) {
+                *k -= m * na;
             }
         }
     }

@@ -123,9 +123,13 @@ struct Shared<'a> {
     fft: InverseFft,
     bins: Vec<usize>,
     params: SeriesParams,
+    /// The samples kept, in storage order (0 … stored − 1, then N − 1 for a truncated series).
+    rows: Vec<usize>,
+    /// 0 … N − 1.
+    all_rows: Vec<usize>,
 }
 
-/// Result of one point: point-major values (sample j, quantity q at j·6 + q) and its figures.
+/// Result of one point: point-major values (kept row r, quantity q at r·6 + q) and its figures.
 struct PointResult {
     values: Vec<f64>,
     ffts: usize,
@@ -205,6 +209,10 @@ impl PointKinematicsSeries {
             fft: InverseFft::new(samples)?,
             bins,
             params: *params,
+            rows: (0..rows)
+                .map(|row| if row < stored { row } else { samples - 1 })
+                .collect(),
+            all_rows: (0..samples).collect(),
         };
         let pool = if params.threads == 1 {
             None
@@ -222,23 +230,29 @@ impl PointKinematicsSeries {
         let stride = points.len() * QUANTITIES;
         let mut data = vec![0.0; rows * stride];
         let mut stats = SeriesStats::default();
+        let mut serial_scratch = PointScratch::for_plan(&shared.fft);
         for (batch, chunk) in points.chunks(POINTS_PER_BATCH).enumerate() {
             let results: Vec<PointResult> = match &pool {
-                None => chunk.iter().map(|p| compute_point(&shared, p)).collect(),
+                None => chunk
+                    .iter()
+                    .map(|p| compute_point(&shared, p, &mut serial_scratch))
+                    .collect(),
                 Some(pool) => pool.install(|| {
                     chunk
                         .par_iter()
-                        .map(|p| compute_point(&shared, p))
+                        .map_init(
+                            || PointScratch::for_plan(&shared.fft),
+                            |scratch, p| compute_point(&shared, p, scratch),
+                        )
                         .collect()
                 }),
             };
             for (offset, r) in results.iter().enumerate() {
                 let index = batch * POINTS_PER_BATCH + offset;
                 for row in 0..rows {
-                    let j = if row < stored { row } else { samples - 1 };
                     let at = row * stride + index * QUANTITIES;
                     data[at..at + QUANTITIES]
-                        .copy_from_slice(&r.values[j * QUANTITIES..(j + 1) * QUANTITIES]);
+                        .copy_from_slice(&r.values[row * QUANTITIES..(row + 1) * QUANTITIES]);
                 }
                 stats.ffts += r.ffts;
                 stats.chebyshev_nodes += r.nodes;
@@ -384,16 +398,19 @@ pub(crate) fn time_grid(sea: &IrregularSea, per_period: f64) -> (Vec<usize>, usi
 }
 
 /// Inverse-transform real component sums two at a time. `coefs[i]` gives, per component, the
-/// complex coefficient Xₙ of real series i = Σ Re(Xₙ e^{iωₙt}); series i is written to
-/// `out[i·N .. (i+1)·N]`. Returns the number of FFTs done.
+/// complex coefficient Xₙ of real series i = Σ Re(Xₙ e^{iωₙt}); the samples `rows` (indices
+/// j < N) of series i are written to `out[i·R .. (i+1)·R]`, R = `rows.len()`, in that order.
+/// `buf` holds N values, `scratch` [`InverseFft::scratch_len`]. Returns the number of FFTs done.
 pub(crate) fn transform_real_series(
     fft: &InverseFft,
     bins: &[usize],
     coefs: &[Vec<Complex<f64>>],
-    buf: &mut [Complex<f64>],
+    rows: &[usize],
+    (buf, scratch): (&mut [Complex<f64>], &mut [Complex<f64>]),
     out: &mut [f64],
 ) -> usize {
     let n = buf.len();
+    let r = rows.len();
     let i_unit = Complex::new(0.0, 1.0);
     let mut ffts = 0;
     for (index, pair) in coefs.chunks(2).enumerate() {
@@ -404,14 +421,14 @@ pub(crate) fn transform_real_series(
             buf[bin] += 0.5 * (a + i_unit * b);
             buf[n - bin] += 0.5 * (a.conj() + i_unit * b.conj());
         }
-        fft.inverse_in_place(buf);
-        let base = 2 * index * n;
-        for (o, z) in out[base..base + n].iter_mut().zip(buf.iter()) {
-            *o = z.re;
+        fft.inverse_with_scratch(buf, scratch);
+        let base = 2 * index * r;
+        for (o, &j) in out[base..base + r].iter_mut().zip(rows) {
+            *o = buf[j].re;
         }
         if pair.len() == 2 {
-            for (o, z) in out[base + n..base + 2 * n].iter_mut().zip(buf.iter()) {
-                *o = z.im;
+            for (o, &j) in out[base + r..base + 2 * r].iter_mut().zip(rows) {
+                *o = buf[j].im;
             }
         }
         ffts += 1;
@@ -419,15 +436,45 @@ pub(crate) fn transform_real_series(
     ffts
 }
 
-/// Elevation and kinematics series of one point (see the module documentation).
-fn compute_point(shared: &Shared<'_>, p: &Vector3<f64>) -> PointResult {
+/// Scratch of the per-point work, reused from point to point by each worker.
+#[derive(Default)]
+struct PointScratch {
+    buf: Vec<Complex<f64>>,
+    fft: Vec<Complex<f64>>,
+    eta: Vec<f64>,
+    node_series: Vec<f64>,
+    coefs: Vec<Vec<Complex<f64>>>,
+}
+
+impl PointScratch {
+    fn for_plan(fft: &InverseFft) -> Self {
+        Self {
+            buf: vec![Complex::default(); fft.len()],
+            fft: vec![Complex::default(); fft.scratch_len()],
+            eta: vec![0.0; fft.len()],
+            ..Self::default()
+        }
+    }
+}
+
+/// Elevation and kinematics series of one point (see the module documentation), at the
+/// samples `shared.rows` only (the stretched-height range and so the Chebyshev nodes are those
+/// of the whole period).
+fn compute_point(shared: &Shared<'_>, p: &Vector3<f64>, scratch: &mut PointScratch) -> PointResult {
     let field = shared.sea.field();
     let comps = field.components();
     let depth = field.depth_m();
     let rho = field.water_density_kg_m3();
-    let n = shared.fft.len();
-    let mut buf = vec![Complex::default(); n];
-    let mut values = vec![0.0; n * QUANTITIES];
+    let rows = &shared.rows;
+    let r = rows.len();
+    let PointScratch {
+        buf,
+        fft: fft_scratch,
+        eta,
+        node_series,
+        coefs,
+    } = scratch;
+    let mut values = vec![0.0; r * QUANTITIES];
 
     // Spatial phase folded into the coefficients: Xₙ = aₙ e^{−i kₙ x_β}.
     let xb = field.along(p.x, p.y);
@@ -435,21 +482,21 @@ fn compute_point(shared: &Shared<'_>, p: &Vector3<f64>) -> PointResult {
         .iter()
         .map(|c| c.amplitude_m * Complex::from_polar(1.0, -c.wavenumber_rad_m * xb))
         .collect();
-    let mut eta = vec![0.0; n];
     let mut ffts = transform_real_series(
         &shared.fft,
         &shared.bins,
         std::slice::from_ref(&x),
-        &mut buf,
-        &mut eta,
+        &shared.all_rows,
+        (buf, fft_scratch),
+        eta,
     );
-    for (row, &e) in values.chunks_exact_mut(QUANTITIES).zip(&eta) {
-        row[0] = e;
+    for (row, &j) in values.chunks_exact_mut(QUANTITIES).zip(rows) {
+        row[0] = eta[j];
     }
 
     // Range of the stretched height over the wet samples.
     let (mut s_lo, mut s_hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for &e in &eta {
+    for &e in eta.iter() {
         if let Some(s) = stretched_height(p.z, e, depth) {
             s_lo = s_lo.min(s);
             s_hi = s_hi.max(s);
@@ -483,9 +530,13 @@ fn compute_point(shared: &Shared<'_>, p: &Vector3<f64>) -> PointResult {
 
     // Coefficients of u_h, w, a_h, a_z, p at every node (order: node-major).
     let i_unit = Complex::new(0.0, 1.0);
-    let mut coefs: Vec<Vec<Complex<f64>>> = Vec::with_capacity(m * NODE_QUANTITIES);
-    for &s in &nodes {
-        let mut q: [Vec<Complex<f64>>; NODE_QUANTITIES] = Default::default();
+    coefs.resize_with(m * NODE_QUANTITIES, Vec::new);
+    coefs.truncate(m * NODE_QUANTITIES);
+    for (node, &s) in nodes.iter().enumerate() {
+        let q = &mut coefs[node * NODE_QUANTITIES..(node + 1) * NODE_QUANTITIES];
+        for v in q.iter_mut() {
+            v.clear();
+        }
         for (c, xc) in comps.iter().zip(&x) {
             let (cp, sp) = depth_profiles(c.wavenumber_rad_m, s, depth);
             let om = c.omega_rad_s;
@@ -495,20 +546,20 @@ fn compute_point(shared: &Shared<'_>, p: &Vector3<f64>) -> PointResult {
             q[3].push(om * om * sp * xc);
             q[4].push(rho * om * om / c.wavenumber_rad_m * cp * xc);
         }
-        coefs.extend(q);
     }
-    let mut node_series = vec![0.0; m * NODE_QUANTITIES * n];
+    node_series.resize(m * NODE_QUANTITIES * r, 0.0);
     ffts += transform_real_series(
         &shared.fft,
         &shared.bins,
-        &coefs,
-        &mut buf,
-        &mut node_series,
+        coefs,
+        rows,
+        (buf, fft_scratch),
+        node_series,
     );
 
     // Barycentric combination at the stretched height of every wet sample.
     let mut lagrange = vec![0.0; m];
-    for (j, row) in values.chunks_exact_mut(QUANTITIES).enumerate() {
+    for (k, (row, &j)) in values.chunks_exact_mut(QUANTITIES).zip(rows).enumerate() {
         let Some(s) = stretched_height(p.z, eta[j], depth) else {
             continue;
         };
@@ -517,7 +568,7 @@ fn compute_point(shared: &Shared<'_>, p: &Vector3<f64>) -> PointResult {
             row[1 + q] = lagrange
                 .iter()
                 .enumerate()
-                .map(|(node, &l)| l * node_series[(node * NODE_QUANTITIES + q) * n + j])
+                .map(|(node, &l)| l * node_series[(node * NODE_QUANTITIES + q) * r + k])
                 .sum();
         }
     }

@@ -214,7 +214,10 @@ impl PlaneKinematicsTable {
             .collect();
         let series_per_x = 1 + ns * QUANTITIES;
         let mut buf = vec![Complex::default(); samples];
-        let mut out = vec![0.0; series_per_x * samples];
+        let mut scratch = vec![Complex::default(); fft.scratch_len()];
+        // Row r holds sample j = r − 1, periodic.
+        let row_samples: Vec<usize> = (0..rows).map(|r| (r + samples - 1) % samples).collect();
+        let mut out = vec![0.0; series_per_x * rows];
         let mut coefs: Vec<Vec<Complex<f64>>> = vec![Vec::with_capacity(comps.len()); series_per_x];
         for i in 0..nx {
             let xb = x0 + i as f64 * dx;
@@ -236,14 +239,19 @@ impl PlaneKinematicsTable {
                     q[4].push(rho * om * om / c.wavenumber_rad_m * cp * x);
                 }
             }
-            transform_real_series(&fft, &bins, &coefs, &mut buf, &mut out);
+            transform_real_series(
+                &fft,
+                &bins,
+                &coefs,
+                &row_samples,
+                (&mut buf, &mut scratch),
+                &mut out,
+            );
             for r in 0..rows {
-                // Row r holds sample j = r − 1, periodic.
-                let j = (r + samples - 1) % samples;
-                elevation[r * nx + i] = out[j] as f32;
+                elevation[r * nx + i] = out[r] as f32;
                 let base = (r * nx + i) * ns * QUANTITIES;
                 for (k, v) in data[base..base + ns * QUANTITIES].iter_mut().enumerate() {
-                    *v = out[(1 + k) * samples + j] as f32;
+                    *v = out[(1 + k) * rows + r] as f32;
                 }
             }
         }
