@@ -42,16 +42,7 @@ fn main() {
         }
         let artifacts = tempfile::tempdir().expect("artifact directory");
         let moorfret_worker = |host: &Host, url: &str, _name: &str| {
-            let mut command = host.launcher();
-            command
-                .arg(env!("CARGO_BIN_EXE_moorfret"))
-                .args(["worker", "--db", url, "--artifacts"])
-                .arg(artifacts.path())
-                .args(["--exit-when-idle", "--poll-ms", "100", "--lease-ms"])
-                .arg(fault_policy().lease_ms.to_string())
-                .env("RUST_LOG", "info")
-                .env("NO_COLOR", "1");
-            WorkerProcess::start(command)
+            process_worker::spawn_moorfret(Some(host.launcher()), url, artifacts.path())
         };
         cut_worker_loses_its_job_and_its_late_completion_is_rejected(
             moorfret_worker,

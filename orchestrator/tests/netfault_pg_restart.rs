@@ -50,17 +50,8 @@ fn main() {
             return;
         }
         let artifacts = tempfile::tempdir().expect("artifact directory");
-        let moorfret_worker = |url: &str, _name: &str| {
-            let mut command = Command::new(env!("CARGO_BIN_EXE_moorfret"));
-            command
-                .args(["worker", "--db", url, "--artifacts"])
-                .arg(artifacts.path())
-                .args(["--exit-when-idle", "--poll-ms", "100", "--lease-ms"])
-                .arg(fault_policy().lease_ms.to_string())
-                .env("RUST_LOG", "info")
-                .env("NO_COLOR", "1");
-            WorkerProcess::start(command)
-        };
+        let moorfret_worker =
+            |url: &str, _name: &str| process_worker::spawn_moorfret(None, url, artifacts.path());
         every_worker_survives_a_server_restart(
             &cluster,
             moorfret_worker,

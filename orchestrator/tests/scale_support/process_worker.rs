@@ -119,6 +119,31 @@ pub fn spawn(launcher: Option<Command>, url: &str, name: &str) -> WorkerProcess 
         .expect("start worker process")
 }
 
+/// Starts `moorfret worker` against `url` with the fault tests' lease ([`fault_policy`]), idle
+/// exit and artifacts in `artifacts`, behind `launcher` if given (e.g. `ip netns exec …`).
+pub fn spawn_moorfret(
+    launcher: Option<Command>,
+    url: &str,
+    artifacts: &std::path::Path,
+) -> WorkerProcess {
+    let exe = env!("CARGO_BIN_EXE_moorfret");
+    let mut command = match launcher {
+        Some(mut prefix) => {
+            prefix.arg(exe);
+            prefix
+        }
+        None => Command::new(exe),
+    };
+    command
+        .args(["worker", "--db", url, "--artifacts"])
+        .arg(artifacts)
+        .args(["--exit-when-idle", "--poll-ms", "100", "--lease-ms"])
+        .arg(fault_policy().lease_ms.to_string())
+        .env("RUST_LOG", "info")
+        .env("NO_COLOR", "1");
+    WorkerProcess::start(command)
+}
+
 /// Runs the worker loop and exits if this process was started as a worker; returns otherwise.
 pub fn run_if_requested() {
     let Ok(url) = std::env::var(DB_VAR) else {
