@@ -131,37 +131,49 @@ impl BandMatrix {
     fn factorize_general(&mut self, tiny: f64) -> Result<(), (usize, f64)> {
         let n = self.n;
         let b = self.b;
-        let w = self.width;
         let threshold = self.pivot_threshold(tiny);
         for k in 0..n {
-            let pivot = self.data[k * w + b];
-            if pivot.is_nan() || pivot.abs() <= threshold {
-                return Err((k, pivot));
-            }
-            let inv = 1.0 / pivot;
-            self.inverse_pivots[k] = inv;
-            let last = (k + b).min(n - 1);
-            for i in k + 1..=last {
-                // Entry (i, k) sits at column offset k + b − i of row i.
-                let ik = i * w + k + b - i;
-                let l = self.data[ik] * inv;
-                if l == 0.0 {
-                    continue;
-                }
-                self.data[ik] = l;
-                let row_k = k * w + b - k;
-                let row_i = i * w + b - i;
-                // Row i's entries k+1 … last lie after row k's in storage: split there so that
-                // the update runs over two disjoint slices (no bounds checks, vectorised).
-                let len = last - k;
-                let (head, tail) = self.data.split_at_mut(row_i + k + 1);
-                let pivot_row = &head[row_k + k + 1..row_k + k + 1 + len];
-                for (a, p) in tail[..len].iter_mut().zip(pivot_row) {
-                    *a -= l * p;
-                }
-            }
+            let inv = self.take_pivot(k, threshold)?;
+            self.eliminate_below(k, (k + b).min(n - 1), inv);
         }
         Ok(())
+    }
+
+    /// Checks pivot k against `threshold` and stores its reciprocal, which it returns.
+    #[inline]
+    fn take_pivot(&mut self, k: usize, threshold: f64) -> Result<f64, (usize, f64)> {
+        let pivot = self.data[k * self.width + self.b];
+        if pivot.is_nan() || pivot.abs() <= threshold {
+            return Err((k, pivot));
+        }
+        let inv = 1.0 / pivot;
+        self.inverse_pivots[k] = inv;
+        Ok(inv)
+    }
+
+    /// Eliminates column k from rows k+1 … `last` (pivot reciprocal `inv`), any bandwidth.
+    #[inline]
+    fn eliminate_below(&mut self, k: usize, last: usize, inv: f64) {
+        let (b, w) = (self.b, self.width);
+        for i in k + 1..=last {
+            // Entry (i, k) sits at column offset k + b − i of row i.
+            let ik = i * w + k + b - i;
+            let l = self.data[ik] * inv;
+            if l == 0.0 {
+                continue;
+            }
+            self.data[ik] = l;
+            let row_k = k * w + b - k;
+            // Row i's entries k+1 … last lie after row k's in storage, right after (i, k):
+            // split there so that the update runs over two disjoint slices (no bounds checks,
+            // vectorised).
+            let len = last - k;
+            let (head, tail) = self.data.split_at_mut(ik + 1);
+            let pivot_row = &head[row_k + k + 1..row_k + k + 1 + len];
+            for (a, p) in tail[..len].iter_mut().zip(pivot_row) {
+                *a -= l * p;
+            }
+        }
     }
 
     /// [`BandMatrix::factorize_general`] with the half-bandwidth `B` known at compile time:
@@ -173,12 +185,7 @@ impl BandMatrix {
         let w = self.width;
         let threshold = self.pivot_threshold(tiny);
         for k in 0..n {
-            let pivot = self.data[k * w + B];
-            if pivot.is_nan() || pivot.abs() <= threshold {
-                return Err((k, pivot));
-            }
-            let inv = 1.0 / pivot;
-            self.inverse_pivots[k] = inv;
+            let inv = self.take_pivot(k, threshold)?;
             if k + B < n {
                 // Row k's entries k+1 … k+B start at k·w + B + 1.
                 let start = k * w + B + 1;
@@ -202,22 +209,7 @@ impl BandMatrix {
                     }
                 }
             } else {
-                let last = n - 1;
-                for i in k + 1..=last {
-                    let ik = i * w + k + B - i;
-                    let l = self.data[ik] * inv;
-                    if l == 0.0 {
-                        continue;
-                    }
-                    self.data[ik] = l;
-                    let row_k = k * w + B - k;
-                    let len = last - k;
-                    let (head, tail) = self.data.split_at_mut(ik + 1);
-                    let pivot_row = &head[row_k + k + 1..row_k + k + 1 + len];
-                    for (a, p) in tail[..len].iter_mut().zip(pivot_row) {
-                        *a -= l * p;
-                    }
-                }
+                self.eliminate_below(k, n - 1, inv);
             }
         }
         Ok(())
