@@ -270,6 +270,8 @@ pub struct PeriodicEnds {
     direct: Vec<u32>,
     /// Other extended nonzeros: (extended nonzero, reduced nonzero, row slot, column slot).
     extra: Vec<(u32, u32, u32, u32)>,
+    /// First coefficient slot of every constraint, and the slot count ([`slot_bases`]).
+    slot_bases: (Vec<usize>, usize),
 }
 
 /// First coefficient slot of every constraint (slot 0 is the identity), and the slot count.
@@ -315,7 +317,8 @@ impl PeriodicEnds {
                 n_red += 1;
             }
         }
-        let (bases, _) = slot_bases(&layout);
+        let bases_and_count = slot_bases(&layout);
+        let bases = &bases_and_count.0;
         let expansions: Vec<Expansion> = (0..n_ext)
             .map(|e| match dependent[e] {
                 None => vec![(reduced_of[e], 0)],
@@ -387,6 +390,7 @@ impl PeriodicEnds {
                 expansions,
                 direct,
                 extra,
+                slot_bases: bases_and_count,
             },
             reduced,
         ))
@@ -394,9 +398,9 @@ impl PeriodicEnds {
 
     /// Coefficients of every slot under `motion` (slot 0 is 1).
     pub fn coefficients(&self, motion: &SectionMotion, out: &mut Vec<f64>) {
-        let (bases, count) = slot_bases(&self.layout);
+        let (bases, count) = &self.slot_bases;
         out.clear();
-        out.resize(count, 0.0);
+        out.resize(*count, 0.0);
         out[0] = 1.0;
         for (d, c) in self.layout.constraints.iter().enumerate() {
             for (s, master) in c.masters.iter().enumerate() {
