@@ -1,9 +1,12 @@
 //! Cost of the linear algebra of one Newton iteration of the strand models: the tangent of a
 //! small tension step assembled, then factorised and solved with faer's sparse LU (automatic
 //! simplicial / supernodal choice, and forced supernodal), and with LDLᵀ of its symmetric part
-//! (AMD and nested-dissection orderings; and in single precision).
+//! (AMD and nested-dissection orderings; faer's solve and the solve split over the elimination
+//! tree, in double and single precision; and faer's factorisation in single precision).
 //!
-//! `cargo run --release -p moorfret-solver --example linear_solver_study -- [benchmark|six_layer]`
+//! `cargo run --release -p moorfret-solver --example linear_solver_study -- [benchmark|six_layer]
+//! [--no-lu] [--solves N]` (`--no-lu` skips the two LU cases, a few minutes on the six-layer
+//! strand; `--solves N` times N solves of each LDLᵀ instead of 5)
 
 use std::time::Instant;
 
@@ -14,8 +17,8 @@ use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::SparseColMatRef;
 use faer::{Conj, MatMut, Par, Side};
 use moorfret_solver::linalg::{
-    CholeskyKind, Equation, FillOrdering, LinearSolver, NonlinearProblem, SparseCholesky, SparseLu,
-    SparsePattern, Storage,
+    CholeskyKind, Equation, FactorPrecision, FillOrdering, LinearSolver, NonlinearProblem,
+    SparseCholesky, SparseLu, SparsePattern, Storage,
 };
 use moorfret_solver::strand::loading::LoadPath;
 use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
@@ -83,73 +86,81 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         1e3 * assembly,
         1e3 * residual_only
     );
-    let reps = if n > 20_000 { 3 } else { 15 };
+    let reps = if n > 20_000 { 5 } else { 15 };
+    let solve_reps = std::env::args()
+        .skip_while(|a| a != "--solves")
+        .nth(1)
+        .map(|v| v.parse::<usize>())
+        .transpose()?
+        .unwrap_or(reps);
 
-    // (a) faer LU, automatic choice
-    let t = Instant::now();
-    let mut lu = SparseLu::new(p)?;
-    let sym_auto = t.elapsed().as_secs_f64();
-    let mut times = Vec::new();
-    for _ in 0..reps {
+    if !std::env::args().any(|a| a == "--no-lu") {
+        // (a) faer LU, automatic choice
         let t = Instant::now();
-        lu.factorize(p, &k)?;
-        times.push(t.elapsed().as_secs_f64());
-    }
-    let mut x = r.clone();
-    let t = Instant::now();
-    lu.solve_in_place(&mut x)?;
-    println!(
-        "LU auto: symbolic {:.1} ms, factorise {:.1} ms (median of {reps}), solve {:.2} ms",
-        1e3 * sym_auto,
-        1e3 * median(times),
-        1e3 * t.elapsed().as_secs_f64()
-    );
-
-    // (b) faer LU, forced supernodal, numeric storage reused
-    let t = Instant::now();
-    let symbolic = factorize_symbolic_lu(
-        p.symbolic(),
-        LuSymbolicParams {
-            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-            ..Default::default()
-        },
-    )?;
-    let sym_sn = t.elapsed().as_secs_f64();
-    let mut numeric = NumericLu::<usize, f64>::new();
-    let par = Par::Seq;
-    let req = StackReq::or(
-        symbolic.factorize_numeric_lu_scratch::<f64>(par, Default::default()),
-        symbolic.solve_in_place_scratch::<f64>(1, par),
-    );
-    let mut buf = MemBuffer::try_new(req)?;
-    let mut times = Vec::new();
-    let mut y = r.clone();
-    for i in 0..reps {
-        let t = Instant::now();
-        let f = symbolic.factorize_numeric_lu(
-            &mut numeric,
-            p.matrix(&k),
-            par,
-            MemStack::new(&mut buf),
-            Default::default(),
-        )?;
-        times.push(t.elapsed().as_secs_f64());
-        if i == reps - 1 {
+        let mut lu = SparseLu::new(p)?;
+        let sym_auto = t.elapsed().as_secs_f64();
+        let mut times = Vec::new();
+        for _ in 0..reps {
             let t = Instant::now();
-            f.solve_in_place_with_conj(
-                Conj::No,
-                MatMut::from_column_major_slice_mut(&mut y, n, 1),
+            lu.factorize(p, &k)?;
+            times.push(t.elapsed().as_secs_f64());
+        }
+        let mut x = r.clone();
+        let t = Instant::now();
+        lu.solve_in_place(&mut x)?;
+        println!(
+            "LU auto: symbolic {:.1} ms, factorise {:.1} ms (median of {reps}), solve {:.2} ms",
+            1e3 * sym_auto,
+            1e3 * median(times),
+            1e3 * t.elapsed().as_secs_f64()
+        );
+
+        // (b) faer LU, forced supernodal, numeric storage reused
+        let t = Instant::now();
+        let symbolic = factorize_symbolic_lu(
+            p.symbolic(),
+            LuSymbolicParams {
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                ..Default::default()
+            },
+        )?;
+        let sym_sn = t.elapsed().as_secs_f64();
+        let mut numeric = NumericLu::<usize, f64>::new();
+        let par = Par::Seq;
+        let req = StackReq::or(
+            symbolic.factorize_numeric_lu_scratch::<f64>(par, Default::default()),
+            symbolic.solve_in_place_scratch::<f64>(1, par),
+        );
+        let mut buf = MemBuffer::try_new(req)?;
+        let mut times = Vec::new();
+        let mut y = r.clone();
+        for i in 0..reps {
+            let t = Instant::now();
+            let f = symbolic.factorize_numeric_lu(
+                &mut numeric,
+                p.matrix(&k),
                 par,
                 MemStack::new(&mut buf),
-            );
-            println!(
-                "LU supernodal: symbolic {:.1} ms, factorise {:.1} ms (median), solve {:.2} ms; |x_auto - x_sn| / |x| = {:.1e}",
-                1e3 * sym_sn,
-                1e3 * median(times.clone()),
-                1e3 * t.elapsed().as_secs_f64(),
-                x.iter().zip(&y).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt()
-                    / x.iter().map(|a| a * a).sum::<f64>().sqrt()
-            );
+                Default::default(),
+            )?;
+            times.push(t.elapsed().as_secs_f64());
+            if i == reps - 1 {
+                let t = Instant::now();
+                f.solve_in_place_with_conj(
+                    Conj::No,
+                    MatMut::from_column_major_slice_mut(&mut y, n, 1),
+                    par,
+                    MemStack::new(&mut buf),
+                );
+                println!(
+                    "LU supernodal: symbolic {:.1} ms, factorise {:.1} ms (median), solve {:.2} ms; |x_auto - x_sn| / |x| = {:.1e}",
+                    1e3 * sym_sn,
+                    1e3 * median(times.clone()),
+                    1e3 * t.elapsed().as_secs_f64(),
+                    x.iter().zip(&y).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt()
+                        / x.iter().map(|a| a * a).sum::<f64>().sqrt()
+                );
+            }
         }
     }
 
@@ -201,10 +212,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .sqrt()
             / r.iter().map(|b| b * b).sum::<f64>().sqrt()
     };
-    for (ordering, threads) in [
-        (FillOrdering::Amd, 1),
-        (FillOrdering::NestedDissection, 1),
-        (FillOrdering::NestedDissection, 2),
+    for (ordering, threads, tree) in [
+        (FillOrdering::Amd, 1, None),
+        (FillOrdering::NestedDissection, 1, None),
+        (FillOrdering::NestedDissection, 2, None),
+        (
+            FillOrdering::NestedDissection,
+            1,
+            Some(FactorPrecision::Double),
+        ),
+        (
+            FillOrdering::NestedDissection,
+            2,
+            Some(FactorPrecision::Double),
+        ),
+        (
+            FillOrdering::NestedDissection,
+            1,
+            Some(FactorPrecision::Single),
+        ),
+        (
+            FillOrdering::NestedDissection,
+            2,
+            Some(FactorPrecision::Single),
+        ),
     ] {
         let par = if threads > 1 {
             Par::rayon(threads)
@@ -214,6 +245,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let t = Instant::now();
         let mut ldlt = SparseCholesky::with_ordering(&up, CholeskyKind::Ldlt, par, ordering)?;
         let sym_ch = t.elapsed().as_secs_f64();
+        let solve_kind = match tree {
+            Some(precision) if ldlt.use_tree_solve(precision) => format!(
+                "tree solve in {precision:?} (top {:.1} % of the factor)",
+                100.0 * ldlt.tree_top_share().unwrap_or(0.0)
+            ),
+            _ => "faer's solve".to_string(),
+        };
         let mut times = Vec::new();
         for _ in 0..reps {
             let t = Instant::now();
@@ -222,14 +260,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         let mut solves = Vec::new();
         let mut z = r.clone();
-        for _ in 0..reps {
+        for _ in 0..solve_reps {
             z.copy_from_slice(&r);
             let t = Instant::now();
             ldlt.solve_in_place(&mut z)?;
             solves.push(t.elapsed().as_secs_f64());
         }
         println!(
-            "LDLt of the symmetric part, {ordering:?} ordering, {threads} thread(s): symbolic \
+            "LDLt of the symmetric part, {ordering:?} ordering, {threads} thread(s), {solve_kind}: symbolic \
              {:.1} ms, factorise \
              {:.1} ms (median), solve {:.2} ms (median), supernodal {}, factor {} values, \
              relative residual {:.1e}",
@@ -243,6 +281,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
 
     // (d) the same LDLᵀ in single precision (a preconditioner need not be exact)
+    let par = Par::Seq;
     let symbolic = factorize_symbolic_cholesky(
         up.symbolic(),
         Side::Upper,

@@ -19,13 +19,16 @@
 //! cycles above 1 µm.
 //!
 //! `STRAND_FORCING=η` sets the largest forcing term of the inexact Newton solves
-//! ([`moorfret_solver::linalg::NewtonParams::linear_forcing`]).
+//! ([`moorfret_solver::linalg::NewtonParams::linear_forcing`]); `STRAND_PRECONDITIONER=single`
+//! or `double` the precision of the LDLᵀ preconditioner's solves
+//! ([`moorfret_solver::strand::history::HistoryOptions::preconditioner_precision`]).
 //!
 //! Run: `cargo run --release -p moorfret-solver --example strand_history_tolerance [-- tol]`, or
 //! `… -- --six-layer LOAD.csv [--from-s A] [--to-s B] [--ea N] [--threads N] tol_ref tol…`.
 
 use std::time::Instant;
 
+use moorfret_solver::linalg::FactorPrecision;
 use moorfret_solver::strand::history::stiffness::{
     measure_axial_stiffness_n, samples_from_tension,
 };
@@ -140,6 +143,13 @@ fn run(
     };
     if let Some(f) = std::env::var_os("STRAND_FORCING") {
         options.newton.linear_forcing = f.to_string_lossy().parse()?;
+    }
+    if let Some(p) = std::env::var_os("STRAND_PRECONDITIONER") {
+        options.preconditioner_precision = match p.to_string_lossy().as_ref() {
+            "single" => FactorPrecision::Single,
+            "double" => FactorPrecision::Double,
+            other => return Err(format!("STRAND_PRECONDITIONER={other}: single or double").into()),
+        };
     }
     let t = Instant::now();
     let r = run_history(model, samples, &options, &mut NoObserver)?;

@@ -22,6 +22,7 @@ use faer::{Conj, MatMut, Par, Side};
 
 use super::linear_solver::{check_len, LinalgError, LinearSolver};
 use super::pattern::{SparsePattern, Storage};
+use super::supernodal::{FactorPrecision, SupernodalSolve};
 
 /// Which symmetric factorisation to compute.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -51,13 +52,15 @@ pub const NESTED_DISSECTION_FROM: usize = 20_000;
 /// Sparse Cholesky solver with a cached symbolic factorisation.
 pub struct SparseCholesky {
     kind: CholeskyKind,
-    symbolic: SymbolicCholesky<usize>,
-    factor_values: Vec<f64>,
+    pub(super) symbolic: SymbolicCholesky<usize>,
+    pub(super) factor_values: Vec<f64>,
     scratch: MemBuffer,
     par: Par,
     size: usize,
     nnz: usize,
     factorized: bool,
+    /// Solves split over the elimination tree ([`Self::use_tree_solve`]).
+    tree: Option<SupernodalSolve>,
 }
 
 impl std::fmt::Debug for SparseCholesky {
@@ -142,7 +145,28 @@ impl SparseCholesky {
             size: pattern.size(),
             nnz: pattern.nnz(),
             factorized: false,
+            tree: None,
         })
+    }
+
+    /// Solves with the factor split over the elimination tree ([`SupernodalSolve`]: its two
+    /// halves on two threads when the parallelism allows, the values in `precision`) instead
+    /// of faer's sequential supernodal solve. Only for a supernodal LDLᵀ; returns whether it
+    /// is used.
+    pub fn use_tree_solve(&mut self, precision: FactorPrecision) -> bool {
+        self.tree = match self.kind {
+            CholeskyKind::Ldlt => SupernodalSolve::new(&self.symbolic, precision),
+            CholeskyKind::Llt => None,
+        };
+        if let (Some(tree), true) = (&mut self.tree, self.factorized) {
+            tree.load(&self.factor_values);
+        }
+        self.tree.is_some()
+    }
+
+    /// Share of the factor solved on one thread by the tree solve (its top separators).
+    pub fn tree_top_share(&self) -> Option<f64> {
+        self.tree.as_ref().map(SupernodalSolve::top_share)
     }
 
     /// Number of stored values of the factor (a measure of fill-in).
@@ -205,6 +229,9 @@ impl LinearSolver for SparseCholesky {
         if self.factor_values.iter().any(|v| !v.is_finite()) {
             return Err(LinalgError::BadPivot { index: 0 });
         }
+        if let Some(tree) = &mut self.tree {
+            tree.load(&self.factor_values);
+        }
         self.factorized = true;
         Ok(())
     }
@@ -213,6 +240,10 @@ impl LinearSolver for SparseCholesky {
         check_len("right-hand side", self.size, rhs.len())?;
         if !self.factorized {
             return Err(LinalgError::NotFactorized);
+        }
+        if let Some(tree) = &mut self.tree {
+            tree.solve_in_place(rhs, !matches!(self.par, Par::Seq));
+            return Ok(());
         }
         let n = rhs.len();
         let b = MatMut::from_column_major_slice_mut(rhs, n, 1);

@@ -8,6 +8,7 @@ pub mod lu;
 pub mod newton;
 pub mod pattern;
 pub mod split;
+pub mod supernodal;
 
 pub use cholesky::{CholeskyKind, FillOrdering, SparseCholesky, NESTED_DISSECTION_FROM};
 pub use linear_solver::{LinalgError, LinearSolver};
@@ -17,3 +18,4 @@ pub use newton::{
 };
 pub use pattern::{Equation, PatternError, SparsePattern, Storage};
 pub use split::{GmresParams, SplitSolver, SplitStats};
+pub use supernodal::{FactorPrecision, SupernodalSolve};

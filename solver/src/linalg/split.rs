@@ -21,6 +21,7 @@ use super::cholesky::{CholeskyKind, SparseCholesky};
 use super::linear_solver::{check_len, LinalgError, LinearSolver};
 use super::lu::SparseLu;
 use super::pattern::{SparsePattern, Storage};
+use super::supernodal::FactorPrecision;
 
 /// GMRES settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -43,6 +44,9 @@ pub struct GmresParams {
     /// refresh, at most 64) are factorised afresh: while the tangent changes fast (contacts
     /// switching in the first iterations of a step) the reuse attempts cost more than they save.
     pub reuse_margin: Option<usize>,
+    /// Precision in which the LDLᵀ factor is applied (its solves split over the elimination
+    /// tree, [`crate::linalg::SupernodalSolve`], when faer's factor is supernodal).
+    pub preconditioner_precision: FactorPrecision,
 }
 
 impl Default for GmresParams {
@@ -53,6 +57,7 @@ impl Default for GmresParams {
             max_iterations: 60,
             lu_streak: 3,
             reuse_margin: None,
+            preconditioner_precision: FactorPrecision::Double,
         }
     }
 }
@@ -152,7 +157,8 @@ impl SplitSolver {
             let range = pattern.col_ptr()[col]..pattern.col_ptr()[col + 1];
             diagonal.extend(pattern.row_idx()[range].iter().map(|&row| row == col));
         }
-        let ldlt = SparseCholesky::new(&upper, CholeskyKind::Ldlt, par)?;
+        let mut ldlt = SparseCholesky::new(&upper, CholeskyKind::Ldlt, par)?;
+        ldlt.use_tree_solve(params.preconditioner_precision);
         let n = pattern.size();
         let m = params.restart.max(1);
         Ok(Self {

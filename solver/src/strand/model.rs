@@ -28,7 +28,8 @@ use crate::contact::{
     TangentialLaw,
 };
 use crate::linalg::{
-    Equation, GmresParams, LinalgError, PatternError, SparsePattern, SplitSolver, Storage,
+    Equation, FactorPrecision, GmresParams, LinalgError, PatternError, SparsePattern, SplitSolver,
+    Storage,
 };
 
 /// GMRES iterations a reused preconditioner may cost beyond a fresh one before the solver
@@ -391,14 +392,20 @@ impl StrandModel {
     /// [`PRECONDITIONER_REUSE_MARGIN`] iterations more than with a fresh one; symbolic
     /// analysis of [`Self::pattern`] done here, once.
     pub fn linear_solver(&self) -> Result<SplitSolver, LinalgError> {
-        self.linear_solver_threads(1)
+        self.linear_solver_threads(1, FactorPrecision::Double)
     }
 
-    /// [`Self::linear_solver`] with its LDLᵀ factorisation on `threads` threads.
-    pub fn linear_solver_threads(&self, threads: usize) -> Result<SplitSolver, LinalgError> {
+    /// [`Self::linear_solver`] with its LDLᵀ factorisation and solves on `threads` threads and
+    /// the factor applied in `precision`.
+    pub fn linear_solver_threads(
+        &self,
+        threads: usize,
+        precision: FactorPrecision,
+    ) -> Result<SplitSolver, LinalgError> {
         self.linear_solver_with(
             GmresParams {
                 reuse_margin: Some(PRECONDITIONER_REUSE_MARGIN),
+                preconditioner_precision: precision,
                 ..GmresParams::default()
             },
             threads,

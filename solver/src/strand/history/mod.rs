@@ -39,7 +39,9 @@ use super::problem::StrandProblem;
 use crate::beam::frame::FrameError;
 use crate::fretting::{ContactRecord, FrettingError};
 use crate::linalg::newton::NewtonParamError;
-use crate::linalg::{LinalgError, NewtonError, NewtonParams, NewtonStats, SplitStats};
+use crate::linalg::{
+    FactorPrecision, LinalgError, NewtonError, NewtonParams, NewtonStats, SplitStats,
+};
 
 /// One sample of the imposed history.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -169,6 +171,9 @@ pub struct HistoryOptions {
     /// Threads of the element work (beams and contacts; the same results to the bit) and of the
     /// LDLᵀ factorisation of the linear solver (1: sequential; the same results to round-off).
     pub threads: usize,
+    /// Precision in which the LDLᵀ preconditioner of the GMRES solves is applied
+    /// ([`crate::linalg::SupernodalSolve`]).
+    pub preconditioner_precision: FactorPrecision,
 }
 
 impl Default for HistoryOptions {
@@ -222,6 +227,10 @@ impl Default for HistoryOptions {
             // (solver/examples/strand_six_layer.rs)
             initialisation_shift: 0.01,
             threads: 1,
+            // the six-layer strand's preconditioner solves in f32 take half the time and the
+            // GMRES iterations do not change (2 706 against 2 707 over 100 s of the showcase
+            // load; solver/examples/strand_history_tolerance.rs, README "Strand solver")
+            preconditioner_precision: FactorPrecision::Single,
         }
     }
 }

@@ -66,7 +66,8 @@ impl<'a> Runner<'a> {
             model,
             problem: reference_problem(model, options.threads)?,
             solver: TimedSolver {
-                inner: model.linear_solver_threads(options.threads)?,
+                inner: model
+                    .linear_solver_threads(options.threads, options.preconditioner_precision)?,
                 times: WorkTimes::default(),
             },
             workspace: NewtonWorkspace::new(&model.pattern),

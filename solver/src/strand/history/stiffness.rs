@@ -34,7 +34,8 @@ pub fn measure_axial_stiffness_n(
         strain,
         curvature_per_m: 0.0,
     });
-    let mut solver = model.linear_solver_threads(options.threads)?;
+    let mut solver =
+        model.linear_solver_threads(options.threads, options.preconditioner_precision)?;
     let mut ws = NewtonWorkspace::new(&model.pattern);
     let mut stats = NewtonStats::default();
     solve_load_path(
