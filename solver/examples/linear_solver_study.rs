@@ -247,8 +247,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let sym_ch = t.elapsed().as_secs_f64();
         let solve_kind = match tree {
             Some(precision) if ldlt.use_tree_solve(precision) => format!(
-                "tree solve in {precision:?} (top {:.1} % of the factor)",
-                100.0 * ldlt.tree_top_share().unwrap_or(0.0)
+                "tree solve in {precision:?} (top {:.1} % of the factor; {:.2} Gflop to factorise, \
+                 {:.3} Gflop per solve)",
+                100.0 * ldlt.tree_top_share().unwrap_or(0.0),
+                1e-9 * ldlt.tree_flops().unwrap_or_default().0,
+                1e-9 * ldlt.tree_flops().unwrap_or_default().1,
             ),
             _ => "faer's solve".to_string(),
         };

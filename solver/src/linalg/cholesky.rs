@@ -164,6 +164,12 @@ impl SparseCholesky {
         self.tree.is_some()
     }
 
+    /// Floating-point operations of the numeric factorisation and of one solve
+    /// ([`SupernodalSolve::flops`]), when the tree solve is used.
+    pub fn tree_flops(&self) -> Option<(f64, f64)> {
+        self.tree.as_ref().map(SupernodalSolve::flops)
+    }
+
     /// Share of the factor solved on one thread by the tree solve (its top separators).
     pub fn tree_top_share(&self) -> Option<f64> {
         self.tree.as_ref().map(SupernodalSolve::top_share)

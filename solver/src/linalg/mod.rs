@@ -7,6 +7,7 @@ pub mod linear_solver;
 pub mod lu;
 pub mod newton;
 pub mod pattern;
+pub mod rows;
 pub mod split;
 pub mod supernodal;
 

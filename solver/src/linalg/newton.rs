@@ -542,12 +542,13 @@ fn line_search<P: NonlinearProblem>(
     params: &NewtonParams,
     ws: &mut NewtonWorkspace,
     stats: &mut NewtonStats,
-) -> f64 {
+) -> SearchOutcome {
     const ARMIJO: f64 = 1e-4;
     let mut fraction = 1.0;
     let mut best = (f64::INFINITY, 1.0);
     for trial in 0..=params.line_search_trials {
-        let phi = match evaluate(problem, load_factor, ws, false, stats) {
+        let evaluated = evaluate(problem, load_factor, ws, false, stats);
+        let phi = match evaluated {
             Ok((norm, _)) if norm.is_finite() => merit(&ws.residual, problem.merit_weights()),
             _ => f64::INFINITY,
         };
@@ -558,7 +559,10 @@ fn line_search<P: NonlinearProblem>(
             if trial > 0 {
                 tracing::trace!(trial, fraction, merit_ratio = phi / phi0, "line search");
             }
-            return fraction;
+            return SearchOutcome {
+                fraction,
+                residual: evaluated.ok(),
+            };
         }
         let next = if trial == params.line_search_trials {
             best.1
@@ -578,7 +582,18 @@ fn line_search<P: NonlinearProblem>(
             fraction = next;
         }
     }
-    fraction
+    SearchOutcome {
+        fraction,
+        residual: None,
+    }
+}
+
+/// What a line search leaves: the fraction of the correction kept, and the residual norm and
+/// force scale at the state it leaves when that state was the last one evaluated (the residual
+/// is then in the workspace).
+struct SearchOutcome {
+    fraction: f64,
+    residual: Option<(f64, f64)>,
 }
 
 /// Relative residual asked of the linear solve of a Newton iteration (Eisenstat & Walker 1996,
@@ -625,7 +640,24 @@ fn newton_step<P: NonlinearProblem, S: LinearSolver>(
     let mut full_step = true;
     // forcing term and residual of the last linear solve
     let (mut eta, mut solved_norm) = (params.linear_forcing, f64::NAN);
+    // residual norm and force scale of the current state when the line search left them
+    let mut searched: Option<(f64, f64)> = None;
     for iteration in 0..=params.max_iterations {
+        if let Some((norm, scale)) = searched.take() {
+            // converged at the state the line search accepted: no tangent needed there
+            let tolerance = params.absolute_tolerance + params.relative_tolerance * scale;
+            if norm <= tolerance {
+                stats.residual_history.push(norm);
+                tracing::trace!(
+                    load_factor,
+                    iteration,
+                    residual = norm,
+                    tolerance,
+                    "Newton iteration, converged at the line search's residual"
+                );
+                return Ok(iteration);
+            }
+        }
         let mut fresh = iteration == 0 || age >= params.max_tangent_age;
         let (mut norm, mut scale) = evaluate(problem, load_factor, ws, fresh, stats)
             .map_err(|source| Failure::Problem { iteration, source })?;
@@ -718,7 +750,9 @@ fn newton_step<P: NonlinearProblem, S: LinearSolver>(
         }
         if params.line_search_trials > 0 {
             let phi0 = merit(&ws.residual, problem.merit_weights());
-            full_step = line_search(problem, load_factor, phi0, params, ws, stats) == 1.0;
+            let outcome = line_search(problem, load_factor, phi0, params, ws, stats);
+            full_step = outcome.fraction == 1.0;
+            searched = outcome.residual;
         }
     }
     // the loop returns at iteration == max_iterations at the latest

@@ -21,6 +21,7 @@ use super::cholesky::{CholeskyKind, SparseCholesky};
 use super::linear_solver::{check_len, LinalgError, LinearSolver};
 use super::lu::SparseLu;
 use super::pattern::{SparsePattern, Storage};
+use super::rows::RowMajor;
 use super::supernodal::FactorPrecision;
 
 /// GMRES settings.
@@ -104,8 +105,12 @@ pub struct SplitSolver {
     diagonal: Vec<bool>,
     ldlt: SparseCholesky,
     symmetric: Vec<f64>,
-    /// Values of A at the last factorisation (for the products A z).
+    /// Values of A at the last factorisation (for the LU fallback).
     values: Vec<f64>,
+    /// The same by rows, for the products A z.
+    rows: RowMajor,
+    /// Whether the products run on two threads.
+    parallel: bool,
     full: SparsePattern,
     params: GmresParams,
     lu: Option<SparseLu>,
@@ -168,6 +173,8 @@ impl SplitSolver {
             diagonal,
             ldlt,
             values: vec![0.0; pattern.nnz()],
+            rows: RowMajor::new(pattern),
+            parallel: !matches!(par, Par::Seq),
             full: pattern.clone(),
             params,
             lu: None,
@@ -303,7 +310,7 @@ impl SplitSolver {
                 let z = &mut self.preconditioned[k];
                 z.copy_from_slice(&self.basis[k]);
                 self.ldlt.solve_in_place(z)?;
-                self.full.mul_vec(&self.values, z, &mut self.product);
+                self.rows.mul_vec(z, &mut self.product, self.parallel);
                 // modified Gram–Schmidt
                 for i in 0..=k {
                     let h = dot(&self.product, &self.basis[i]);
@@ -359,7 +366,7 @@ impl SplitSolver {
                 }
             }
             // true residual r = b − A x
-            self.full.mul_vec(&self.values, &x, &mut self.product);
+            self.rows.mul_vec(&x, &mut self.product, self.parallel);
             for ((ri, bi), ax) in r.iter_mut().zip(rhs.iter()).zip(&self.product) {
                 *ri = bi - ax;
             }
@@ -395,6 +402,7 @@ impl LinearSolver for SplitSolver {
             check_len("surrogate values", self.values.len(), p.len())?;
         }
         self.values.copy_from_slice(values);
+        self.rows.load(values);
         self.lu_current = false;
         self.symmetric.iter_mut().for_each(|v| *v = 0.0);
         for ((&u, &d), &v) in self
