@@ -123,7 +123,7 @@ impl SupernodalSolve {
             Some(p) => p.arrays().0.to_vec(),
             None => (0..size).collect(),
         };
-        let (membership, _) = split_tree(&supernodes, &rows, size);
+        let membership = split_tree(&supernodes, &rows, size);
         let max_rows = supernodes.iter().map(Supernode::height).max().unwrap_or(0);
         let mut groups: Vec<Group> = (0..GROUPS)
             .map(|_| Group {
@@ -255,12 +255,8 @@ fn column_ranges(supernodes: &[Supernode], list: &[usize]) -> Vec<(usize, usize)
 /// to the groups, balanced by their entries (longest-processing-time first). Starting from
 /// the roots, the largest subtree is split again and again (its root moved to the top, its
 /// children to the candidates); of the splits seen, the one with the least critical path
-/// (top entries + the largest group's) is kept. Also returns the parents.
-fn split_tree(
-    supernodes: &[Supernode],
-    rows: &[u32],
-    size: usize,
-) -> (Vec<Option<usize>>, Vec<Option<usize>>) {
+/// (top entries + the largest group's) is kept.
+fn split_tree(supernodes: &[Supernode], rows: &[u32], size: usize) -> Vec<Option<usize>> {
     /// Splits tried before the best one is taken.
     const SPLITS: usize = 256;
     let count = supernodes.len();
@@ -327,7 +323,10 @@ fn split_tree(
             (best_cost, best_bins, best_top) = (top_work + worst, bins, top.len());
         }
     }
-    top.truncate(best_top);
+    let mut in_top = vec![false; count];
+    for &s in &top[..best_top] {
+        in_top[s] = true;
+    }
     let mut membership = vec![None; count];
     for (g, bin) in best_bins.iter().enumerate() {
         for &r in bin {
@@ -336,11 +335,11 @@ fn split_tree(
     }
     // below a group's subtree roots, every supernode belongs to the group of its parent
     for s in (0..count).rev() {
-        if membership[s].is_none() && !top.contains(&s) {
+        if membership[s].is_none() && !in_top[s] {
             membership[s] = parent[s].and_then(|p| membership[p]);
         }
     }
-    (membership, parent)
+    membership
 }
 
 /// Scalar types the factor may be stored in.
