@@ -205,27 +205,43 @@ impl SupernodalSolve {
         for (p, &f) in self.permuted.iter_mut().zip(&self.forward) {
             *p = rhs[f];
         }
-        match &self.values {
-            Values::Double(v) => solve(
-                v,
-                &self.supernodes,
-                &self.rows,
-                &mut self.groups,
-                &self.top,
-                &self.top_columns,
-                &mut self.permuted,
-                &mut self.scratch,
+        let Self {
+            supernodes,
+            rows,
+            values,
+            groups,
+            top,
+            top_columns,
+            permuted,
+            scratch,
+            ..
+        } = self;
+        let (supernodes, rows, top_columns) = (&supernodes[..], &rows[..], &top_columns[..]);
+        match values {
+            Values::Double(values) => solve(
+                Factor {
+                    supernodes,
+                    rows,
+                    values,
+                    top_columns,
+                },
+                groups,
+                top,
+                permuted,
+                scratch,
                 parallel,
             ),
-            Values::Single(v) => solve(
-                v,
-                &self.supernodes,
-                &self.rows,
-                &mut self.groups,
-                &self.top,
-                &self.top_columns,
-                &mut self.permuted,
-                &mut self.scratch,
+            Values::Single(values) => solve(
+                Factor {
+                    supernodes,
+                    rows,
+                    values,
+                    top_columns,
+                },
+                groups,
+                top,
+                permuted,
+                scratch,
                 parallel,
             ),
         }
@@ -665,24 +681,15 @@ fn for_groups<T: Entry>(
     }
 }
 
-#[allow(clippy::too_many_arguments)]
 fn solve<T: Entry>(
-    values: &[T],
-    supernodes: &[Supernode],
-    rows: &[u32],
+    factor: Factor<'_, T>,
     groups: &mut [Group],
     top: &[usize],
-    top_columns: &[(usize, usize)],
     x: &mut [f64],
     scratch: &mut [f64],
     parallel: bool,
 ) {
-    let factor = Factor {
-        supernodes,
-        rows,
-        values,
-        top_columns,
-    };
+    let top_columns = factor.top_columns;
     for_groups(factor, groups, x, parallel, false);
     for g in groups.iter() {
         for &(a, b) in &g.columns {
