@@ -42,7 +42,7 @@ use crate::mooring::assembly::{update_water, WaterCache};
 use crate::mooring::LineModel;
 use crate::waves::{
     FluidKinematics, IrregularSea, PlaneKinematicsTable, PointKinematicsSeries, SeaKinematics,
-    SeriesParams, TableParams, TableRegion, WavesError,
+    SeriesParams, TableParams, TableRegion, TimeSlice, WavesError,
 };
 
 /// Start-up ramp of the waves.
@@ -303,6 +303,8 @@ pub struct FloaterSeaTable<'a> {
     table: PlaneKinematicsTable,
     ramp: Ramp,
     misses: AtomicUsize,
+    /// The table at the instant of the latest query (the queries of a coupled step share it).
+    slice: Mutex<TimeSlice>,
 }
 
 impl<'a> FloaterSeaTable<'a> {
@@ -343,6 +345,7 @@ impl<'a> FloaterSeaTable<'a> {
             table: PlaneKinematicsTable::new(sea, &region, params)?,
             ramp,
             misses: AtomicUsize::new(0),
+            slice: Mutex::new(TimeSlice::default()),
         })
     }
 
@@ -355,6 +358,23 @@ impl<'a> FloaterSeaTable<'a> {
     pub fn misses(&self) -> usize {
         self.misses.load(Ordering::Relaxed)
     }
+
+    /// `query` on the table's slice at `t` (filled first if it holds another instant);
+    /// `None` when `t` or the point is outside the table.
+    fn on_slice<R>(
+        &self,
+        t: f64,
+        query: impl FnOnce(&PlaneKinematicsTable, &TimeSlice) -> Option<R>,
+    ) -> Option<R> {
+        let mut slice = match self.slice.lock() {
+            Ok(s) => s,
+            Err(poisoned) => poisoned.into_inner(),
+        };
+        if slice.time_s() != Some(t) && !self.table.fill_slice(t, &mut slice) {
+            return None;
+        }
+        query(&self.table, &slice)
+    }
 }
 
 impl SeaKinematics for FloaterSeaTable<'_> {
@@ -363,10 +383,12 @@ impl SeaKinematics for FloaterSeaTable<'_> {
         if r == 0.0 {
             return FluidKinematics::default();
         }
-        let k = self.table.kinematics(x, t).unwrap_or_else(|| {
-            self.misses.fetch_add(1, Ordering::Relaxed);
-            self.sea.kinematics(x, t)
-        });
+        let k = self
+            .on_slice(t, |table, slice| table.slice_kinematics(slice, x))
+            .unwrap_or_else(|| {
+                self.misses.fetch_add(1, Ordering::Relaxed);
+                self.sea.kinematics(x, t)
+            });
         scaled(k, r)
     }
     fn elevation(&self, x: f64, y: f64, t: f64) -> f64 {
@@ -374,10 +396,12 @@ impl SeaKinematics for FloaterSeaTable<'_> {
         if r == 0.0 {
             return 0.0;
         }
-        let e = self.table.elevation(x, y, t).unwrap_or_else(|| {
-            self.misses.fetch_add(1, Ordering::Relaxed);
-            self.sea.elevation(x, y, t)
-        });
+        let e = self
+            .on_slice(t, |table, slice| table.slice_elevation(slice, x, y))
+            .unwrap_or_else(|| {
+                self.misses.fetch_add(1, Ordering::Relaxed);
+                self.sea.elevation(x, y, t)
+            });
         r * e
     }
 }

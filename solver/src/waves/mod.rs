@@ -35,5 +35,5 @@ pub use scatter::{ScatterCell, ScatterError, ScatterTable, TotalKind, TotalMisma
 pub use sea::{FluidKinematics, SeaKinematics, StillWater};
 pub use series::{PointKinematicsSeries, PointSample, SeriesParams, SeriesStats};
 pub use spectrum::{Jonswap, PeakEnhancement};
-pub use table::{PlaneKinematicsTable, TableParams, TableRegion};
+pub use table::{PlaneKinematicsTable, TableParams, TableRegion, TimeSlice};
 pub use wind::{RotorLoads, RotorTable, WindLaw};
