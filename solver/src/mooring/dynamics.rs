@@ -480,13 +480,25 @@ impl<'m> LineIntegrator<'m> {
         let mut previous_norm = f64::INFINITY;
         let mut step_fraction = 1.0;
         let mut backtracks = 0;
-        // Modified Newton: the factorisation of an earlier iteration (or step of the same h) is
-        // reused while each correction reduces ‖R‖₂ by the factor `REUSE_CONTRACTION`;
-        // otherwise the tangent is re-assembled and re-factorised.
-        let mut have_factor = self.factor_h == Some(h);
+        // Modified Newton: the factorisation of an earlier iteration is reused while each
+        // correction reduces ‖R‖₂ by the factor `REUSE_CONTRACTION`; otherwise the tangent is
+        // re-assembled and re-factorised. The policy (README, global stage, fifth round):
+        // - from the predictor the tangent is always fresh: the previous step's factorisation
+        //   contracted the predictor's residual tenfold in one attempt of seven;
+        // - a warm start (a later coupling pass) reuses the factorisation of its step;
+        // - a reused correction that increases ‖R‖₂ is undone before the refresh, which then
+        //   starts from the better state;
+        // - after a fresh correction that reduced ‖R‖₂ by less than `REUSE_CONTRACTION`, the
+        //   next iteration refreshes at once (a reused factorisation would do no better, and
+        //   trying it costs a residual assembly).
+        let mut have_factor = guess.is_some() && self.factor_h == Some(h);
         let mut last_correction_fresh = false;
+        // Whether the next residual measures a fresh correction, and whether the last such
+        // measure found a poor contraction.
+        let mut measure_fresh = false;
+        let mut poor_fresh = false;
         loop {
-            let refresh = !have_factor;
+            let refresh = !have_factor || poor_fresh;
             let view = StateView {
                 q: &trial.q,
                 v: &trial.v,
@@ -520,7 +532,20 @@ impl<'m> LineIntegrator<'m> {
                 });
             }
             let norm = free_norm(model, &self.ws.residual);
+            if measure_fresh {
+                measure_fresh = false;
+                poor_fresh = norm > REUSE_CONTRACTION * previous_norm;
+            }
             if !refresh {
+                if !last_correction_fresh && norm > previous_norm {
+                    for (i, dq) in self.ws.rhs.iter().enumerate() {
+                        trial.q[i] -= dq;
+                        trial.v[i] -= gamma_p * dq;
+                        trial.acc[i] -= beta_p * dq;
+                    }
+                    have_factor = false;
+                    continue;
+                }
                 if norm > REUSE_CONTRACTION * previous_norm {
                     have_factor = false;
                     continue;
@@ -565,6 +590,7 @@ impl<'m> LineIntegrator<'m> {
                 self.ws.load_rhs(model);
             }
             last_correction_fresh = refresh;
+            measure_fresh = refresh;
             self.ws.solve_correction();
             // Step-length control on the gradients: a full correction may flip a nodal
             // gradient and converge to a looped (spurious) configuration of the cable.
