@@ -13,7 +13,7 @@
 //! tangent stays finite at rest. The water kinematics are frozen during a step's iterations
 //! (their gradient with respect to the line position is not linearised).
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 
 use super::loads::{PointKinematics, PointLoad};
 use super::section::Section;
@@ -34,7 +34,9 @@ fn quadratic(c: f64, u: &Vector3<f64>) -> (Vector3<f64>, f64) {
 /// and D(u) = c (s I + u uᵀ / s) that of the drag c s u (s the regularised speed):
 /// D(u_n) P = c_n (s_n P + u_n u_nᵀ / s_n), D(u_t) t tᵀ = c_t (s_t t tᵀ + u_t u_tᵀ / s_t) and
 /// (D(u_t) − D(u_n)) M(u) = (c_t s_t − c_n s_n) M(u) + (t·u)/ℓ (c_t u_t / s_t − c_n u_n / s_n) u_nᵀ,
-/// since u_tᵀ P = 0, u_nᵀ t = 0 and u_tᵀ t = t·u.
+/// since u_tᵀ P = 0, u_nᵀ t = 0 and u_tᵀ t = t·u. M is linear in its argument, so the
+/// M terms of drag, added mass and Froude–Krylov are summed as one, and the projections are
+/// applied as rank-one updates of the identity (P = I − t tᵀ).
 pub fn morison(sec: &Section, k: &PointKinematics, water: &FluidKinematics) -> PointLoad {
     let mut load = PointLoad::zero();
     let stretch = k.r_x.norm();
@@ -43,9 +45,10 @@ pub fn morison(sec: &Section, k: &PointKinematics, water: &FluidKinematics) -> P
     }
     let t = k.r_x / stretch;
     let ttt = t * t.transpose();
-    let p = Matrix3::identity() - ttt;
-    // M(x) for a vector x with t·x = tx and normal part xn.
-    let m = |tx: f64, xn: &Vector3<f64>| (p * tx + t * xn.transpose()) / stretch;
+    // The three M(x) terms are linear in (t·x, x_n): their sum is M of the combined
+    // (tx, xn), built once.
+    let mut tx = 0.0;
+    let mut xn = Vector3::zeros();
 
     // Drag.
     let (cn, ct) = (sec.drag_normal_kg_per_m2, sec.drag_tangential_kg_per_m2);
@@ -57,13 +60,15 @@ pub fn morison(sec: &Section, k: &PointKinematics, water: &FluidKinematics) -> P
         let (fn_, sn) = quadratic(cn, &un);
         let (ft, st) = quadratic(ct, &ut);
         load.f += fn_ + ft;
-        // ∂u/∂v = −I.
-        load.d_v -= p * (cn * sn)
-            + un * un.transpose() * (cn / sn)
-            + ttt * (ct * st)
-            + ut * ut.transpose() * (ct / st);
-        load.d_rx += m(tu, &un) * (ct * st - cn * sn)
-            + (ut * (ct / st) - un * (cn / sn)) * un.transpose() * (tu / stretch);
+        // ∂u/∂v = −I; D(u_n) P + D(u_t) t tᵀ with u_t u_tᵀ = (t·u)² t tᵀ.
+        let cns = cn * sn;
+        load.d_v -= un * un.transpose() * (cn / sn) + ttt * (ct * st - cns + ct / st * tu * tu);
+        for i in 0..3 {
+            load.d_v[(i, i)] -= cns;
+        }
+        tx += tu * (ct * st - cns);
+        xn += un * (ct * st - cns);
+        load.d_rx += (ut * (ct / st) - un * (cn / sn)) * un.transpose() * (tu / stretch);
     }
 
     // Added mass on the structural acceleration.
@@ -76,17 +81,31 @@ pub fn morison(sec: &Section, k: &PointKinematics, water: &FluidKinematics) -> P
         let a_t = t * ta;
         let a_n = k.a - a_t;
         load.f -= a_n * man + a_t * mat;
-        load.d_a -= p * man + ttt * mat;
-        load.d_rx -= m(ta, &a_n) * (mat - man);
+        load.d_a -= ttt * (mat - man);
+        for i in 0..3 {
+            load.d_a[(i, i)] -= man;
+        }
+        tx -= ta * (mat - man);
+        xn -= a_n * (mat - man);
     }
 
     // Froude–Krylov and diffraction on the normal water acceleration.
     let aw = water.acceleration;
-    if sec.froude_krylov_kg_per_m > 0.0 && aw.norm_squared() > 0.0 {
+    let fk = sec.froude_krylov_kg_per_m;
+    if fk > 0.0 && aw.norm_squared() > 0.0 {
         let taw = t.dot(&aw);
         let aw_n = aw - t * taw;
-        load.f += aw_n * sec.froude_krylov_kg_per_m;
-        load.d_rx -= m(taw, &aw_n) * sec.froude_krylov_kg_per_m;
+        load.f += aw_n * fk;
+        tx -= taw * fk;
+        xn -= aw_n * fk;
+    }
+    // M(tx, xn) = (tx P + t xnᵀ) / ℓ with P = I − t tᵀ.
+    if tx != 0.0 || xn != Vector3::zeros() {
+        let s = 1.0 / stretch;
+        load.d_rx += (t * xn.transpose() - ttt * tx) * s;
+        for i in 0..3 {
+            load.d_rx[(i, i)] += tx * s;
+        }
     }
     load
 }
@@ -126,6 +145,7 @@ pub fn morison_force(sec: &Section, k: &PointKinematics, water: &FluidKinematics
 mod tests {
     use super::*;
     use crate::mooring::spec::{Environment, LineTypeSpec, SegmentSpec};
+    use nalgebra::Matrix3;
 
     fn section() -> Section {
         let lt = LineTypeSpec {
