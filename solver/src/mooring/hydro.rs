@@ -100,12 +100,10 @@ pub fn morison(sec: &Section, k: &PointKinematics, water: &FluidKinematics) -> P
         xn -= aw_n * fk;
     }
     // M(tx, xn) = (tx P + t xnᵀ) / ℓ with P = I − t tᵀ.
-    if tx != 0.0 || xn != Vector3::zeros() {
-        let s = 1.0 / stretch;
-        load.d_rx += (t * xn.transpose() - ttt * tx) * s;
-        for i in 0..3 {
-            load.d_rx[(i, i)] += tx * s;
-        }
+    let s = 1.0 / stretch;
+    load.d_rx += (t * xn.transpose() - ttt * tx) * s;
+    for i in 0..3 {
+        load.d_rx[(i, i)] += tx * s;
     }
     load
 }

@@ -291,8 +291,10 @@ impl PlaneKinematicsTable {
         stencil::<TIME_POINTS>(t + self.time_step_s, 0.0, self.time_step_s, self.rows)
     }
 
+    /// The x_β stencil of the horizontal position (x, y).
     #[inline]
-    fn along_stencil(&self, xb: f64) -> Option<(usize, [f64; SPACE_POINTS])> {
+    fn along_stencil(&self, x: f64, y: f64) -> Option<(usize, [f64; SPACE_POINTS])> {
+        let xb = x * self.direction.0 + y * self.direction.1;
         stencil::<SPACE_POINTS>(xb, self.along.0, self.along.1, self.nx)
     }
 
@@ -359,9 +361,8 @@ impl PlaneKinematicsTable {
 
     /// Surface elevation η (m) at (x, y), time t, or `None` outside the table.
     pub fn elevation(&self, x: f64, y: f64, t: f64) -> Option<f64> {
-        let xb = x * self.direction.0 + y * self.direction.1;
         let ts = self.time_stencil(t)?;
-        let xs = self.along_stencil(xb)?;
+        let xs = self.along_stencil(x, y)?;
         Some(Self::elevation_from(
             xs,
             Self::in_time(&self.elevation, self.nx, ts),
@@ -371,9 +372,8 @@ impl PlaneKinematicsTable {
     /// Kinematics at `p` (m) and time `t` (s), zero above the interpolated surface, or `None`
     /// outside the table.
     pub fn kinematics(&self, p: &Vector3<f64>, t: f64) -> Option<FluidKinematics> {
-        let xb = p.x * self.direction.0 + p.y * self.direction.1;
         let ts = self.time_stencil(t)?;
-        let xs = self.along_stencil(xb)?;
+        let xs = self.along_stencil(p.x, p.y)?;
         let eta = Self::elevation_from(xs, Self::in_time(&self.elevation, self.nx, ts));
         let plane = self.nx * self.ns * QUANTITIES;
         self.kinematics_from(p, xs, eta, Self::in_time(&self.data, plane, ts))
@@ -414,8 +414,7 @@ impl PlaneKinematicsTable {
     /// empty slice.
     pub fn slice_kinematics(&self, slice: &TimeSlice, p: &Vector3<f64>) -> Option<FluidKinematics> {
         slice.time_s?;
-        let xb = p.x * self.direction.0 + p.y * self.direction.1;
-        let xs = self.along_stencil(xb)?;
+        let xs = self.along_stencil(p.x, p.y)?;
         let eta = Self::elevation_from(xs, |i| slice.elevation[i]);
         self.kinematics_from(p, xs, eta, |k| slice.data[k])
     }
@@ -423,8 +422,7 @@ impl PlaneKinematicsTable {
     /// As [`PlaneKinematicsTable::elevation`] at the time of `slice`.
     pub fn slice_elevation(&self, slice: &TimeSlice, x: f64, y: f64) -> Option<f64> {
         slice.time_s?;
-        let xb = x * self.direction.0 + y * self.direction.1;
-        let xs = self.along_stencil(xb)?;
+        let xs = self.along_stencil(x, y)?;
         Some(Self::elevation_from(xs, |i| slice.elevation[i]))
     }
 }
