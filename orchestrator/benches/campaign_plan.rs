@@ -1,13 +1,14 @@
 //! Planning the paper campaign (`campaigns/paper.json`) with enough seeds per sea state for
 //! about 10 000 jobs: sea states, seeds, payloads, cache keys, and the whole plan stored in one
-//! SQLite transaction (`campaign::create`). Target (DESIGN §7): < 1 s.
+//! SQLite transaction (`plan::create`). Target (DESIGN §7): < 1 s.
 
 use std::path::Path;
 use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use moorfret_orchestrator::campaign::{self, resolve};
-use moorfret_orchestrator::store::{Store, StoreOptions};
+use moorfret_campaign::resolve;
+use moorfret_orchestrator::plan;
+use moorfret_store::{Store, StoreOptions};
 
 fn plan_ten_thousand_jobs(c: &mut Criterion) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns/paper.json");
@@ -36,9 +37,7 @@ fn plan_ten_thousand_jobs(c: &mut Criterion) {
                     .block_on(Store::open(&db.to_string_lossy(), StoreOptions::default()))
                     .expect("store");
                 let start = Instant::now();
-                let (_, jobs) = rt
-                    .block_on(campaign::create(&store, &resolved))
-                    .expect("plan");
+                let (_, jobs) = rt.block_on(plan::create(&store, &resolved)).expect("plan");
                 total += start.elapsed();
                 assert_eq!(jobs.len(), 2 * cells * seeds);
                 rt.block_on(store.close());

@@ -1,12 +1,18 @@
 //! # moorfret-orchestrator
 //!
-//! Campaign specifications, planning (scatter diagram → sea-state jobs), the campaign store,
-//! the local worker pool, aggregation, queries, reports, and the `moorfret` command line.
+//! What the `moorfret` command runs on behalf of a user, as a library:
+//!
+//! - [`plan`]: scatter diagram → sea states → jobs, and the campaign stored with its plan in
+//!   one transaction;
+//! - [`query`]: a campaign's results from the store's views, as tables, CSV or JSON;
+//! - [`report`]: the offline HTML report of a campaign;
+//! - [`plot`]: SVG plots of single-stage runs.
+//!
+//! Campaign files are read by `moorfret-campaign`, stored by `moorfret-store` and run by
+//! `moorfret-worker`; the command line itself lives in the `moorfret` binary (`src/main.rs`,
+//! `src/cli/`).
 
-pub mod campaign;
-pub mod cli;
+pub mod plan;
 pub mod plot;
 pub mod query;
 pub mod report;
-pub mod store;
-pub mod worker;

@@ -1,8 +1,9 @@
 //! `moorfret` binary: parse arguments, install logging, run, map errors to exit codes.
 
 use clap::Parser;
-use moorfret_orchestrator::cli;
 use std::process::ExitCode;
+
+mod cli;
 
 fn main() -> ExitCode {
     tracing_subscriber::fmt()

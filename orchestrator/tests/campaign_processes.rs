@@ -9,7 +9,7 @@ use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use moorfret_orchestrator::store::{
+use moorfret_store::{
     AttemptOutcome, CampaignId, JobKind, JobResults, JobState, NewCampaign, PlannedJob, Store,
     StoreOptions, TestPayload,
 };
@@ -456,10 +456,10 @@ const STRAND_LEASE_MS: &str = "3000";
 /// state, one `global` and one `strand` job) into a new store `db`.
 fn plan_strand_resume_campaign(db: &str) -> CampaignId {
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/campaigns/strand_resume.json");
-    let resolved = moorfret_orchestrator::campaign::resolve(&file).unwrap();
+    let resolved = moorfret_campaign::resolve(&file).unwrap();
     rt().block_on(async {
         let store = Store::open(db, StoreOptions::default()).await.unwrap();
-        let (id, jobs) = moorfret_orchestrator::campaign::create(&store, &resolved)
+        let (id, jobs) = moorfret_orchestrator::plan::create(&store, &resolved)
             .await
             .unwrap();
         assert_eq!(jobs.len(), 2);

@@ -5,8 +5,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use moorfret_orchestrator::campaign::{self, resolve};
-use moorfret_orchestrator::store::{NewCampaign, Store, StoreOptions};
+use moorfret_campaign::resolve;
+use moorfret_orchestrator::plan;
+use moorfret_store::{NewCampaign, Store, StoreOptions};
 
 fn campaigns_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns")
@@ -221,7 +222,7 @@ fn paper_campaign_plans_every_non_zero_cell_of_the_scatter_diagram() {
     let resolved = resolve(&campaigns_dir().join("paper.json")).unwrap();
     let table = &resolved.scatter;
     let non_zero = table.cells().iter().filter(|c| c.value > 0.0).count();
-    let states = campaign::plan::sea_states(
+    let states = plan::sea_states(
         table,
         resolved.inputs.spec.scatter.reading,
         resolved.inputs.spec.simulation.seeds_per_sea_state,

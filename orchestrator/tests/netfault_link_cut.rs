@@ -17,9 +17,7 @@ mod scale_support;
 
 use std::time::Duration;
 
-use moorfret_orchestrator::store::{
-    AttemptOutcome, Clock, JobState, Store, StoreOptions, TestPayload,
-};
+use moorfret_store::{AttemptOutcome, Clock, JobState, Store, StoreOptions, TestPayload};
 use scale_support::netns::{self, Forwarder, Host};
 use scale_support::pg_database::TempDatabase;
 use scale_support::process_worker::{self, fault_policy, WorkerProcess};

@@ -24,7 +24,7 @@ use std::collections::{HashMap, HashSet};
 use std::process::Command;
 use std::time::Duration;
 
-use moorfret_orchestrator::store::{
+use moorfret_store::{
     AttemptOutcome, CampaignId, Clock, JobState, PlannedJob, Store, StoreOptions, TestPayload,
 };
 use scale_support::pg_database::TempDatabase;

@@ -4,8 +4,8 @@
 mod fixture;
 
 use moorfret_orchestrator::query::{self, QueryKind};
-use moorfret_orchestrator::store::Store;
 use moorfret_solver::fretting::AngularPosition;
+use moorfret_store::Store;
 
 fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()

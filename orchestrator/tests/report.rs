@@ -7,7 +7,7 @@ mod fixture;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use moorfret_orchestrator::store::ArtifactStore;
+use moorfret_store::ArtifactStore;
 
 fn chromium() -> Option<PathBuf> {
     for name in ["chromium", "chromium-browser", "google-chrome"] {

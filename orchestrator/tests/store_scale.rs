@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use moorfret_orchestrator::store::{
+use moorfret_store::{
     complete_with_retry, AttemptOutcome, ClaimFilter, Clock, DamageInput, JobKind, JobResults,
     JobState, ManualClock, PlannedJob, QueuePolicy, RetryPolicy, StoreError, TestPayload,
     WallTimeBudget,

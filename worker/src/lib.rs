@@ -1,6 +1,25 @@
 //! # moorfret-worker
 //!
-//! The `moorfret-worker` binary: the worker loop of `moorfret_orchestrator::worker` (claim,
-//! run the global then strand stages, heartbeat, checkpoint, complete atomically) as its own
-//! executable for cluster schedulers. The loop itself lives in the orchestrator so that
-//! `moorfret worker` and `moorfret campaign launch` share it.
+//! A worker claims sea-state jobs from a campaign store and runs them (DESIGN §3.2, §3.5):
+//!
+//! - [`serve`]: the claim loop: cache reuse, the stage on a blocking thread with a heartbeat
+//!   task, completion guarded by the lease token, failure reports, release on shutdown;
+//! - [`execute`]: one claimed job to its stage;
+//! - [`global_stage`]: floater + lines through one sea state, hot-spot series as artifacts;
+//! - [`strand_stage`]: the strand model through a hot-spot series, with checkpoints, per-contact
+//!   statistics and per-sea-state damage inputs;
+//! - [`series`]: the hot-spot series format the global stage writes and the strand stage reads;
+//! - [`failure`]: failure reports of the stages;
+//! - [`process`]: a whole worker process (store, signals, runtime), shared by the `moorfret
+//!   worker` command and the `moorfret-worker` binary.
+
+pub mod execute;
+pub mod failure;
+pub mod global_stage;
+pub mod process;
+pub mod series;
+pub mod serve;
+pub mod strand_stage;
+
+pub use process::{ProcessOptions, StoreConfig};
+pub use serve::{run, this_process, WorkerConfig, WorkerSummary};

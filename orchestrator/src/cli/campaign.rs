@@ -18,13 +18,14 @@ use serde_json::json;
 
 use super::drive::{drive, DriveOptions};
 use super::worker::StoreArgs;
-use crate::campaign::{self, resolve};
-use crate::store::{CampaignProgress, CampaignRecord, JobState, Store};
+use moorfret_campaign::resolve;
+use moorfret_orchestrator::plan;
 use moorfret_solver::waves::scatter::TotalKind;
+use moorfret_store::{CampaignProgress, CampaignRecord, JobState, Store};
 
 /// `campaign` subcommands.
 #[derive(Debug, Subcommand)]
-pub enum CampaignCommand {
+pub(crate) enum CampaignCommand {
     /// Plan a campaign file into the store and run it with local workers.
     Launch {
         /// Campaign file (JSON).
@@ -69,7 +70,7 @@ pub enum CampaignCommand {
 }
 
 /// Runs a `campaign` subcommand.
-pub fn execute(cmd: CampaignCommand) -> anyhow::Result<()> {
+pub(crate) fn execute(cmd: CampaignCommand) -> anyhow::Result<()> {
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -87,16 +88,16 @@ pub fn execute(cmd: CampaignCommand) -> anyhow::Result<()> {
                 store,
                 workers,
             } => {
-                let db = store.open().await?;
+                let db = store.config().open().await?;
                 let record = find(&db, &name).await?;
-                if record.state == crate::store::CampaignState::Cancelled {
+                if record.state == moorfret_store::CampaignState::Cancelled {
                     bail!("campaign {name} was cancelled; it cannot be resumed");
                 }
                 run_to_end(&db, &store, &record, workers).await
             }
             CampaignCommand::Status { name, store, json } => status(&store, name, json).await,
             CampaignCommand::Cancel { name, store } => {
-                let db = store.open().await?;
+                let db = store.config().open().await?;
                 let record = find(&db, &name).await?;
                 let report = db.cancel_campaign(record.id).await?;
                 println!("campaign {name}: {} jobs cancelled", report.jobs_cancelled);
@@ -129,9 +130,9 @@ async fn launch(
             m.computed
         );
     }
-    let store = args.open().await?;
+    let store = args.config().open().await?;
     let started = std::time::Instant::now();
-    let (id, jobs) = campaign::create(&store, &resolved)
+    let (id, jobs) = plan::create(&store, &resolved)
         .await
         .with_context(|| format!("storing campaign {}", resolved.inputs.spec.name))?;
     tracing::info!(
@@ -170,11 +171,11 @@ async fn run_to_end(
         record,
         &DriveOptions {
             workers,
-            child_args: args.child_args(),
+            child_args: args.config().child_args(),
         },
     )
     .await?;
-    let failed = count(&progress, JobState::Failed);
+    let failed = progress.count(JobState::Failed);
     if failed > 0 {
         let jobs = store.jobs_of_campaign(record.id).await?;
         for job in jobs.iter().filter(|j| j.state == JobState::Failed) {
@@ -195,20 +196,11 @@ async fn run_to_end(
     Ok(())
 }
 
-/// Jobs of `progress` in `state`.
-pub fn count(progress: &CampaignProgress, state: JobState) -> i64 {
-    progress
-        .jobs_by_state
-        .iter()
-        .find(|(s, _)| *s == state)
-        .map_or(0, |(_, n)| *n)
-}
-
 /// The `--json` form of a campaign's status.
-pub fn status_json(record: &CampaignRecord, p: &CampaignProgress) -> serde_json::Value {
+pub(crate) fn status_json(record: &CampaignRecord, p: &CampaignProgress) -> serde_json::Value {
     let jobs: serde_json::Map<String, serde_json::Value> = JobState::ALL
         .iter()
-        .map(|s| (s.as_str().to_owned(), json!(count(p, *s))))
+        .map(|s| (s.as_str().to_owned(), json!(p.count(*s))))
         .collect();
     json!({
         "campaign": record.name,
@@ -221,7 +213,7 @@ pub fn status_json(record: &CampaignRecord, p: &CampaignProgress) -> serde_json:
 }
 
 async fn status(args: &StoreArgs, name: Option<String>, as_json: bool) -> anyhow::Result<()> {
-    let store = args.open().await?;
+    let store = args.config().open().await?;
     let records = match &name {
         Some(n) => vec![find(&store, n).await?],
         None => store.campaigns().await?,
@@ -237,12 +229,12 @@ async fn status(args: &StoreArgs, name: Option<String>, as_json: bool) -> anyhow
                 record.name,
                 record.state.as_str(),
                 p.jobs_total,
-                count(&p, JobState::Done),
-                count(&p, JobState::Running),
-                count(&p, JobState::Ready),
-                count(&p, JobState::Blocked),
-                count(&p, JobState::Failed),
-                count(&p, JobState::Cancelled),
+                p.count(JobState::Done),
+                p.count(JobState::Running),
+                p.count(JobState::Ready),
+                p.count(JobState::Blocked),
+                p.count(JobState::Failed),
+                p.count(JobState::Cancelled),
                 100.0 * p.occurrence_covered,
                 100.0 * p.occurrence_planned
             );

@@ -14,19 +14,18 @@ use std::time::{Duration, Instant};
 use anyhow::Context;
 use tokio::process::{Child, Command};
 
-use super::campaign::count;
-use crate::store::{CampaignProgress, CampaignRecord, JobState, Store};
+use moorfret_store::{CampaignProgress, CampaignRecord, JobState, Store};
 
 /// Restarts of dead workers allowed per worker slot before the driver gives up.
 const MAX_RESTARTS_PER_WORKER: usize = 50;
 
 /// How to drive.
 #[derive(Debug, Clone)]
-pub struct DriveOptions {
+pub(crate) struct DriveOptions {
     /// Worker processes.
-    pub workers: usize,
+    pub(crate) workers: usize,
     /// Store arguments handed to each worker.
-    pub child_args: Vec<String>,
+    pub(crate) child_args: Vec<String>,
 }
 
 fn spawn_worker(options: &DriveOptions) -> anyhow::Result<Child> {
@@ -61,7 +60,7 @@ async fn stop(mut child: Child) {
 }
 
 fn open_jobs(p: &CampaignProgress) -> i64 {
-    count(p, JobState::Ready) + count(p, JobState::Running) + count(p, JobState::Blocked)
+    p.count(JobState::Ready) + p.count(JobState::Running) + p.count(JobState::Blocked)
 }
 
 fn finished_jobs(p: &CampaignProgress) -> u64 {
@@ -69,7 +68,7 @@ fn finished_jobs(p: &CampaignProgress) -> u64 {
 }
 
 /// Runs the campaign to its end; returns its final progress.
-pub async fn drive(
+pub(crate) async fn drive(
     store: &Store,
     record: &CampaignRecord,
     options: &DriveOptions,
@@ -99,8 +98,8 @@ pub async fn drive(
         let finished = finished_jobs(&progress);
         let message = format!(
             "{} running, {} failed, occurrence covered {:.3} % of {:.3} % planned",
-            count(&progress, JobState::Running),
-            count(&progress, JobState::Failed),
+            progress.count(JobState::Running),
+            progress.count(JobState::Failed),
             100.0 * progress.occurrence_covered,
             100.0 * progress.occurrence_planned
         );
@@ -143,9 +142,9 @@ pub async fn drive(
     tracing::info!(
         "campaign {}: {} done, {} failed, {} cancelled of {} jobs; occurrence covered {:.3} % of the year",
         record.name,
-        count(&progress, JobState::Done),
-        count(&progress, JobState::Failed),
-        count(&progress, JobState::Cancelled),
+        progress.count(JobState::Done),
+        progress.count(JobState::Failed),
+        progress.count(JobState::Cancelled),
         progress.jobs_total,
         100.0 * progress.occurrence_covered
     );

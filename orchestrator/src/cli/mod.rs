@@ -3,26 +3,26 @@
 
 use clap::{Parser, Subcommand};
 
-pub mod campaign;
-pub mod drive;
-pub mod query;
-pub mod rainflow;
-pub mod report;
-pub mod run;
-pub mod worker;
+pub(crate) mod campaign;
+pub(crate) mod drive;
+pub(crate) mod query;
+pub(crate) mod rainflow;
+pub(crate) mod report;
+pub(crate) mod run;
+pub(crate) mod worker;
 
 /// moorfret: fretting fatigue of spiral-strand mooring ropes over a site's long-term sea climate.
 #[derive(Debug, Parser)]
 #[command(name = "moorfret", version, about, long_about = None)]
-pub struct Cli {
+pub(crate) struct Cli {
     /// The command to run.
     #[command(subcommand)]
-    pub command: Command,
+    pub(crate) command: Command,
 }
 
 /// Top-level commands.
 #[derive(Debug, Subcommand)]
-pub enum Command {
+pub(crate) enum Command {
     /// Single runs of one stage for one case, outside any campaign.
     #[command(subcommand)]
     Run(run::RunCommand),
@@ -40,7 +40,7 @@ pub enum Command {
 }
 
 /// Execute a parsed command line.
-pub fn execute(cli: Cli) -> anyhow::Result<()> {
+pub(crate) fn execute(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Run(cmd) => run::execute(cmd),
         Command::Rainflow(args) => rainflow::execute(args),

@@ -1,38 +1,38 @@
 //! `moorfret query damage-inputs|sea-states|lifetime|contacts --campaign NAME [--db URL]
 //! [--format table|csv|json]`: a campaign's results from the store's views
-//! ([`crate::query`]).
+//! ([`moorfret_orchestrator::query`]).
 
 use std::io::Write;
 
 use clap::Args;
 
-use crate::query::{self, OutputFormat, QueryKind, DEFAULT_DB};
-use crate::store::{Store, StoreOptions};
+use moorfret_orchestrator::query::{self, OutputFormat, QueryKind, DEFAULT_DB};
+use moorfret_store::{Store, StoreOptions};
 
 /// Arguments of `moorfret query`.
 #[derive(Debug, Args)]
-pub struct QueryArgs {
+pub(crate) struct QueryArgs {
     /// What to list.
     #[arg(value_enum)]
-    pub kind: QueryKind,
+    pub(crate) kind: QueryKind,
     /// Campaign name.
     #[arg(long)]
-    pub campaign: String,
+    pub(crate) campaign: String,
     /// Store: SQLite file path or `postgres://…` URL.
     #[arg(long, default_value = DEFAULT_DB)]
-    pub db: String,
+    pub(crate) db: String,
     /// Output format.
     #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
-    pub format: OutputFormat,
+    pub(crate) format: OutputFormat,
     /// Fretting measure of `damage-inputs`: `fretting_max` (most damaged contact of a class)
     /// or `fretting_mean` (mean over its contacts).
     #[arg(long, default_value = "fretting_max")]
-    pub measure: String,
+    pub(crate) measure: String,
 }
 
 /// Opens an existing store (never creates one for a read).
 pub(crate) async fn open_existing(db: &str) -> anyhow::Result<Store> {
-    if let crate::store::StoreLocation::Sqlite(path) = crate::store::StoreLocation::parse(db)? {
+    if let moorfret_store::StoreLocation::Sqlite(path) = moorfret_store::StoreLocation::parse(db)? {
         if !path.exists() {
             anyhow::bail!("--db `{db}`: no such database file");
         }
@@ -41,7 +41,7 @@ pub(crate) async fn open_existing(db: &str) -> anyhow::Result<Store> {
 }
 
 /// Runs the query and prints it on stdout.
-pub fn execute(args: QueryArgs) -> anyhow::Result<()> {
+pub(crate) fn execute(args: QueryArgs) -> anyhow::Result<()> {
     let runtime = tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()?;

@@ -16,7 +16,7 @@ use moorfret_solver::fretting::rainflow::{count_cycles, Cycle, RainflowOptions};
 
 /// Output formats of `moorfret rainflow`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum RainflowFormat {
+pub(crate) enum RainflowFormat {
     /// `{"cycles": [...]}`.
     Json,
     /// A header `range,mean,count,start_index,end_index` and one row per cycle.
@@ -25,28 +25,31 @@ pub enum RainflowFormat {
 
 /// Arguments of `moorfret rainflow`.
 #[derive(Debug, Args)]
-pub struct RainflowArgs {
+pub(crate) struct RainflowArgs {
     /// CSV file with a header row.
-    pub file: PathBuf,
+    pub(crate) file: PathBuf,
     /// Column to count (default: the first column).
     #[arg(long)]
-    pub column: Option<String>,
+    pub(crate) column: Option<String>,
     /// Treat the series as one period of a repeating history (closes the residue).
     #[arg(long)]
-    pub repeating: bool,
+    pub(crate) repeating: bool,
     /// Hysteresis gate: ignore ripples not larger than this (unit of the column).
     #[arg(long, default_value_t = 0.0)]
-    pub gate: f64,
+    pub(crate) gate: f64,
     /// Write JSON (the default; same as `--format json`).
     #[arg(long, conflicts_with = "format")]
-    pub json: bool,
+    pub(crate) json: bool,
     /// Output format.
     #[arg(long, value_enum)]
-    pub format: Option<RainflowFormat>,
+    pub(crate) format: Option<RainflowFormat>,
 }
 
 /// Reads one numeric column of a CSV file; errors name the file, line and column.
-pub fn read_column(file: &std::path::Path, column: Option<&str>) -> anyhow::Result<Vec<f64>> {
+pub(crate) fn read_column(
+    file: &std::path::Path,
+    column: Option<&str>,
+) -> anyhow::Result<Vec<f64>> {
     let shown = file.display();
     let bytes = std::fs::read(file).with_context(|| format!("cannot read {shown}"))?;
     if bytes.iter().all(|b| b.is_ascii_whitespace()) {
@@ -99,7 +102,7 @@ pub fn read_column(file: &std::path::Path, column: Option<&str>) -> anyhow::Resu
 }
 
 /// Writes cycles in the requested format.
-pub fn write_cycles(
+pub(crate) fn write_cycles(
     out: &mut dyn Write,
     cycles: &[Cycle],
     format: RainflowFormat,
@@ -127,7 +130,7 @@ pub fn write_cycles(
 }
 
 /// Runs `moorfret rainflow`, writing to `out`.
-pub fn run(args: &RainflowArgs, out: &mut dyn Write) -> anyhow::Result<()> {
+pub(crate) fn run(args: &RainflowArgs, out: &mut dyn Write) -> anyhow::Result<()> {
     let values = read_column(&args.file, args.column.as_deref())?;
     let options = RainflowOptions {
         hysteresis_gate: args.gate,
@@ -144,7 +147,7 @@ pub fn run(args: &RainflowArgs, out: &mut dyn Write) -> anyhow::Result<()> {
 }
 
 /// Executes `moorfret rainflow` on standard output.
-pub fn execute(args: RainflowArgs) -> anyhow::Result<()> {
+pub(crate) fn execute(args: RainflowArgs) -> anyhow::Result<()> {
     let stdout = std::io::stdout();
     let mut lock = stdout.lock();
     run(&args, &mut lock)

@@ -1,32 +1,32 @@
 //! `moorfret report NAME --out DIR [--db URL] [--artifacts DIR]`: an offline HTML page of a
-//! campaign's results ([`crate::report`]).
+//! campaign's results ([`moorfret_orchestrator::report`]).
 
 use std::path::PathBuf;
 
 use clap::Args;
 
 use super::query::open_existing;
-use crate::query::DEFAULT_DB;
-use crate::store::{ArtifactStore, StoreLocation};
+use moorfret_orchestrator::query::DEFAULT_DB;
+use moorfret_store::{ArtifactStore, StoreLocation};
 
 /// Arguments of `moorfret report`.
 #[derive(Debug, Args)]
-pub struct ReportArgs {
+pub(crate) struct ReportArgs {
     /// Campaign name.
-    pub name: String,
+    pub(crate) name: String,
     /// Output directory (created if missing); the page is `DIR/index.html`.
     #[arg(long)]
-    pub out: PathBuf,
+    pub(crate) out: PathBuf,
     /// Store: SQLite file path or `postgres://…` URL.
     #[arg(long, default_value = DEFAULT_DB)]
-    pub db: String,
+    pub(crate) db: String,
     /// Artifact directory (default: next to an SQLite store; none for PostgreSQL).
     #[arg(long)]
-    pub artifacts: Option<PathBuf>,
+    pub(crate) artifacts: Option<PathBuf>,
 }
 
 /// Writes the report and prints the path of the page.
-pub fn execute(args: ReportArgs) -> anyhow::Result<()> {
+pub(crate) fn execute(args: ReportArgs) -> anyhow::Result<()> {
     let artifacts = match (&args.artifacts, StoreLocation::parse(&args.db)?) {
         (Some(dir), _) => Some(ArtifactStore::open(dir.clone())?),
         (None, StoreLocation::Sqlite(path)) if path.exists() => {
@@ -46,8 +46,13 @@ pub fn execute(args: ReportArgs) -> anyhow::Result<()> {
         .build()?;
     let page = runtime.block_on(async {
         let store = open_existing(&args.db).await?;
-        let page =
-            crate::report::write_report(&store, &args.name, &args.out, artifacts.as_ref()).await;
+        let page = moorfret_orchestrator::report::write_report(
+            &store,
+            &args.name,
+            &args.out,
+            artifacts.as_ref(),
+        )
+        .await;
         store.close().await;
         page
     })?;

@@ -17,7 +17,8 @@ mod table;
 use anyhow::Context;
 use serde_json::Value;
 
-use crate::store::{CampaignId, Store};
+use moorfret_campaign::fatigue::FRETTING_MEASURES;
+use moorfret_store::{CampaignId, Store};
 
 pub use table::{OutputFormat, Table};
 
@@ -36,9 +37,6 @@ pub enum QueryKind {
     /// Per-contact statistics.
     Contacts,
 }
-
-/// Fretting measure names stored in `sea_state_class_damage_inputs`.
-pub const FRETTING_MEASURES: [&str; 2] = ["fretting_max", "fretting_mean"];
 
 /// The id of campaign `name`, or an error naming it.
 pub async fn campaign_id(store: &Store, name: &str) -> anyhow::Result<CampaignId> {

@@ -6,7 +6,9 @@ use anyhow::Context;
 use moorfret_solver::fretting::{AngularPosition, CycleHistogram};
 
 use crate::query::{self, Table};
-use crate::store::{ArtifactStore, JobKind, JobState, LifetimeClassDamage, SeaStateStatus, Store};
+use moorfret_store::{
+    ArtifactStore, JobKind, JobState, LifetimeClassDamage, SeaStateStatus, Store,
+};
 
 /// The contact class with the largest annual `fretting_max` damage.
 #[derive(Debug, Clone, PartialEq)]
@@ -161,7 +163,7 @@ pub async fn gather(
 /// Σ over sea states of occurrence × seed-mean cycles per hour, per hot spot and interface,
 /// marginal over normal force and angular position.
 fn slip_histograms(
-    rows: Vec<(i64, f64, crate::store::ClassDamageInput)>,
+    rows: Vec<(i64, f64, moorfret_store::ClassDamageInput)>,
 ) -> anyhow::Result<Vec<SlipHistogram>> {
     // Seeds per (sea state, hot spot, class), to take seed means.
     let mut seeds: BTreeMap<(i64, i64, i64, AngularPosition), f64> = BTreeMap::new();
@@ -203,7 +205,7 @@ fn slip_histograms(
 /// fretting share (or of the first one holding it).
 async fn hot_spot_series(
     store: &Store,
-    campaign: crate::store::CampaignId,
+    campaign: moorfret_store::CampaignId,
     artifacts: &ArtifactStore,
     fretting_share: &BTreeMap<i64, f64>,
 ) -> anyhow::Result<Option<HotSpotSeries>> {

@@ -23,7 +23,7 @@ use std::path::Path;
 
 use anyhow::Context;
 
-use crate::store::{ArtifactStore, Store};
+use moorfret_store::{ArtifactStore, Store};
 
 pub use data::ReportData;
 

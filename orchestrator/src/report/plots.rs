@@ -6,7 +6,7 @@ use plotters::prelude::*;
 
 use super::data::{HotSpotSeries, SlipHistogram};
 use crate::plot::{bounds, panel, plot_err};
-use crate::store::SeaStateStatus;
+use moorfret_store::SeaStateStatus;
 
 /// Colour of a share in [0, 1]: pale yellow (0) to dark red (1), linear in RGB.
 pub(crate) fn share_colour(share: f64) -> RGBColor {

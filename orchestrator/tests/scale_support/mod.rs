@@ -9,7 +9,7 @@
 
 use std::time::Duration;
 
-use moorfret_orchestrator::store::{
+use moorfret_store::{
     CampaignId, Clock, JobKind, JobResults, NewCampaign, PlannedJob, QueuePolicy, Store,
     StoreOptions, TestPayload, WorkerInfo,
 };

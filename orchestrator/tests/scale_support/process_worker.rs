@@ -14,7 +14,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Duration;
 
-use moorfret_orchestrator::store::{
+use moorfret_store::{
     complete_with_retry, CampaignId, ClaimFilter, Clock, JobResults, QueuePolicy, RetryPolicy,
     Store, StoreError, StoreOptions, TestPayload, WorkerInfo,
 };

@@ -87,6 +87,19 @@ impl ContactRecord {
             position: AngularPosition::of(self.theta_rad),
         }
     }
+
+    /// Slip cycles counted (half cycles as 0.5).
+    pub fn slip_cycle_count(&self) -> f64 {
+        self.cycles.iter().map(|k| k.slip.count).sum()
+    }
+
+    /// Largest slip range of a counted cycle (m), 0 without cycles.
+    pub fn max_slip_range_m(&self) -> f64 {
+        self.cycles
+            .iter()
+            .map(|k| k.slip.range)
+            .fold(0.0_f64, f64::max)
+    }
 }
 
 #[cfg(test)]

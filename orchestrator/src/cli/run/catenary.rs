@@ -20,33 +20,33 @@ use serde::Serialize;
 
 /// Axial stiffness standing for an inextensible line (N): at 1 MN of tension it stretches by
 /// one part in 1e9, far below the solver tolerance on any realistic line.
-pub const INEXTENSIBLE_AXIAL_STIFFNESS_N: f64 = 1.0e15;
+pub(crate) const INEXTENSIBLE_AXIAL_STIFFNESS_N: f64 = 1.0e15;
 
 /// Arguments of `moorfret run catenary`.
 #[derive(Debug, Args)]
 #[command(allow_negative_numbers = true)]
-pub struct CatenaryArgs {
+pub(crate) struct CatenaryArgs {
     /// Horizontal distance from the anchor to the fairlead X_F (m).
     #[arg(long)]
-    pub horizontal_span_m: f64,
+    pub(crate) horizontal_span_m: f64,
     /// Height of the fairlead above the anchor Z_F (m).
     #[arg(long)]
-    pub vertical_span_m: f64,
+    pub(crate) vertical_span_m: f64,
     /// Unstretched line length L (m).
     #[arg(long)]
-    pub length_m: f64,
+    pub(crate) length_m: f64,
     /// Submerged weight per unit length w (N/m).
     #[arg(long)]
-    pub weight_n_per_m: f64,
+    pub(crate) weight_n_per_m: f64,
     /// Axial stiffness EA (N); omitted: inextensible line (EA = 1e15 N, no stretch to reach).
     #[arg(long)]
-    pub axial_stiffness_n: Option<f64>,
+    pub(crate) axial_stiffness_n: Option<f64>,
     /// Seabed friction coefficient C_B (-).
     #[arg(long, default_value_t = 0.0)]
-    pub seabed_friction: f64,
+    pub(crate) seabed_friction: f64,
     /// Print one JSON object instead of a table.
     #[arg(long)]
-    pub json: bool,
+    pub(crate) json: bool,
 }
 
 /// The machine-readable result.
@@ -72,7 +72,7 @@ impl From<&CatenarySolution> for CatenaryReport {
 }
 
 /// Solves the catenary and prints the result.
-pub fn execute(args: CatenaryArgs) -> anyhow::Result<()> {
+pub(crate) fn execute(args: CatenaryArgs) -> anyhow::Result<()> {
     let catenary = Catenary {
         line: ElasticLine {
             length_m: args.length_m,

@@ -19,25 +19,25 @@ use moorfret_solver::floater::FloaterSpec;
 use moorfret_solver::global::case::FloaterSource;
 use moorfret_solver::global::{run, CaseSpec, FloaterInput, GlobalModel, GlobalResult, RunParams};
 
-use crate::plot;
+use moorfret_orchestrator::plot;
 
 /// Arguments of `run global`.
 #[derive(Debug, Args)]
-pub struct GlobalArgs {
+pub(crate) struct GlobalArgs {
     /// Case file (JSON).
-    pub case: PathBuf,
+    pub(crate) case: PathBuf,
     /// Output directory (created if missing).
     #[arg(long)]
-    pub out: PathBuf,
+    pub(crate) out: PathBuf,
     /// Recorded duration after the transient (s), overriding the case.
     #[arg(long)]
-    pub duration_s: Option<f64>,
+    pub(crate) duration_s: Option<f64>,
     /// Discarded start-up time (s), overriding the case (the wave ramp is shortened to fit).
     #[arg(long)]
-    pub transient_s: Option<f64>,
+    pub(crate) transient_s: Option<f64>,
     /// Worker threads for the lines.
     #[arg(long, default_value_t = 1)]
-    pub threads: usize,
+    pub(crate) threads: usize,
 }
 
 fn read(path: &Path) -> anyhow::Result<String> {
@@ -45,7 +45,7 @@ fn read(path: &Path) -> anyhow::Result<String> {
 }
 
 /// Loads the case and its floater input.
-pub fn load_case(path: &Path) -> anyhow::Result<(CaseSpec, FloaterInput)> {
+pub(crate) fn load_case(path: &Path) -> anyhow::Result<(CaseSpec, FloaterInput)> {
     let case = CaseSpec::from_json_str(&read(path)?)
         .with_context(|| format!("in case file {}", path.display()))?;
     let base = path.parent().unwrap_or(Path::new("."));
@@ -69,7 +69,7 @@ pub fn load_case(path: &Path) -> anyhow::Result<(CaseSpec, FloaterInput)> {
 }
 
 /// Runs the command.
-pub fn execute(args: &GlobalArgs) -> anyhow::Result<()> {
+pub(crate) fn execute(args: &GlobalArgs) -> anyhow::Result<()> {
     if args.threads == 0 {
         bail!("--threads must be >= 1");
     }
@@ -133,7 +133,7 @@ fn create(path: &Path) -> anyhow::Result<std::io::BufWriter<std::fs::File>> {
 }
 
 /// Writes every output file of `result` into `dir`.
-pub fn write_outputs(result: &GlobalResult, dir: &Path) -> anyhow::Result<()> {
+pub(crate) fn write_outputs(result: &GlobalResult, dir: &Path) -> anyhow::Result<()> {
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
 
     let path = dir.join("hotspots.csv");

@@ -2,14 +2,14 @@
 
 use clap::Subcommand;
 
-pub mod catenary;
-pub mod global;
-pub mod strand;
-pub mod strand_history;
+pub(crate) mod catenary;
+pub(crate) mod global;
+pub(crate) mod strand;
+pub(crate) mod strand_history;
 
 /// Single-stage runs.
 #[derive(Debug, Subcommand)]
-pub enum RunCommand {
+pub(crate) enum RunCommand {
     /// Elastic catenary of one homogeneous line with seabed contact and friction.
     Catenary(catenary::CatenaryArgs),
     /// Coupled floater + mooring lines in one irregular sea state: writes hot-spot T(t), κ(t),
@@ -21,7 +21,7 @@ pub enum RunCommand {
 }
 
 /// Execute a `run` subcommand.
-pub fn execute(cmd: RunCommand) -> anyhow::Result<()> {
+pub(crate) fn execute(cmd: RunCommand) -> anyhow::Result<()> {
     match cmd {
         RunCommand::Catenary(args) => catenary::execute(args),
         RunCommand::Global(args) => global::execute(&args),

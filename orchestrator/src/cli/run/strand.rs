@@ -30,36 +30,55 @@ use moorfret_solver::strand::profile::{
 use plotters::prelude::*;
 use serde::Serialize;
 
-use crate::campaign::spec::StrandEnds;
+use moorfret_solver::strand::model::EndKind;
 
 /// Arguments of `moorfret run strand`.
 #[derive(Debug, Args)]
-pub struct StrandArgs {
+pub(crate) struct StrandArgs {
     /// Strand profile JSON (as `campaigns/benchmarks/strand_1_6_1.json`): geometry, material,
     /// `regularisation` sets and, without `--load`, the `loading` block; or a file of named
     /// profiles (as `campaigns/data/strand_profiles.json`) with `--profile-name`.
-    pub profile: PathBuf,
+    pub(crate) profile: PathBuf,
     /// Name of the profile in a file of named profiles.
     #[arg(long)]
-    pub profile_name: Option<String>,
+    pub(crate) profile_name: Option<String>,
     /// Output directory (created if missing).
     #[arg(long)]
-    pub out: PathBuf,
+    pub(crate) out: PathBuf,
     /// Name of the regularisation set of the profile.
     #[arg(long, default_value = "vs_analytical")]
-    pub regularisation: String,
+    pub(crate) regularisation: String,
     /// Normal penalty ε_N (N/m) and elastic slip γ_e (m), instead of a named regularisation set.
     #[arg(long, num_args = 2, value_names = ["NORMAL_PENALTY_N_PER_M", "ELASTIC_SLIP_M"])]
-    pub contact_regularisation: Option<Vec<f64>>,
+    pub(crate) contact_regularisation: Option<Vec<f64>>,
     /// End conditions of the helical wires.
-    #[arg(long, value_enum, default_value_t = StrandEnds::PenaltyTies)]
-    pub ends: StrandEnds,
+    #[arg(long, value_enum, default_value_t = Ends::PenaltyTies)]
+    pub(crate) ends: Ends,
     /// Load history CSV: `time_s,tension_n,curvature_per_m` or
     /// `time_s,axial_strain,curvature_per_m`. Without it, the profile's `loading` block.
     #[arg(long)]
-    pub load: Option<PathBuf>,
+    pub(crate) load: Option<PathBuf>,
     #[command(flatten)]
-    pub history: super::strand_history::HistoryArgs,
+    pub(crate) history: super::strand_history::HistoryArgs,
+}
+
+/// End conditions of the helical wires (`--ends`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum Ends {
+    /// Periodic constraints between the two ends (seed Sec. 2.3).
+    Periodic,
+    /// Penalty ties of the helical wire ends to the core end sections (seed Sec. 2.2).
+    PenaltyTies,
+}
+
+impl Ends {
+    /// The solver's end condition.
+    pub(crate) fn end_kind(self) -> EndKind {
+        match self {
+            Self::Periodic => EndKind::Periodic,
+            Self::PenaltyTies => EndKind::PenaltyTies,
+        }
+    }
 }
 
 /// Sizes of a strand model.
@@ -191,7 +210,7 @@ fn summarise(r: &CaseResult, t0: f64) -> CaseSummary {
 type Row = (f64, f64, f64, f64);
 
 /// Execute `moorfret run strand`.
-pub fn execute(args: StrandArgs) -> anyhow::Result<()> {
+pub(crate) fn execute(args: StrandArgs) -> anyhow::Result<()> {
     if let Some(load) = &args.load {
         return super::strand_history::execute(&args, load);
     }

@@ -21,7 +21,7 @@
 //! - `contact_records.json`: the full per-contact records with their slip cycles;
 //! - `summary.json`: model sizes, the EA used, the history statistics with the split of the
 //!   Newton work, peak slip range and normal force per layer interface, wall time;
-//! - SVG plots as the seed's Figs. 19-22 ([`crate::plot::strand_history_svgs`]) and of the load.
+//! - SVG plots as the seed's Figs. 19-22 ([`moorfret_orchestrator::plot::strand_history_svgs`]) and of the load.
 //!
 //! `--checkpoint FILE` writes the solver's full state every `--checkpoint-every` segments (temp
 //! file, then rename); with `--resume` a run starts from FILE if it exists, and gives results
@@ -51,48 +51,48 @@ use serde::Serialize;
 use sha2::{Digest, Sha256};
 
 use super::strand::{load_model, ModelSizes, StrandArgs};
-use crate::plot::{strand_history_svgs, LoadPlot};
-use crate::worker::series::HotSpotSeries;
-use crate::worker::strand_stage::{contact_summary, strand_load};
+use moorfret_orchestrator::plot::{strand_history_svgs, LoadPlot};
+use moorfret_worker::series::HotSpotSeries;
+use moorfret_worker::strand_stage::strand_load;
 
 /// Options of a history run (`--load`).
 #[derive(Debug, Args)]
-pub struct HistoryArgs {
+pub(crate) struct HistoryArgs {
     /// Load slack samples (negative tension) as zero strain instead of refusing them.
     #[arg(long)]
-    pub slack_as_zero: bool,
+    pub(crate) slack_as_zero: bool,
     /// Turning-point tolerance of the history reduction, as a fraction of each channel's range.
     #[arg(long)]
-    pub turning_point_tolerance: Option<f64>,
+    pub(crate) turning_point_tolerance: Option<f64>,
     /// Threads of the sparse factorisation and solves (results equal to round-off).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=256))]
-    pub threads: u16,
+    pub(crate) threads: u16,
     /// Axial strain of the tension step that measures EA.
     #[arg(long, default_value_t = 1e-3)]
-    pub stiffness_strain: f64,
+    pub(crate) stiffness_strain: f64,
     /// EA (N) for ε = T / EA instead of measuring it, e.g. the `axial_stiffness.ea_n` of an
     /// earlier run's summary on the same model (saves the tension step).
     #[arg(long, conflicts_with = "stiffness_strain")]
-    pub axial_stiffness_n: Option<f64>,
+    pub(crate) axial_stiffness_n: Option<f64>,
     /// Directory of the cache of measured EA values, one file per model and measuring strain
     /// (default: `$XDG_CACHE_HOME/moorfret`, else `~/.cache/moorfret`).
     #[arg(long, env = "MOORFRET_CACHE_DIR")]
-    pub cache_dir: Option<PathBuf>,
+    pub(crate) cache_dir: Option<PathBuf>,
     /// Measure EA even if the cache holds it (the new value replaces the cached one).
     #[arg(long)]
-    pub no_cache: bool,
+    pub(crate) no_cache: bool,
     /// Checkpoint file of the history run (written every `--checkpoint-every` segments).
     #[arg(long)]
-    pub checkpoint: Option<PathBuf>,
+    pub(crate) checkpoint: Option<PathBuf>,
     /// History segments between two checkpoints.
     #[arg(long, default_value_t = 8)]
-    pub checkpoint_every: usize,
+    pub(crate) checkpoint_every: usize,
     /// Start from the checkpoint file if it exists.
     #[arg(long, requires = "checkpoint")]
-    pub resume: bool,
+    pub(crate) resume: bool,
     /// Stop after this many segments, as an interrupted run would (tests of `--resume`).
     #[arg(long, hide = true)]
-    pub stop_after_segments: Option<usize>,
+    pub(crate) stop_after_segments: Option<usize>,
 }
 
 /// What the second column of the load file holds.
@@ -395,16 +395,15 @@ fn write_contacts(path: &Path, contacts: &[ContactRecord]) -> anyhow::Result<()>
         "position_class",
     ])?;
     for (i, c) in contacts.iter().enumerate() {
-        let s = contact_summary(c);
         w.write_record([
             i.to_string(),
             c.interface.to_string(),
             c.theta_rad.to_string(),
             c.z_m.to_string(),
             c.max_normal_force_n.to_string(),
-            s.max_slip_range_m.to_string(),
-            s.slip_cycles.to_string(),
-            s.position_class.to_string(),
+            c.max_slip_range_m().to_string(),
+            c.slip_cycle_count().to_string(),
+            c.class().position.as_str().to_string(),
         ])?;
     }
     w.flush()?;
@@ -414,12 +413,11 @@ fn write_contacts(path: &Path, contacts: &[ContactRecord]) -> anyhow::Result<()>
 fn peaks_by_interface(contacts: &[ContactRecord]) -> BTreeMap<String, InterfacePeaks> {
     let mut out: BTreeMap<String, InterfacePeaks> = BTreeMap::new();
     for c in contacts {
-        let s = contact_summary(c);
         let p = out.entry(interface_name(c.interface)).or_default();
         p.contacts += 1;
-        p.max_slip_range_m = p.max_slip_range_m.max(s.max_slip_range_m);
+        p.max_slip_range_m = p.max_slip_range_m.max(c.max_slip_range_m());
         p.max_normal_force_n = p.max_normal_force_n.max(c.max_normal_force_n);
-        p.slip_cycles += s.slip_cycles;
+        p.slip_cycles += c.slip_cycle_count();
     }
     out
 }

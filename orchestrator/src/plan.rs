@@ -17,9 +17,11 @@
 
 use moorfret_solver::waves::scatter::ScatterTable;
 
-use super::payload::{cache_key, CampaignInputs, GlobalPayload, StrandPayload};
-use super::spec::ScatterReading;
-use crate::store::{JobKind, NewSeaState, PlannedJob, SeaStateId};
+use moorfret_campaign::payload::{cache_key, CampaignInputs, GlobalPayload, StrandPayload};
+use moorfret_campaign::spec::ScatterReading;
+use moorfret_campaign::ResolvedCampaign;
+use moorfret_store::{CampaignId, JobId, NewCampaign, Store, StoreError};
+use moorfret_store::{JobKind, NewSeaState, PlannedJob, SeaStateId};
 
 /// Cost of one global time step (s).
 const GLOBAL_STEP_COST_S: f64 = 0.03;
@@ -139,6 +141,33 @@ pub fn jobs(
         }
     }
     out
+}
+
+/// Stores `resolved` with its sea states and jobs in one transaction; returns the campaign and
+/// its job ids.
+pub async fn create(
+    store: &Store,
+    resolved: &ResolvedCampaign,
+) -> Result<(CampaignId, Vec<JobId>), StoreError> {
+    let inputs = &resolved.inputs;
+    let (spec, spec_sha256) = resolved.stored_spec();
+    let sea_states = sea_states(
+        &resolved.scatter,
+        inputs.spec.scatter.reading,
+        inputs.spec.simulation.seeds_per_sea_state,
+        inputs.spec.seed,
+    );
+    let inputs_sha256 = inputs.results_sha256();
+    let campaign = NewCampaign {
+        name: inputs.spec.name.clone(),
+        spec,
+        spec_sha256,
+    };
+    store
+        .create_planned_campaign(&campaign, &sea_states, |ids| {
+            jobs(inputs, &inputs_sha256, &sea_states, ids)
+        })
+        .await
 }
 
 #[cfg(test)]

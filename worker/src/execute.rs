@@ -5,9 +5,10 @@
 use serde_json::json;
 use tokio::runtime::Handle;
 
-use super::{global_stage, permanent, strand_stage};
-use crate::campaign::{CampaignInputs, GlobalPayload, StrandPayload};
-use crate::store::{
+use crate::failure::permanent;
+use crate::{global_stage, strand_stage};
+use moorfret_campaign::{CampaignInputs, GlobalPayload, StrandPayload};
+use moorfret_store::{
     ArtifactStore, JobFailure, JobKind, JobResults, Lease, RetryPolicy, Store, TestPayload,
 };
 

@@ -10,7 +10,7 @@
 //! count, largest slip range, largest normal force). From the records and the hot-spot tension
 //! at the same samples, the per-sea-state damage inputs
 //! (`moorfret_solver::fretting::sea_state_damage_inputs`, configured by the campaign's
-//! `fatigue` settings, [`crate::campaign::fatigue`]): one `damage_inputs` row per T-N curve and
+//! `fatigue` settings, [`moorfret_campaign::fatigue`]): one `damage_inputs` row per T-N curve and
 //! one `class_damage_inputs` row per contact class, written with the job's completion.
 //!
 //! Checkpoints: the history run hands its full state over every few segments; at most every
@@ -37,12 +37,12 @@ use moorfret_solver::strand::profile::Strand;
 use serde_json::json;
 use tokio::runtime::Handle;
 
-use super::global_stage::series_role;
-use super::series::HotSpotSeries;
-use super::{permanent, transient};
-use crate::campaign::resolve::hot_spot_line_type;
-use crate::campaign::{CampaignInputs, StrandPayload};
-use crate::store::{
+use crate::failure::{permanent, transient};
+use crate::global_stage::series_role;
+use crate::series::HotSpotSeries;
+use moorfret_campaign::resolve::hot_spot_line_type;
+use moorfret_campaign::{CampaignInputs, StrandPayload};
+use moorfret_store::{
     damage_rows, ArtifactStore, ContactStatistics, JobFailure, JobResults, Lease, RetryPolicy,
     Store,
 };
@@ -195,44 +195,18 @@ fn model_parameters(inputs: &CampaignInputs) -> StrandModelParameters {
     )
 }
 
-/// What one contact record amounts to: its position class, the slip cycles counted (half
-/// cycles as 0.5) and the largest slip range (m).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct ContactSummary {
-    /// Neutral axis, between or outer arc.
-    pub(crate) position_class: &'static str,
-    /// Counted slip cycles.
-    pub(crate) slip_cycles: f64,
-    /// Largest slip range (m).
-    pub(crate) max_slip_range_m: f64,
-}
-
-/// The [`ContactSummary`] of `c`.
-pub(crate) fn contact_summary(c: &ContactRecord) -> ContactSummary {
-    ContactSummary {
-        position_class: c.class().position.as_str(),
-        slip_cycles: c.cycles.iter().map(|k| k.slip.count).sum(),
-        max_slip_range_m: c
-            .cycles
-            .iter()
-            .map(|k| k.slip.range)
-            .fold(0.0_f64, f64::max),
-    }
-}
-
 fn contact_row(hot_spot_index: usize, index: usize, c: &ContactRecord) -> ContactStatistics {
-    let s = contact_summary(c);
     ContactStatistics {
         hot_spot_index: hot_spot_index as i64,
         contact_index: index as i64,
         layer_interface: c.interface as i64,
         angular_position_rad: c.theta_rad,
         statistics: json!({
-            "position_class": s.position_class,
+            "position_class": c.class().position.as_str(),
             "z_m": c.z_m,
             "max_normal_force_n": c.max_normal_force_n,
-            "slip_cycles": s.slip_cycles,
-            "max_slip_range_m": s.max_slip_range_m,
+            "slip_cycles": c.slip_cycle_count(),
+            "max_slip_range_m": c.max_slip_range_m(),
         }),
     }
 }

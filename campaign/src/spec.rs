@@ -20,8 +20,8 @@
 use moorfret_solver::global::case::{GammaSpec, HotSpotSpec, WindSpec};
 use serde::{Deserialize, Serialize};
 
-use super::error::CampaignError;
-use super::fatigue::FatigueSpec;
+use crate::error::CampaignError;
+use crate::fatigue::FatigueSpec;
 
 /// A whole campaign.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -151,7 +151,7 @@ pub struct StrandSpec {
 }
 
 /// End conditions of the helical wires of the strand model.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum StrandEnds {
     /// Periodic constraints between the two ends (seed Sec. 2.3).

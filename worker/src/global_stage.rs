@@ -11,11 +11,11 @@ use moorfret_solver::global::results::SeriesSummary;
 use moorfret_solver::global::{run, FloaterInput, GlobalModel, RunParams};
 use serde_json::json;
 
-use super::series::HotSpotSeries;
-use super::{permanent, transient};
-use crate::campaign::payload::FloaterContent;
-use crate::campaign::{CampaignInputs, GlobalPayload};
-use crate::store::{ArtifactStore, HotSpotSummary, JobFailure, JobResults};
+use crate::failure::{permanent, transient};
+use crate::series::HotSpotSeries;
+use moorfret_campaign::payload::FloaterContent;
+use moorfret_campaign::{CampaignInputs, GlobalPayload};
+use moorfret_store::{ArtifactStore, HotSpotSummary, JobFailure, JobResults};
 
 /// Role of the series artifact of hot spot `index`.
 pub fn series_role(index: usize) -> String {

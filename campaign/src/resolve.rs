@@ -19,10 +19,10 @@ use serde::Serialize;
 use serde_json::Value;
 use sha2::{Digest, Sha256};
 
-use super::error::CampaignError;
-use super::fatigue::interface_geometry;
-use super::payload::{CampaignInputs, FloaterContent, SOLVER_VERSION};
-use super::spec::CampaignSpec;
+use crate::error::CampaignError;
+use crate::fatigue::interface_geometry;
+use crate::payload::{CampaignInputs, FloaterContent, SOLVER_VERSION};
+use crate::spec::CampaignSpec;
 
 /// A referenced file as read.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]

@@ -18,7 +18,7 @@
 use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use moorfret_orchestrator::store::{
+use moorfret_store::{
     ClaimFilter, JobKind, JobResults, NewCampaign, PlannedJob, Store, StoreOptions, WorkerInfo,
 };
 use serde_json::json;
@@ -64,7 +64,7 @@ fn plan(jobs: usize) -> Vec<PlannedJob> {
         .collect()
 }
 
-async fn new_campaign(store: &Store, name: &str) -> moorfret_orchestrator::store::CampaignId {
+async fn new_campaign(store: &Store, name: &str) -> moorfret_store::CampaignId {
     let campaign = NewCampaign {
         name: name.into(),
         spec: json!({}),

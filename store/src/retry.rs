@@ -239,7 +239,7 @@ mod tests {
                 calls += 1;
                 async {
                     Err(StoreError::LeaseLost {
-                        job: crate::store::JobId(1),
+                        job: crate::JobId(1),
                         token: "t".into(),
                     })
                 }

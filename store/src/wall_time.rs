@@ -109,7 +109,7 @@ mod tests {
         let start = Instant::now();
         let budget = WallTimeBudget::new(1_000.0, 100.0, start).unwrap();
         let filter = ClaimFilter {
-            kinds: vec![crate::store::JobKind::Strand],
+            kinds: vec![crate::JobKind::Strand],
             max_expected_cost_s: Some(300.0),
         };
         let early = budget.restrict(&filter, start);

@@ -333,6 +333,16 @@ pub struct CampaignProgress {
     pub occurrence_covered: f64,
 }
 
+impl CampaignProgress {
+    /// Jobs in `state`.
+    pub fn count(&self, state: JobState) -> i64 {
+        self.jobs_by_state
+            .iter()
+            .find(|(s, _)| *s == state)
+            .map_or(0, |(_, n)| *n)
+    }
+}
+
 /// Annual damage of one hot spot and measure (`lifetime_damage` view).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LifetimeDamage {

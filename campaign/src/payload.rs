@@ -14,7 +14,7 @@ use moorfret_solver::strand::profile::StrandProfile;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
-use super::spec::CampaignSpec;
+use crate::spec::CampaignSpec;
 
 /// Version of the solver whose results the cache keys vouch for.
 pub const SOLVER_VERSION: &str = env!("CARGO_PKG_VERSION");

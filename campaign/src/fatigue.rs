@@ -31,9 +31,11 @@ use moorfret_solver::mooring::spec::LineTypeSpec;
 use moorfret_solver::strand::profile::Strand;
 use serde::{Deserialize, Serialize};
 
-use super::error::CampaignError;
-use super::spec::CampaignSpec;
-use crate::query::FRETTING_MEASURES;
+use crate::error::CampaignError;
+use crate::spec::CampaignSpec;
+
+/// Fretting measure names stored in `sea_state_class_damage_inputs`.
+pub const FRETTING_MEASURES: [&str; 2] = ["fretting_max", "fretting_mean"];
 
 /// Fretting and fatigue settings; every field has a default.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -8,13 +8,13 @@
 use std::collections::HashMap;
 use std::time::Duration;
 
-use moorfret_orchestrator::store::{
+use moorfret_solver::fretting::AngularPosition;
+use moorfret_store::{
     ArtifactStore, ClaimFilter, Clock, DamageInput, FailureDisposition, FailureKind,
     HotSpotSummary, JobFailure, JobKind, JobResults, JobState, ManualClock, NewCampaign,
     NewSeaState, PlannedJob, QueuePolicy, Store, StoreError, StoreOptions, TestPayload, WorkerInfo,
 };
-use moorfret_orchestrator::store::{AttemptOutcome, CampaignId, ClassDamageInput, WorkerId};
-use moorfret_solver::fretting::AngularPosition;
+use moorfret_store::{AttemptOutcome, CampaignId, ClassDamageInput, WorkerId};
 use serde_json::json;
 
 const T0_MS: i64 = 1_700_000_000_000;
@@ -337,13 +337,13 @@ async fn database_clock_sets_lease_times(backend: Backend) {
         .await
         .unwrap();
     let worker = store.register_worker(&worker_info(1)).await.unwrap();
-    let before = moorfret_orchestrator::store::clock::system_now_ms();
+    let before = moorfret_store::clock::system_now_ms();
     let lease = store
         .claim(&worker, &ClaimFilter::default())
         .await
         .unwrap()
         .unwrap();
-    let after = moorfret_orchestrator::store::clock::system_now_ms();
+    let after = moorfret_store::clock::system_now_ms();
     // The server runs on this machine, so its clock agrees with ours to well within a second.
     let lease_ms = store.policy().lease_ms;
     assert!(

@@ -22,22 +22,17 @@
 //! and the next beat tries again. With a [`WallTimeBudget`] only jobs whose expected cost fits
 //! in the remaining wall time are claimed.
 
-pub mod execute;
-pub mod global_stage;
-pub mod series;
-pub mod strand_stage;
-
 use std::collections::HashMap;
 use std::sync::Arc;
 use std::time::Duration;
 
 use tokio::sync::watch;
 
-use crate::campaign::{stored_inputs, CampaignInputs};
-use crate::store::{
-    complete_with_retry, ArtifactStore, CampaignId, ClaimFilter, FailureDisposition, FailureKind,
-    JobFailure, JobKind, JobState, Lease, RetryPolicy, Store, StoreError, WallTimeBudget,
-    WorkerInfo,
+use crate::failure::{permanent, transient};
+use moorfret_campaign::{stored_inputs, CampaignInputs};
+use moorfret_store::{
+    complete_with_retry, ArtifactStore, CampaignId, ClaimFilter, FailureDisposition, JobFailure,
+    JobKind, JobState, Lease, RetryPolicy, Store, StoreError, WallTimeBudget, WorkerInfo,
 };
 
 /// Settings of a worker.
@@ -81,24 +76,6 @@ pub struct WorkerSummary {
     pub lost: u64,
     /// Whether it stopped on the shutdown signal.
     pub stopped_by_signal: bool,
-}
-
-/// A failure report for an error of class `class` that will not go away by retrying.
-pub(crate) fn permanent(class: &str, e: impl std::fmt::Display) -> JobFailure {
-    JobFailure {
-        kind: FailureKind::Permanent,
-        error_class: class.to_owned(),
-        message: e.to_string(),
-    }
-}
-
-/// A failure report for an error of class `class` worth retrying.
-pub(crate) fn transient(class: &str, e: impl std::fmt::Display) -> JobFailure {
-    JobFailure {
-        kind: FailureKind::Transient,
-        error_class: class.to_owned(),
-        message: e.to_string(),
-    }
 }
 
 /// Identity of this process for the `workers` and `attempts` tables.
@@ -221,7 +198,7 @@ pub async fn run(
             let artifacts = Arc::clone(&artifacts);
             let handle = tokio::runtime::Handle::current();
             move || {
-                execute::execute(
+                crate::execute::execute(
                     &lease,
                     campaign_inputs.as_deref(),
                     &store,

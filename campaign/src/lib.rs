@@ -1,0 +1,31 @@
+//! # moorfret-campaign
+//!
+//! Campaign files (DESIGN §3.1) and what a worker runs from: the contract between the
+//! orchestrator, which reads and plans a campaign, and the workers, which run its jobs.
+//!
+//! - [`spec`]: the campaign file (serde, units in names) and its checks;
+//! - [`fatigue`]: the fatigue settings (run-in, T-N curves, fretting damage law);
+//! - [`resolve`]: read and hash every referenced file, parse and check them; nothing is
+//!   written anywhere for a bad campaign;
+//! - [`payload`]: the stored campaign inputs and the per-job payloads workers run from, cache
+//!   keys;
+//! - [`error`]: the error type, [`CampaignError`].
+
+pub mod error;
+pub mod fatigue;
+pub mod payload;
+pub mod resolve;
+pub mod spec;
+
+pub use error::CampaignError;
+pub use payload::{CampaignInputs, GlobalPayload, StrandPayload};
+pub use resolve::{resolve, ResolvedCampaign};
+pub use spec::CampaignSpec;
+
+/// The inputs stored with a campaign (`campaigns.spec_json`).
+pub fn stored_inputs(spec: &serde_json::Value) -> Result<CampaignInputs, CampaignError> {
+    let inputs = spec.get("inputs").cloned().unwrap_or_default();
+    serde_json::from_value(inputs).map_err(|e| CampaignError::Json {
+        message: format!("stored campaign inputs: {e}"),
+    })
+}

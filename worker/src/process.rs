@@ -1,0 +1,169 @@
+//! A worker process (`moorfret worker`, `moorfret-worker`): open the store and the artifact
+//! directory, run the claim loop of [`crate::serve`] until SIGTERM, SIGINT or idleness, and
+//! release the running job's lease on the way out without consuming an attempt.
+//!
+//! The binaries parse their command lines into [`ProcessOptions`]; everything after that lives
+//! here, so both behave alike.
+
+use std::path::PathBuf;
+use std::time::Duration;
+
+use anyhow::Context;
+use tokio::sync::watch;
+
+use moorfret_store::{
+    ArtifactStore, Clock, QueuePolicy, Store, StoreLocation, StoreOptions, WallTimeBudget,
+};
+
+use crate::serve::{self, WorkerConfig};
+
+/// Where a campaign store and its artifacts are, and the queue timing to use on it.
+#[derive(Debug, Clone)]
+pub struct StoreConfig {
+    /// Store: an SQLite file path (or `sqlite://path`) or a `postgres://` URL.
+    pub db: String,
+    /// Artifact directory (default: `<db file>.artifacts` next to an SQLite store; required
+    /// for PostgreSQL).
+    pub artifacts: Option<PathBuf>,
+    /// Lease length, ms (default 300 000); heartbeats come every tenth of it (at most 30 s).
+    pub lease_ms: Option<i64>,
+}
+
+impl StoreConfig {
+    /// Queue policy with the lease override applied.
+    pub fn policy(&self) -> QueuePolicy {
+        let mut policy = QueuePolicy::default();
+        if let Some(lease) = self.lease_ms {
+            policy.lease_ms = lease;
+            policy.heartbeat_interval_ms = (lease / 10).clamp(1, policy.heartbeat_interval_ms);
+        }
+        policy
+    }
+
+    /// Opens the store. A PostgreSQL store takes lease times from the server's clock, so
+    /// workers on hosts with skewed clocks agree on when a lease has expired.
+    pub async fn open(&self) -> anyhow::Result<Store> {
+        let clock = match StoreLocation::parse(&self.db)? {
+            StoreLocation::Postgres(_) => Clock::Database,
+            StoreLocation::Sqlite(_) => Clock::System,
+        };
+        let options = StoreOptions {
+            clock,
+            policy: self.policy(),
+            ..StoreOptions::default()
+        };
+        Store::open(&self.db, options)
+            .await
+            .with_context(|| format!("opening the store {}", self.db))
+    }
+
+    /// The artifact store of this store.
+    pub fn artifact_store(&self) -> anyhow::Result<ArtifactStore> {
+        if let Some(dir) = &self.artifacts {
+            return ArtifactStore::open(dir)
+                .with_context(|| format!("opening the artifact directory {}", dir.display()));
+        }
+        match StoreLocation::parse(&self.db)? {
+            StoreLocation::Sqlite(path) => {
+                ArtifactStore::beside_database(&path).with_context(|| {
+                    format!("opening the artifact directory beside {}", path.display())
+                })
+            }
+            StoreLocation::Postgres(_) => {
+                anyhow::bail!("--artifacts DIR is required with a PostgreSQL store (a directory every worker shares)")
+            }
+        }
+    }
+
+    /// Arguments that hand the same store to a child process.
+    pub fn child_args(&self) -> Vec<String> {
+        let mut args = vec!["--db".to_owned(), self.db.clone()];
+        if let Some(dir) = &self.artifacts {
+            args.push("--artifacts".into());
+            args.push(dir.to_string_lossy().into_owned());
+        }
+        if let Some(lease) = self.lease_ms {
+            args.push("--lease-ms".into());
+            args.push(lease.to_string());
+        }
+        args
+    }
+}
+
+/// Settings of a worker process.
+#[derive(Debug, Clone)]
+pub struct ProcessOptions {
+    /// Store and artifacts.
+    pub store: StoreConfig,
+    /// Exit once no campaign of the store has ready, running or blocked jobs.
+    pub exit_when_idle: bool,
+    /// Pause between claims when nothing is ready, ms.
+    pub poll_ms: u64,
+    /// Wall time this worker may run, s (batch allocations): it never starts a job expected
+    /// to take longer than what remains.
+    pub wall_time_s: Option<f64>,
+    /// Part of `wall_time_s` kept for storing the last job's results, s.
+    pub wall_time_reserve_s: f64,
+}
+
+/// Runs a worker until a signal (or idle, with `exit_when_idle`).
+pub fn run(options: ProcessOptions) -> anyhow::Result<()> {
+    let wall_time = options
+        .wall_time_s
+        .map(|s| WallTimeBudget::new(s, options.wall_time_reserve_s, std::time::Instant::now()))
+        .transpose()
+        .context("--wall-time-s / --wall-time-reserve-s")?;
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .context("starting the async runtime")?;
+    let summary = runtime.block_on(async {
+        let store = options.store.open().await?;
+        let artifacts = options.store.artifact_store()?;
+        let (tx, rx) = watch::channel(false);
+        tokio::spawn(async move {
+            wait_for_signal().await;
+            tracing::info!("stop signal received");
+            let _ = tx.send(true);
+        });
+        let config = WorkerConfig {
+            exit_when_idle: options.exit_when_idle,
+            idle_poll: Duration::from_millis(options.poll_ms),
+            wall_time,
+            ..WorkerConfig::default()
+        };
+        let summary = serve::run(store.clone(), artifacts, config, rx).await;
+        store.close().await;
+        summary.context("worker loop")
+    })?;
+    tracing::info!(
+        completed = summary.completed,
+        cached = summary.cached,
+        failed = summary.failed,
+        lost = summary.lost,
+        "worker stopped"
+    );
+    // A stage still running on a blocking thread is abandoned: its lease is already released.
+    runtime.shutdown_timeout(Duration::from_millis(100));
+    Ok(())
+}
+
+/// Resolves on SIGTERM or SIGINT.
+async fn wait_for_signal() {
+    use tokio::signal::unix::{signal, SignalKind};
+    match (
+        signal(SignalKind::terminate()),
+        signal(SignalKind::interrupt()),
+    ) {
+        (Ok(mut term), Ok(mut int)) => {
+            tokio::select! {
+                _ = term.recv() => {}
+                _ = int.recv() => {}
+            }
+        }
+        _ => {
+            let _ = tokio::signal::ctrl_c().await;
+        }
+    }
+}
