@@ -13,7 +13,7 @@ use moorfret_solver::fretting::HertzModel;
 use moorfret_solver::global::case::FloaterSource;
 use moorfret_solver::global::CaseSpec;
 use moorfret_solver::mooring::spec::LineTypeSpec;
-use moorfret_solver::strand::profile::{profile_from_json, profiles_from_json};
+use moorfret_solver::strand::profile::{select_profile, ProfileError};
 use moorfret_solver::waves::scatter::{ScatterTable, TotalMismatch};
 use serde::Serialize;
 use serde_json::Value;
@@ -140,26 +140,19 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
     let (profiles_path, text, file) =
         read_file(base, "strand.profiles_path", &spec.strand.profiles_path)?;
     files.push(file);
-    let mut profile = match &spec.strand.profile {
-        None => profile_from_json(&text)
-            .map_err(|e| file_error("strand.profiles_path", &profiles_path, e))?,
-        Some(name) => {
-            let mut profiles = profiles_from_json(&text)
-                .map_err(|e| file_error("strand.profiles_path", &profiles_path, e))?;
-            profiles.remove(name).ok_or_else(|| {
-                let known: Vec<_> = profiles.keys().cloned().collect();
-                CampaignError::Invalid {
-                    field: "strand.profile".into(),
-                    value: name.clone(),
-                    reason: format!(
-                        "is not in {} (it has: {})",
-                        spec.strand.profiles_path,
-                        known.join(", ")
-                    ),
-                }
-            })?
-        }
-    };
+    let mut profile =
+        select_profile(&text, spec.strand.profile.as_deref()).map_err(|e| match e {
+            ProfileError::UnknownProfile { name, known } => CampaignError::Invalid {
+                field: "strand.profile".into(),
+                value: name,
+                reason: format!(
+                    "is not in {} (it has: {})",
+                    spec.strand.profiles_path,
+                    known.join(", ")
+                ),
+            },
+            e => file_error("strand.profiles_path", &profiles_path, e),
+        })?;
     if let Some(mu) = spec.strand.friction_coefficient {
         profile.friction_coefficient = Some(mu);
     }

@@ -148,6 +148,21 @@ pub struct StrandSpec {
     /// Wall time between checkpoints of a running strand job (s).
     #[serde(default = "default_checkpoint_interval")]
     pub checkpoint_interval_s: f64,
+    /// History segments between two checkpoint opportunities (`run strand
+    /// --checkpoint-every`); a checkpoint is written at the first opportunity once
+    /// `checkpoint_interval_s` has passed.
+    #[serde(
+        default = "default_checkpoint_segments",
+        skip_serializing_if = "is_default_checkpoint_segments"
+    )]
+    pub checkpoint_every_segments: usize,
+    /// Turning-point tolerance of the load-history reduction, as a fraction of each channel's
+    /// range (`run strand --turning-point-tolerance`; default: the solver's, 0.0025).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub turning_point_tolerance: Option<f64>,
+    /// Threads of a strand job's element kernels and solves (`run strand --threads`).
+    #[serde(default = "one_thread", skip_serializing_if = "is_one")]
+    pub threads: usize,
 }
 
 /// End conditions of the helical wires of the strand model.
@@ -175,6 +190,24 @@ impl StrandEnds {
 fn default_checkpoint_interval() -> f64 {
     120.0
 }
+
+/// Segments between checkpoint opportunities, as `run strand --checkpoint-every`.
+pub const DEFAULT_CHECKPOINT_SEGMENTS: usize = 8;
+
+fn default_checkpoint_segments() -> usize {
+    DEFAULT_CHECKPOINT_SEGMENTS
+}
+
+fn is_default_checkpoint_segments(n: &usize) -> bool {
+    *n == DEFAULT_CHECKPOINT_SEGMENTS
+}
+
+fn is_one(n: &usize) -> bool {
+    *n == 1
+}
+
+/// Most threads a strand job or `run strand` uses.
+pub const MAX_STRAND_THREADS: usize = 256;
 
 /// Job settings.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -297,7 +330,31 @@ impl CampaignSpec {
             ));
         }
         positive("strand.checkpoint_interval_s", st.checkpoint_interval_s)?;
-        self.fatigue.validate(self)?;
+        if st.checkpoint_every_segments == 0 {
+            return Err(invalid(
+                "strand.checkpoint_every_segments",
+                0,
+                "must be >= 1",
+            ));
+        }
+        if let Some(t) = st.turning_point_tolerance {
+            if !(0.0..1.0).contains(&t) {
+                return Err(invalid(
+                    "strand.turning_point_tolerance",
+                    t,
+                    "must be in [0, 1)",
+                ));
+            }
+        }
+        if !(1..=MAX_STRAND_THREADS).contains(&st.threads) {
+            return Err(invalid(
+                "strand.threads",
+                st.threads,
+                "must be from 1 to 256",
+            ));
+        }
+        self.fatigue
+            .validate(self.simulation.duration_s, self.strand.load_interval_s)?;
         if self.jobs.max_attempts < 1 {
             return Err(invalid(
                 "jobs.max_attempts",
@@ -306,5 +363,47 @@ impl CampaignSpec {
             ));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn demo_spec(fatigue: serde_json::Value) -> CampaignSpec {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../campaigns/demo.json");
+        let mut spec: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        spec["fatigue"] = fatigue;
+        CampaignSpec::from_json_str(&spec.to_string()).unwrap()
+    }
+
+    #[test]
+    fn bad_fatigue_settings_are_refused_naming_the_field() {
+        assert!(demo_spec(serde_json::json!({})).validate().is_ok());
+        let cases = [
+            (serde_json::json!({"run_in_s": 29.5}), "fatigue.run_in_s"),
+            (serde_json::json!({"run_in_s": -1.0}), "fatigue.run_in_s"),
+            (
+                serde_json::json!({"slip_amplitude_edges_m": [0.0, 2e-6, 1e-6]}),
+                "fatigue.slip_amplitude_edges_m",
+            ),
+            (
+                serde_json::json!({"tn_curves": [{"measure": "fretting_max", "curve": {"Dnv":
+                    {"component": "SpiralRope", "nominal_area_m2": 2.9e-3}}}]}),
+                "fatigue.tn_curves[0].measure",
+            ),
+            (
+                serde_json::json!({"tn_curves": [{"measure": "tn", "curve": {"Dnv":
+                    {"component": "SpiralRope", "nominal_area_m2": 0.0}}}]}),
+                "fatigue.tn_curves[0].curve",
+            ),
+        ];
+        for (fatigue, field) in cases {
+            match demo_spec(fatigue.clone()).validate() {
+                Err(CampaignError::Invalid { field: f, .. }) => assert_eq!(f, field, "{fatigue}"),
+                other => panic!("{fatigue}: {other:?}"),
+            }
+        }
     }
 }

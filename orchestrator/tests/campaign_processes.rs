@@ -321,7 +321,7 @@ fn always_crashing_job_fails_after_the_allowed_losses_and_the_rest_completes() {
         let store = Store::open(&db, StoreOptions::default()).await.unwrap();
         let jobs = store.jobs_of_campaign(id).await.unwrap();
         assert_eq!(jobs[0].state, JobState::Failed);
-        assert_eq!(jobs[0].error_class.as_deref(), Some("lost"));
+        assert_eq!(jobs[0].error_class.map(|c| c.as_str()), Some("lost"));
         assert_eq!(jobs[0].lost_count, 3);
         assert!(jobs[1..].iter().all(|j| j.state == JobState::Done));
         store.close().await;

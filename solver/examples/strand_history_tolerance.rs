@@ -30,7 +30,7 @@ use std::time::Instant;
 
 use moorfret_solver::linalg::FactorPrecision;
 use moorfret_solver::strand::history::stiffness::{
-    measure_axial_stiffness_n, samples_from_tension,
+    measure_axial_stiffness_n, samples_from_tension, SlackTension,
 };
 use moorfret_solver::strand::history::{
     run_history, HistoryOptions, HistoryResult, LoadSample, NoObserver,
@@ -251,7 +251,7 @@ fn six_layer(args: &[String]) -> Result<(), Error> {
         }
     };
     let [t, tension, kappa] = read_load(&load, from, to)?;
-    let samples = samples_from_tension(&t, &tension, &kappa, ea)?;
+    let (samples, _) = samples_from_tension(&t, &tension, &kappa, ea, 1, SlackTension::Refuse)?;
     println!(
         "{} samples, t = {:.1} … {:.1} s",
         samples.len(),

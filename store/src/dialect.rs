@@ -1,7 +1,7 @@
 //! The few SQL differences between the SQLite and PostgreSQL backends.
 //!
 //! Everything else (placeholders `$n`, `RETURNING`, recursive CTEs, partial indexes) is shared
-//! text in `queue_impl.rs`.
+//! text in `queue/`.
 
 /// SQL fragments that differ per backend.
 #[derive(Debug, Clone, Copy)]

@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use super::types::{CampaignId, JobId, JobState};
+use super::types::{CampaignId, JobId, JobState, UnknownValue};
 
 /// Errors of [`super::Store`] and [`super::ArtifactStore`].
 #[derive(Debug, thiserror::Error)]
@@ -223,5 +223,14 @@ fn is_busy(source: &sqlx::Error) -> bool {
             matches!(primary, Some(5) | Some(6)) || db.message().contains("database is locked")
         }
         _ => false,
+    }
+}
+
+impl From<UnknownValue> for StoreError {
+    fn from(e: UnknownValue) -> Self {
+        Self::UnknownValue {
+            field: e.field,
+            value: e.value,
+        }
     }
 }

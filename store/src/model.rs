@@ -7,10 +7,10 @@
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
-use super::results::ClassDamageInput;
+use super::results::{ClassDamageInput, DamageInput};
 use super::types::{
-    AttemptId, AttemptOutcome, CampaignId, CampaignState, JobId, JobKind, JobState, LeaseToken,
-    SeaStateId, WorkerId,
+    AttemptId, AttemptOutcome, CampaignId, CampaignState, FailureClass, JobId, JobKind, JobState,
+    LeaseToken, SeaStateId, WorkerId,
 };
 
 /// A campaign to create: its name and resolved specification.
@@ -149,23 +149,6 @@ pub struct ContactStatistics {
     pub statistics: Value,
 }
 
-/// Damage accumulated by one realisation over its effective simulated time.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct DamageInput {
-    /// Hot spot index in the campaign.
-    pub hot_spot_index: i64,
-    /// Damage measure (`tension_tn`, `fretting_sn`, …).
-    pub measure: String,
-    /// Seed index within the sea state.
-    pub seed_index: i64,
-    /// Simulated time after the run-in, s.
-    pub effective_duration_s: f64,
-    /// Miner damage over `effective_duration_s`.
-    pub damage: f64,
-    /// Supporting values (cycle counts, curve parameters).
-    pub details: Value,
-}
-
 /// An artifact produced by a job.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct JobArtifact {
@@ -211,8 +194,8 @@ pub enum FailureKind {
 pub struct JobFailure {
     /// Retry or not.
     pub kind: FailureKind,
-    /// Short machine-readable class (`newton_diverged`, `io`, …).
-    pub error_class: String,
+    /// Why it failed.
+    pub error_class: FailureClass,
     /// Full diagnostic.
     pub message: String,
 }
@@ -286,7 +269,7 @@ pub struct JobRecord {
     /// Source of reused results, if completed from the cache.
     pub cached_from: Option<JobId>,
     /// Error class of the last failure.
-    pub error_class: Option<String>,
+    pub error_class: Option<FailureClass>,
     /// Diagnostic of the last failure.
     pub error_message: Option<String>,
     /// Earliest next claim, ms since the epoch.

@@ -7,17 +7,29 @@
 
 use sqlx::migrate::Migrator;
 use sqlx::postgres::{PgConnectOptions, PgPoolOptions};
+use sqlx::Pool;
 use sqlx::{ConnectOptions, Connection, Postgres as Db};
 
 use super::dialect::{Dialect, POSTGRES};
+use super::error::StoreError;
 
 const DIALECT: Dialect = POSTGRES;
 
 /// Migrations of the PostgreSQL schema, embedded at compile time.
 pub(crate) static MIGRATOR: Migrator = sqlx::migrate!("../migrations/postgres");
 
-include!("queue_impl.rs");
-include!("schema_impl.rs");
+type Result<T> = std::result::Result<T, StoreError>;
+
+// The queue and schema code is shared text, mounted once per backend (see `queue/mod.rs`).
+#[allow(clippy::duplicate_mod)]
+#[path = "queue/mod.rs"]
+pub(crate) mod queue;
+#[allow(clippy::duplicate_mod)]
+#[path = "schema.rs"]
+mod schema;
+
+pub(crate) use queue::Queue;
+pub(crate) use schema::{found_version, prepare_schema, supported_version};
 
 /// Connects a pool of `max_connections` to `url`, in `schema` if given (created if missing).
 pub(crate) async fn connect(

@@ -13,7 +13,23 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
 use super::error::StoreError;
-use super::model::DamageInput;
+
+/// Damage accumulated by one realisation over its effective simulated time.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DamageInput {
+    /// Hot spot index in the campaign.
+    pub hot_spot_index: i64,
+    /// Damage measure (`tension_tn`, `fretting_sn`, …).
+    pub measure: String,
+    /// Seed index within the sea state.
+    pub seed_index: i64,
+    /// Simulated time after the run-in, s.
+    pub effective_duration_s: f64,
+    /// Miner damage over `effective_duration_s`.
+    pub damage: f64,
+    /// Supporting values (cycle counts, curve parameters).
+    pub details: Value,
+}
 
 /// Damage inputs of one contact class from one strand job (`class_damage_inputs` row).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -13,9 +13,11 @@ use std::time::Duration;
 
 use sqlx::migrate::Migrator;
 use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePoolOptions, SqliteSynchronous};
+use sqlx::Pool;
 use sqlx::Sqlite as Db;
 
 use super::dialect::{Dialect, SQLITE};
+use super::error::StoreError;
 
 const DIALECT: Dialect = SQLITE;
 
@@ -25,8 +27,18 @@ pub(crate) static MIGRATOR: Migrator = sqlx::migrate!("../migrations/sqlite");
 /// How long a connection waits for another writer before giving up.
 pub(crate) const BUSY_TIMEOUT: Duration = Duration::from_secs(30);
 
-include!("queue_impl.rs");
-include!("schema_impl.rs");
+type Result<T> = std::result::Result<T, StoreError>;
+
+// The queue and schema code is shared text, mounted once per backend (see `queue/mod.rs`).
+#[allow(clippy::duplicate_mod)]
+#[path = "queue/mod.rs"]
+pub(crate) mod queue;
+#[allow(clippy::duplicate_mod)]
+#[path = "schema.rs"]
+mod schema;
+
+pub(crate) use queue::Queue;
+pub(crate) use schema::{found_version, prepare_schema, supported_version};
 
 const SQLITE_HEADER: &[u8; 16] = b"SQLite format 3\0";
 

@@ -7,6 +7,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::model::{FailureKind, JobFailure};
+use super::types::FailureClass;
 
 /// What a test job does when run.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
@@ -39,14 +40,14 @@ impl TestPayload {
             TestPayload::FailTransient { failing_attempts } if attempt <= *failing_attempts => {
                 Some(JobFailure {
                     kind: FailureKind::Transient,
-                    error_class: "test_transient".into(),
+                    error_class: FailureClass::TestTransient,
                     message: format!("test job fails transiently on attempt {attempt}"),
                 })
             }
             TestPayload::FailTransient { .. } => None,
             TestPayload::FailPermanent => Some(JobFailure {
                 kind: FailureKind::Permanent,
-                error_class: "test_permanent".into(),
+                error_class: FailureClass::TestPermanent,
                 message: "test job fails permanently".into(),
             }),
         }

@@ -8,7 +8,15 @@ use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
 
-use super::error::StoreError;
+/// Text in a column that names no value of its enum.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown value {value:?} in {field}")]
+pub struct UnknownValue {
+    /// Table and column.
+    pub field: &'static str,
+    /// The text found.
+    pub value: String,
+}
 
 macro_rules! integer_id {
     ($(#[$doc:meta])* $name:ident) => {
@@ -91,12 +99,12 @@ macro_rules! text_enum {
         }
 
         impl FromStr for $name {
-            type Err = StoreError;
+            type Err = UnknownValue;
 
             fn from_str(text: &str) -> Result<Self, Self::Err> {
                 match text {
                     $($text => Ok($name::$variant),)+
-                    other => Err(StoreError::UnknownValue {
+                    other => Err(UnknownValue {
                         field: $field,
                         value: other.to_owned(),
                     }),
@@ -174,6 +182,51 @@ text_enum!(
     }
 );
 
+text_enum!(
+    /// Why a job failed (`jobs.error_class`): the stage's failure reports, and the store's own
+    /// verdicts on lost and orphaned jobs.
+    FailureClass, "jobs.error_class" {
+        /// The campaign row named by a job does not exist.
+        UnknownCampaign => "unknown_campaign",
+        /// The campaign's stored inputs cannot be read.
+        BadCampaign => "bad_campaign",
+        /// The job's payload cannot be read.
+        BadPayload => "bad_payload",
+        /// The global case built from the campaign and the sea state is invalid.
+        InvalidCase => "invalid_case",
+        /// The global stage did not converge after every step cut-back.
+        GlobalDiverged => "global_diverged",
+        /// The global stage produced a non-finite value.
+        GlobalNonFinite => "global_non_finite",
+        /// The strand model built from the campaign is invalid.
+        InvalidStrand => "invalid_strand",
+        /// The strand history run failed.
+        StrandHistory => "strand_history",
+        /// The damage inputs could not be computed.
+        DamageInputs => "damage_inputs",
+        /// The results could not be serialised.
+        SerialiseResults => "serialise_results",
+        /// The upstream job's results are missing.
+        UpstreamMissing => "upstream_missing",
+        /// A stored artifact cannot be read as what it should hold.
+        BadArtifact => "bad_artifact",
+        /// Reading or writing the artifact directory failed.
+        ArtifactIo => "artifact_io",
+        /// The store could not be reached.
+        Store => "store",
+        /// The stage panicked.
+        WorkerPanic => "worker_panic",
+        /// A job it depends on failed.
+        UpstreamFailed => "upstream_failed",
+        /// Its lease expired too many times.
+        Lost => "lost",
+        /// The test job kind's transient failure.
+        TestTransient => "test_transient",
+        /// The test job kind's permanent failure.
+        TestPermanent => "test_permanent",
+    }
+);
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -197,7 +250,7 @@ mod tests {
     #[test]
     fn unknown_text_names_the_column_and_the_value() {
         match "sleeping".parse::<JobState>() {
-            Err(StoreError::UnknownValue { field, value }) => {
+            Err(UnknownValue { field, value }) => {
                 assert_eq!(field, "jobs.state");
                 assert_eq!(value, "sleeping");
             }

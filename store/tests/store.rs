@@ -14,7 +14,7 @@ use moorfret_store::{
     HotSpotSummary, JobFailure, JobKind, JobResults, JobState, ManualClock, NewCampaign,
     NewSeaState, PlannedJob, QueuePolicy, Store, StoreError, StoreOptions, TestPayload, WorkerInfo,
 };
-use moorfret_store::{AttemptOutcome, CampaignId, ClassDamageInput, WorkerId};
+use moorfret_store::{AttemptOutcome, CampaignId, ClassDamageInput, FailureClass, WorkerId};
 use serde_json::json;
 
 const T0_MS: i64 = 1_700_000_000_000;
@@ -460,7 +460,7 @@ async fn job_lost_too_often_fails_with_a_diagnostic(backend: Backend) {
     let record = ts.store.job(jobs[0]).await.unwrap();
     assert_eq!(record.state, JobState::Failed);
     assert_eq!(record.lost_count, 3);
-    assert_eq!(record.error_class.as_deref(), Some("lost"));
+    assert_eq!(record.error_class.map(|c| c.as_str()), Some("lost"));
     let message = record.error_message.unwrap();
     assert!(
         message.contains("3 times") && message.contains(&worker.0),
@@ -468,7 +468,10 @@ async fn job_lost_too_often_fails_with_a_diagnostic(backend: Backend) {
     );
     let downstream = ts.store.job(jobs[1]).await.unwrap();
     assert_eq!(downstream.state, JobState::Failed);
-    assert_eq!(downstream.error_class.as_deref(), Some("upstream_failed"));
+    assert_eq!(
+        downstream.error_class.map(|c| c.as_str()),
+        Some("upstream_failed")
+    );
     assert!(ts
         .store
         .claim(&worker, &ClaimFilter::default())
@@ -509,7 +512,7 @@ async fn late_completion_with_a_stale_token_is_rejected_and_nothing_doubles(back
     assert!(matches!(late, Err(StoreError::LeaseLost { job: j, .. }) if j == job));
     let failure = JobFailure {
         kind: FailureKind::Permanent,
-        error_class: "late".into(),
+        error_class: FailureClass::StrandHistory,
         message: "late".into(),
     };
     assert!(matches!(
@@ -586,7 +589,10 @@ async fn transient_failure_retries_after_capped_exponential_backoff(backend: Bac
         );
         let record = ts.store.job(job).await.unwrap();
         assert_eq!(record.state, JobState::Ready);
-        assert_eq!(record.error_class.as_deref(), Some("test_transient"));
+        assert_eq!(
+            record.error_class.map(|c| c.as_str()),
+            Some("test_transient")
+        );
         ts.clock.advance_ms(delay_ms - 1);
         assert!(
             ts.store.claim(&worker, &any).await.unwrap().is_none(),
@@ -680,7 +686,10 @@ async fn permanent_failure_fails_at_once_and_fails_everything_downstream(backend
     );
     let record = ts.store.job(jobs[0]).await.unwrap();
     assert_eq!((record.state, record.attempt), (JobState::Failed, 1));
-    assert_eq!(record.error_class.as_deref(), Some("test_permanent"));
+    assert_eq!(
+        record.error_class.map(|c| c.as_str()),
+        Some("test_permanent")
+    );
     assert_eq!(
         record.error_message.as_deref(),
         Some("test job fails permanently")
@@ -688,7 +697,10 @@ async fn permanent_failure_fails_at_once_and_fails_everything_downstream(backend
     for downstream in &jobs[1..3] {
         let record = ts.store.job(*downstream).await.unwrap();
         assert_eq!(record.state, JobState::Failed);
-        assert_eq!(record.error_class.as_deref(), Some("upstream_failed"));
+        assert_eq!(
+            record.error_class.map(|c| c.as_str()),
+            Some("upstream_failed")
+        );
     }
     assert_eq!(ts.store.job(jobs[3]).await.unwrap().state, JobState::Ready);
     ts.finish().await;

@@ -9,13 +9,14 @@ use crate::failure::permanent;
 use crate::{global_stage, strand_stage};
 use moorfret_campaign::{CampaignInputs, GlobalPayload, StrandPayload};
 use moorfret_store::{
-    ArtifactStore, JobFailure, JobKind, JobResults, Lease, RetryPolicy, Store, TestPayload,
+    ArtifactStore, FailureClass, JobFailure, JobKind, JobResults, Lease, RetryPolicy, Store,
+    TestPayload,
 };
 
 fn decode<T: serde::de::DeserializeOwned>(lease: &Lease) -> Result<T, JobFailure> {
     serde_json::from_value(lease.payload.clone()).map_err(|e| {
         permanent(
-            "bad_payload",
+            FailureClass::BadPayload,
             format!("job {} ({}): payload: {e}", lease.job, lease.kind),
         )
     })
@@ -31,8 +32,9 @@ pub fn execute(
     artifacts: &ArtifactStore,
     rt: &Handle,
 ) -> Result<JobResults, JobFailure> {
-    let need_inputs =
-        || inputs.ok_or_else(|| permanent("bad_campaign", "campaign inputs are missing"));
+    let need_inputs = || {
+        inputs.ok_or_else(|| permanent(FailureClass::BadCampaign, "campaign inputs are missing"))
+    };
     match lease.kind {
         JobKind::Test => run_test(lease),
         JobKind::Global => {

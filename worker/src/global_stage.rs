@@ -15,7 +15,7 @@ use crate::failure::{permanent, transient};
 use crate::series::HotSpotSeries;
 use moorfret_campaign::payload::FloaterContent;
 use moorfret_campaign::{CampaignInputs, GlobalPayload};
-use moorfret_store::{ArtifactStore, HotSpotSummary, JobFailure, JobResults};
+use moorfret_store::{ArtifactStore, FailureClass, HotSpotSummary, JobFailure, JobResults};
 
 /// Role of the series artifact of hot spot `index`.
 pub fn series_role(index: usize) -> String {
@@ -32,18 +32,21 @@ pub fn run_global(
     let floater = match &inputs.floater {
         FloaterContent::RigidBody(spec) => FloaterInput::RigidBody(spec.clone()),
         FloaterContent::PrescribedMotionCsv(text) => FloaterInput::Prescribed(
-            PrescribedMotion::from_csv_str(text).map_err(|e| permanent("invalid_case", e))?,
+            PrescribedMotion::from_csv_str(text)
+                .map_err(|e| permanent(FailureClass::InvalidCase, e))?,
         ),
     };
-    let model = GlobalModel::new(&case, floater, None).map_err(|e| permanent("invalid_case", e))?;
+    let model = GlobalModel::new(&case, floater, None)
+        .map_err(|e| permanent(FailureClass::InvalidCase, e))?;
     let params = RunParams {
         threads: inputs.spec.simulation.global_threads,
         ..RunParams::default()
     };
-    let result = run(&model, &params, |_, _| {}).map_err(|e| permanent("global_diverged", e))?;
+    let result =
+        run(&model, &params, |_, _| {}).map_err(|e| permanent(FailureClass::GlobalDiverged, e))?;
     result
         .check_finite()
-        .map_err(|e| permanent("global_non_finite", e))?;
+        .map_err(|e| permanent(FailureClass::GlobalNonFinite, e))?;
     tracing::info!(
         case = %case.name,
         statics_s = result.stats.statics_s,
@@ -60,7 +63,7 @@ pub fn run_global(
         };
         let artifact = artifacts
             .put(&series_role(index), series.to_csv().as_bytes())
-            .map_err(|e| transient("artifact_io", e))?;
+            .map_err(|e| transient(FailureClass::ArtifactIo, e))?;
         out.hot_spots.push(HotSpotSummary {
             hot_spot_index: index as i64,
             summary: json!({

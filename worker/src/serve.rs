@@ -31,8 +31,9 @@ use tokio::sync::watch;
 use crate::failure::{permanent, transient};
 use moorfret_campaign::{stored_inputs, CampaignInputs};
 use moorfret_store::{
-    complete_with_retry, ArtifactStore, CampaignId, ClaimFilter, FailureDisposition, JobFailure,
-    JobKind, JobState, Lease, RetryPolicy, Store, StoreError, WallTimeBudget, WorkerInfo,
+    complete_with_retry, ArtifactStore, CampaignId, ClaimFilter, FailureClass, FailureDisposition,
+    JobFailure, JobKind, JobState, Lease, RetryPolicy, Store, StoreError, WallTimeBudget,
+    WorkerInfo,
 };
 
 /// Settings of a worker.
@@ -209,7 +210,7 @@ pub async fn run(
             }
         });
         let outcome = tokio::select! {
-            joined = job => joined.unwrap_or_else(|e| Err(transient("worker_panic", e))),
+            joined = job => joined.unwrap_or_else(|e| Err(transient(FailureClass::WorkerPanic, e))),
             _ = shutdown.changed() => {
                 heartbeat.abort();
                 let released = retry
@@ -281,12 +282,18 @@ async fn inputs_of(
     let campaigns = retry
         .run("list campaigns", || store.campaigns())
         .await
-        .map_err(|e| transient("store", e))?;
+        .map_err(|e| transient(FailureClass::Store, e))?;
     let record = campaigns
         .into_iter()
         .find(|c| c.id == lease.campaign)
-        .ok_or_else(|| permanent("unknown_campaign", format!("campaign {}", lease.campaign)))?;
-    let inputs = Arc::new(stored_inputs(&record.spec).map_err(|e| permanent("bad_campaign", e))?);
+        .ok_or_else(|| {
+            permanent(
+                FailureClass::UnknownCampaign,
+                format!("campaign {}", lease.campaign),
+            )
+        })?;
+    let inputs =
+        Arc::new(stored_inputs(&record.spec).map_err(|e| permanent(FailureClass::BadCampaign, e))?);
     cache.insert(lease.campaign, Arc::clone(&inputs));
     Ok(Some(inputs))
 }

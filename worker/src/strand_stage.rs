@@ -29,9 +29,8 @@ use moorfret_solver::fretting::{
     sea_state_damage_inputs, ContactRecord, SeaStateInputs, TensionHistory,
 };
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
-use moorfret_solver::strand::history::{
-    run_history_from, HistoryObserver, HistoryOptions, LoadSample,
-};
+use moorfret_solver::strand::history::stiffness::{samples_from_tension, SlackTension};
+use moorfret_solver::strand::history::{run_history_from, HistoryObserver, HistoryOptions};
 use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::Strand;
 use serde_json::json;
@@ -43,38 +42,9 @@ use crate::series::HotSpotSeries;
 use moorfret_campaign::resolve::hot_spot_line_type;
 use moorfret_campaign::{CampaignInputs, StrandPayload};
 use moorfret_store::{
-    damage_rows, ArtifactStore, ContactStatistics, JobFailure, JobResults, Lease, RetryPolicy,
-    Store,
+    damage_rows, ArtifactStore, ContactStatistics, FailureClass, JobFailure, JobResults, Lease,
+    RetryPolicy, Store,
 };
-
-/// Segments between two checkpoints handed over by the solver.
-const CHECKPOINT_SEGMENTS: usize = 8;
-
-/// The strand load samples: ε = max(T, 0) / EA, κ, every `stride`-th sample of `series`;
-/// also the number of slack samples.
-pub fn strand_load(
-    series: &HotSpotSeries,
-    axial_stiffness_n: f64,
-    stride: usize,
-) -> (Vec<LoadSample>, usize) {
-    let stride = stride.max(1);
-    let mut slack = 0;
-    let samples = (0..series.time_s.len())
-        .step_by(stride)
-        .map(|i| {
-            let t = series.tension_n[i];
-            if t < 0.0 {
-                slack += 1;
-            }
-            LoadSample {
-                time_s: series.time_s[i],
-                strain: t.max(0.0) / axial_stiffness_n,
-                curvature_per_m: series.curvature_per_m[i],
-            }
-        })
-        .collect();
-    (samples, slack)
-}
 
 /// Loads the hot-spot series of the strand job's global job. The store reads are retried
 /// under `retry` while the database is unreachable, as the worker loop's calls are.
@@ -89,27 +59,32 @@ pub fn upstream_series(
         .block_on(retry.run("look up upstream job", || {
             store.lookup_cache(&payload.global_cache_key)
         }))
-        .map_err(|e| transient("store", e))?
+        .map_err(|e| transient(FailureClass::Store, e))?
         .ok_or_else(|| {
             transient(
-                "upstream_missing",
+                FailureClass::UpstreamMissing,
                 "no done global job carries this strand job's upstream cache key",
             )
         })?;
     let results = rt
         .block_on(retry.run("read upstream results", || store.results_of(source)))
-        .map_err(|e| transient("store", e))?;
+        .map_err(|e| transient(FailureClass::Store, e))?;
     let role = series_role(payload.hot_spot_index);
     let artifact = results
         .artifacts
         .iter()
         .find(|a| a.role == role)
-        .ok_or_else(|| permanent("upstream_missing", format!("job {source} has no {role}")))?;
+        .ok_or_else(|| {
+            permanent(
+                FailureClass::UpstreamMissing,
+                format!("job {source} has no {role}"),
+            )
+        })?;
     let bytes = artifacts
         .get(&artifact.sha256)
-        .map_err(|e| transient("artifact_io", e))?;
-    let text = String::from_utf8(bytes).map_err(|e| permanent("bad_artifact", e))?;
-    HotSpotSeries::from_csv(&text).map_err(|e| permanent("bad_artifact", e))
+        .map_err(|e| transient(FailureClass::ArtifactIo, e))?;
+    let text = String::from_utf8(bytes).map_err(|e| permanent(FailureClass::BadArtifact, e))?;
+    HotSpotSeries::from_csv(&text).map_err(|e| permanent(FailureClass::BadArtifact, e))
 }
 
 /// Writes checkpoints to the artifact store, at most every `interval` of wall time.
@@ -226,20 +201,33 @@ pub fn run_strand(
         .hot_spot_axial_stiffness_n
         .get(payload.hot_spot_index)
         .copied()
-        .ok_or_else(|| permanent("bad_payload", "hot spot index out of range"))?;
+        .ok_or_else(|| permanent(FailureClass::BadPayload, "hot spot index out of range"))?;
     let stride = (inputs.spec.strand.load_interval_s / inputs.spec.simulation.output_interval_s)
         .round() as usize;
-    let (samples, slack_samples) = strand_load(&series, ea, stride);
+    let (samples, slack_samples) = samples_from_tension(
+        &series.time_s,
+        &series.tension_n,
+        &series.curvature_per_m,
+        ea,
+        stride,
+        SlackTension::AsZero,
+    )
+    .map_err(|e| permanent(FailureClass::StrandHistory, e))?;
     let strand = inputs
         .profile
         .validate()
-        .map_err(|e| permanent("invalid_strand", e))?;
+        .map_err(|e| permanent(FailureClass::InvalidStrand, e))?;
     let model = StrandModel::new(&strand, &model_parameters(inputs))
-        .map_err(|e| permanent("invalid_strand", e))?;
-    let options = HistoryOptions {
-        checkpoint_interval_segments: CHECKPOINT_SEGMENTS,
+        .map_err(|e| permanent(FailureClass::InvalidStrand, e))?;
+    let settings = &inputs.spec.strand;
+    let mut options = HistoryOptions {
+        checkpoint_interval_segments: settings.checkpoint_every_segments,
+        threads: settings.threads,
         ..HistoryOptions::default()
     };
+    if let Some(t) = settings.turning_point_tolerance {
+        options.turning_point_tolerance = t;
+    }
     let pointer = lease
         .cache_key
         .as_ref()
@@ -267,15 +255,15 @@ pub fn run_strand(
             tracing::warn!(job = %lease.job, %reason, "checkpoint refused; starting over");
             resumed = false;
             run_history_from(&model, &samples, &options, None, &mut writer)
-                .map_err(|e| permanent("strand_history", e))?
+                .map_err(|e| permanent(FailureClass::StrandHistory, e))?
         }
-        Err(e) => return Err(permanent("strand_history", e)),
+        Err(e) => return Err(permanent(FailureClass::StrandHistory, e)),
     };
-    let records =
-        serde_json::to_vec(&result.contacts).map_err(|e| permanent("serialise_results", e))?;
+    let records = serde_json::to_vec(&result.contacts)
+        .map_err(|e| permanent(FailureClass::SerialiseResults, e))?;
     let artifact = artifacts
         .put("contact_records", &records)
-        .map_err(|e| transient("artifact_io", e))?;
+        .map_err(|e| transient(FailureClass::ArtifactIo, e))?;
     let contacts = result
         .contacts
         .iter()
@@ -288,7 +276,7 @@ pub fn run_strand(
         payload.global.seed_index as i64,
         &damage,
     )
-    .map_err(|e| permanent("serialise_results", e))?;
+    .map_err(|e| permanent(FailureClass::SerialiseResults, e))?;
     let s = &result.stats;
     Ok(JobResults {
         result: json!({
@@ -332,9 +320,14 @@ fn damage_inputs(
     let hot_spot = spec
         .hot_spots
         .get(payload.hot_spot_index)
-        .ok_or_else(|| permanent("bad_payload", "hot spot index out of range"))?;
-    let line_type = hot_spot_line_type(&inputs.base_case, hot_spot.arc_length_m)
-        .ok_or_else(|| permanent("bad_payload", "the hot spot lies on no defined line type"))?;
+        .ok_or_else(|| permanent(FailureClass::BadPayload, "hot spot index out of range"))?;
+    let line_type =
+        hot_spot_line_type(&inputs.base_case, hot_spot.arc_length_m).ok_or_else(|| {
+            permanent(
+                FailureClass::BadPayload,
+                "the hot spot lies on no defined line type",
+            )
+        })?;
     let ea = inputs.hot_spot_axial_stiffness_n[payload.hot_spot_index];
     let config = spec.fatigue.damage_config(strand, line_type, ea);
     let stride = stride.max(1);
@@ -344,35 +337,13 @@ fn damage_inputs(
         dt_s: stride as f64 * spec.simulation.output_interval_s,
         run_in_samples: spec.fatigue.run_in_samples(spec.strand.load_interval_s),
     };
-    sea_state_damage_inputs(records, &history, &config).map_err(|e| permanent("damage_inputs", e))
+    sea_state_damage_inputs(records, &history, &config)
+        .map_err(|e| permanent(FailureClass::DamageInputs, e))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn strain_is_tension_over_axial_stiffness_at_every_stride_sample() {
-        let series = HotSpotSeries {
-            time_s: vec![0.0, 0.1, 0.2, 0.3, 0.4],
-            tension_n: vec![3.6e5, 7.2e5, -1.0e3, 0.0, 3.6e6],
-            curvature_per_m: vec![0.01, 0.02, 0.03, 0.04, 0.05],
-        };
-        let (load, slack) = strand_load(&series, 3.6e8, 2);
-        let t: Vec<f64> = load.iter().map(|s| s.time_s).collect();
-        assert_eq!(t, vec![0.0, 0.2, 0.4]);
-        for (s, expected) in load.iter().zip([1e-3, 0.0, 1e-2]) {
-            // one division: within an ulp of the quotient
-            assert!(
-                (s.strain - expected).abs() <= f64::EPSILON * expected,
-                "{}",
-                s.strain
-            );
-        }
-        let k: Vec<f64> = load.iter().map(|s| s.curvature_per_m).collect();
-        assert_eq!(k, vec![0.01, 0.03, 0.05]);
-        assert_eq!(slack, 1);
-    }
 
     #[test]
     fn no_checkpoint_without_a_pointer_or_with_a_pointer_to_an_unreadable_one() {

@@ -183,7 +183,7 @@ async fn run_to_end(
                 "job {} ({}) failed: {}: {}",
                 job.id,
                 job.kind,
-                job.error_class.as_deref().unwrap_or("?"),
+                job.error_class.map_or("?", |c| c.as_str()),
                 job.error_message.as_deref().unwrap_or("")
             );
         }

@@ -146,10 +146,12 @@ pub enum ProfileError {
         message: String,
     },
     /// No profile of that name.
-    #[error("no strand profile named '{name}'")]
+    #[error("no strand profile named '{name}' (the file has: {})", known.join(", "))]
     UnknownProfile {
         /// Requested name.
         name: String,
+        /// The names the file has.
+        known: Vec<String>,
     },
     /// A required field is missing.
     #[error("{field} is missing")]
@@ -395,6 +397,21 @@ pub fn profile_from_json(text: &str) -> Result<StrandProfile, ProfileError> {
     serde_json::from_value(v).map_err(|e| ProfileError::Json {
         message: e.to_string(),
     })
+}
+
+/// The profile of a profile file: the file's one profile, or, with `name`, the profile of that
+/// name in a file of named profiles.
+pub fn select_profile(text: &str, name: Option<&str>) -> Result<StrandProfile, ProfileError> {
+    let Some(name) = name else {
+        return profile_from_json(text);
+    };
+    let mut profiles = profiles_from_json(text)?;
+    profiles
+        .remove(name)
+        .ok_or_else(|| ProfileError::UnknownProfile {
+            name: name.to_owned(),
+            known: profiles.into_keys().collect(),
+        })
 }
 
 impl Strand {

@@ -6,6 +6,7 @@ pub(crate) mod catenary;
 pub(crate) mod global;
 pub(crate) mod strand;
 pub(crate) mod strand_history;
+pub(crate) mod strand_model;
 
 /// Single-stage runs.
 #[derive(Debug, Subcommand)]

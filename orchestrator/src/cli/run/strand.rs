@@ -23,131 +23,26 @@ use anyhow::{anyhow, Context};
 use clap::Args;
 use moorfret_solver::strand::analytical::{slip_force_variation, stick_force_variation};
 use moorfret_solver::strand::driver::{run_case, CaseResult, StrandRunParameters};
-use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
-use moorfret_solver::strand::profile::{
-    profile_from_json, profiles_from_json, Regularisation, Strand, StrandProfile,
-};
 use plotters::prelude::*;
 use serde::Serialize;
 
-use moorfret_solver::strand::model::EndKind;
+use super::strand_model::{load_model, ModelArgs, ModelSizes};
 
 /// Arguments of `moorfret run strand`.
 #[derive(Debug, Args)]
 pub(crate) struct StrandArgs {
-    /// Strand profile JSON (as `campaigns/benchmarks/strand_1_6_1.json`): geometry, material,
-    /// `regularisation` sets and, without `--load`, the `loading` block; or a file of named
-    /// profiles (as `campaigns/data/strand_profiles.json`) with `--profile-name`.
-    pub(crate) profile: PathBuf,
-    /// Name of the profile in a file of named profiles.
-    #[arg(long)]
-    pub(crate) profile_name: Option<String>,
+    /// The strand model.
+    #[command(flatten)]
+    pub(crate) model: ModelArgs,
     /// Output directory (created if missing).
     #[arg(long)]
     pub(crate) out: PathBuf,
-    /// Name of the regularisation set of the profile.
-    #[arg(long, default_value = "vs_analytical")]
-    pub(crate) regularisation: String,
-    /// Normal penalty ε_N (N/m) and elastic slip γ_e (m), instead of a named regularisation set.
-    #[arg(long, num_args = 2, value_names = ["NORMAL_PENALTY_N_PER_M", "ELASTIC_SLIP_M"])]
-    pub(crate) contact_regularisation: Option<Vec<f64>>,
-    /// End conditions of the helical wires.
-    #[arg(long, value_enum, default_value_t = Ends::PenaltyTies)]
-    pub(crate) ends: Ends,
     /// Load history CSV: `time_s,tension_n,curvature_per_m` or
     /// `time_s,axial_strain,curvature_per_m`. Without it, the profile's `loading` block.
     #[arg(long)]
     pub(crate) load: Option<PathBuf>,
     #[command(flatten)]
     pub(crate) history: super::strand_history::HistoryArgs,
-}
-
-/// End conditions of the helical wires (`--ends`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum Ends {
-    /// Periodic constraints between the two ends (seed Sec. 2.3).
-    Periodic,
-    /// Penalty ties of the helical wire ends to the core end sections (seed Sec. 2.2).
-    PenaltyTies,
-}
-
-impl Ends {
-    /// The solver's end condition.
-    pub(crate) fn end_kind(self) -> EndKind {
-        match self {
-            Self::Periodic => EndKind::Periodic,
-            Self::PenaltyTies => EndKind::PenaltyTies,
-        }
-    }
-}
-
-/// Sizes of a strand model.
-#[derive(Debug, Serialize)]
-pub(crate) struct ModelSizes {
-    nodes: usize,
-    elements: usize,
-    contacts: usize,
-    free_dofs: usize,
-}
-
-impl ModelSizes {
-    pub(crate) fn of(model: &StrandModel) -> Self {
-        Self {
-            nodes: model.mesh.stats.nodes,
-            elements: model.mesh.stats.elements,
-            contacts: model.mesh.stats.contacts,
-            free_dofs: model.dofs.free_count(),
-        }
-    }
-}
-
-/// The profile of `args`, its validated strand, the model with the chosen regularisation and
-/// ends, and those model parameters.
-pub(crate) fn load_model(
-    args: &StrandArgs,
-) -> anyhow::Result<(StrandProfile, Strand, StrandModel, StrandModelParameters)> {
-    let text = std::fs::read_to_string(&args.profile)
-        .with_context(|| format!("reading strand profile {}", args.profile.display()))?;
-    let profile = match &args.profile_name {
-        None => profile_from_json(&text)
-            .with_context(|| format!("in strand profile {}", args.profile.display()))?,
-        Some(name) => profiles_from_json(&text)
-            .with_context(|| format!("in strand profiles {}", args.profile.display()))?
-            .remove(name)
-            .with_context(|| {
-                format!(
-                    "--profile-name {name}: no such profile in {}",
-                    args.profile.display()
-                )
-            })?,
-    };
-    let strand = profile
-        .validate()
-        .with_context(|| format!("in strand profile {}", args.profile.display()))?;
-    let reg = match args.contact_regularisation.as_deref() {
-        Some(&[normal_penalty_n_per_m, elastic_slip_m]) => Regularisation {
-            normal_penalty_n_per_m,
-            elastic_slip_m,
-        },
-        _ => *profile
-            .regularisation
-            .as_ref()
-            .and_then(|m| m.get(&args.regularisation))
-            .ok_or_else(|| {
-                anyhow!(
-                    "profile has no regularisation named {:?} (give one with \
-                     --contact-regularisation NORMAL_PENALTY_N_PER_M ELASTIC_SLIP_M)",
-                    args.regularisation
-                )
-            })?,
-    };
-    let params = StrandModelParameters::penalty_contact(
-        reg.normal_penalty_n_per_m,
-        reg.elastic_slip_m,
-        args.ends.end_kind(),
-    );
-    let model = StrandModel::new(&strand, &params)?;
-    Ok((profile, strand, model, params))
 }
 
 #[derive(Debug, Serialize)]
@@ -212,9 +107,9 @@ type Row = (f64, f64, f64, f64);
 /// Execute `moorfret run strand`.
 pub(crate) fn execute(args: StrandArgs) -> anyhow::Result<()> {
     if let Some(load) = &args.load {
-        return super::strand_history::execute(&args, load);
+        return super::strand_history::execute(&args.model, &args.history, load, &args.out);
     }
-    let (profile, strand, model, _) = load_model(&args)?;
+    let (profile, strand, model, _) = load_model(&args.model)?;
     let loading = profile
         .loading
         .clone()
@@ -281,7 +176,7 @@ pub(crate) fn execute(args: StrandArgs) -> anyhow::Result<()> {
     }
     csv.flush()?;
     let summary = Summary {
-        regularisation: args.regularisation.clone(),
+        regularisation: args.model.regularisation.clone(),
         sizes: ModelSizes::of(&model),
         straight_case: summarise(&straight, t0),
         cases,

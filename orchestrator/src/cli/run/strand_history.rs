@@ -34,13 +34,15 @@ use std::time::Instant;
 
 use anyhow::{anyhow, bail, Context};
 use clap::Args;
+use moorfret_campaign::spec::{DEFAULT_CHECKPOINT_SEGMENTS, MAX_STRAND_THREADS};
 use moorfret_solver::contact::NormalLaw;
 use moorfret_solver::fretting::ContactRecord;
 use moorfret_solver::linalg::NewtonParams;
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
 use moorfret_solver::strand::history::monitors::{MonitorChannel, MonitorGroup, MonitorTarget};
 use moorfret_solver::strand::history::stiffness::{
-    contact_compliant_stiffness_n, measure_axial_stiffness_n, straight_strand_stiffness,
+    contact_compliant_stiffness_n, measure_axial_stiffness_n, samples_from_tension,
+    straight_strand_stiffness, SlackTension,
 };
 use moorfret_solver::strand::history::{
     run_history_from, validate_samples, HistoryError, HistoryObserver, HistoryOptions,
@@ -50,10 +52,8 @@ use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
 use serde::Serialize;
 use sha2::{Digest, Sha256};
 
-use super::strand::{load_model, ModelSizes, StrandArgs};
+use super::strand_model::{load_model, ModelArgs, ModelSizes};
 use moorfret_orchestrator::plot::{strand_history_svgs, LoadPlot};
-use moorfret_worker::series::HotSpotSeries;
-use moorfret_worker::strand_stage::strand_load;
 
 /// Options of a history run (`--load`).
 #[derive(Debug, Args)]
@@ -65,7 +65,7 @@ pub(crate) struct HistoryArgs {
     #[arg(long)]
     pub(crate) turning_point_tolerance: Option<f64>,
     /// Threads of the sparse factorisation and solves (results equal to round-off).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=256))]
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=MAX_STRAND_THREADS as i64))]
     pub(crate) threads: u16,
     /// Axial strain of the tension step that measures EA.
     #[arg(long, default_value_t = 1e-3)]
@@ -85,7 +85,7 @@ pub(crate) struct HistoryArgs {
     #[arg(long)]
     pub(crate) checkpoint: Option<PathBuf>,
     /// History segments between two checkpoints.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = DEFAULT_CHECKPOINT_SEGMENTS)]
     pub(crate) checkpoint_every: usize,
     /// Start from the checkpoint file if it exists.
     #[arg(long, requires = "checkpoint")]
@@ -589,12 +589,15 @@ fn samples_of(
                     ", with the contacts' compliance {c:.6e} N"
                 ))
             );
-            let series = HotSpotSeries {
-                time_s: table.time_s.clone(),
-                tension_n: table.value.clone(),
-                curvature_per_m: table.curvature_per_m.clone(),
-            };
-            let (samples, slack) = strand_load(&series, ea, 1);
+            // Negative tensions were refused by `read_load` unless `--slack-as-zero`.
+            let (samples, slack) = samples_from_tension(
+                &table.time_s,
+                &table.value,
+                &table.curvature_per_m,
+                ea,
+                1,
+                SlackTension::AsZero,
+            )?;
             let stiffness = AxialStiffness {
                 ea_n: ea,
                 source,
@@ -633,10 +636,15 @@ fn refused(path: &Path, kind: LoadKind, e: HistoryError) -> anyhow::Error {
     }
 }
 
-/// Runs the history mode of `moorfret run strand`.
-pub(super) fn execute(args: &StrandArgs, load: &Path) -> anyhow::Result<()> {
+/// Runs the history mode of `moorfret run strand`: the model of `args` through `load` with the
+/// settings `h`, outputs into `out`.
+pub(super) fn execute(
+    args: &ModelArgs,
+    h: &HistoryArgs,
+    load: &Path,
+    out: &Path,
+) -> anyhow::Result<()> {
     let start = Instant::now();
-    let h = &args.history;
     if h.checkpoint_every == 0 {
         bail!("--checkpoint-every must be >= 1");
     }
@@ -667,8 +675,7 @@ pub(super) fn execute(args: &StrandArgs, load: &Path) -> anyhow::Result<()> {
         }
         _ => None,
     };
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
 
     let bar = std::io::stderr().is_terminal().then(|| {
         let b = indicatif::ProgressBar::new(1);
@@ -710,16 +717,16 @@ pub(super) fn execute(args: &StrandArgs, load: &Path) -> anyhow::Result<()> {
         Err(e) => return Err(anyhow!(e).context("strand history run failed")),
     };
 
-    write_monitors(&args.out.join("monitors.csv"), &result)?;
-    write_contacts(&args.out.join("contacts.csv"), &result.contacts)?;
+    write_monitors(&out.join("monitors.csv"), &result)?;
+    write_contacts(&out.join("contacts.csv"), &result.contacts)?;
     std::fs::write(
-        args.out.join("contact_records.json"),
+        out.join("contact_records.json"),
         serde_json::to_vec(&result.contacts)?,
     )?;
     let load_plot = LoadPlot {
         tension_n: (table.kind == LoadKind::Tension).then_some(table.value.as_slice()),
     };
-    strand_history_svgs(&result.monitors, &load_plot, &args.out)?;
+    strand_history_svgs(&result.monitors, &load_plot, out)?;
     let summary = Summary {
         profile: args.profile.display().to_string(),
         regularisation: match &args.contact_regularisation {
@@ -741,7 +748,7 @@ pub(super) fn execute(args: &StrandArgs, load: &Path) -> anyhow::Result<()> {
         wall_time_s: start.elapsed().as_secs_f64(),
     };
     std::fs::write(
-        args.out.join("summary.json"),
+        out.join("summary.json"),
         serde_json::to_string_pretty(&summary)?,
     )?;
     let s = &result.stats;
@@ -752,7 +759,7 @@ pub(super) fn execute(args: &StrandArgs, load: &Path) -> anyhow::Result<()> {
         iterations = s.iterations,
         wall_s = summary.wall_time_s,
         "strand history done; outputs in {}",
-        args.out.display()
+        out.display()
     );
     Ok(())
 }

@@ -90,14 +90,26 @@ impl AxialStiffnessCache {
     }
 }
 
-/// Load samples from (t, T, κ) with ε = T / EA; a non-finite or negative tension is refused
-/// with its sample index.
+/// What a negative tension sample means in [`samples_from_tension`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SlackTension {
+    /// Refused with its sample index: a strand cannot carry compression.
+    Refuse,
+    /// Taken as zero tension (a slack rope) and counted.
+    AsZero,
+}
+
+/// Load samples from (t, T, κ) with ε = T / EA, at every `stride`-th sample (0 and 1: every
+/// sample); a non-finite tension is refused with its sample index, a negative one as `slack`
+/// says. Returns the samples and how many negative tensions were taken as zero.
 pub fn samples_from_tension(
     time_s: &[f64],
     tension_n: &[f64],
     curvature_per_m: &[f64],
     axial_stiffness_n: f64,
-) -> Result<Vec<LoadSample>, HistoryError> {
+    stride: usize,
+    slack: SlackTension,
+) -> Result<(Vec<LoadSample>, usize), HistoryError> {
     if !(axial_stiffness_n > 0.0 && axial_stiffness_n.is_finite()) {
         return Err(HistoryError::InvalidOption {
             field: "axial_stiffness_n",
@@ -117,28 +129,37 @@ pub fn samples_from_tension(
             ),
         });
     }
-    time_s
-        .iter()
-        .zip(tension_n)
-        .zip(curvature_per_m)
-        .enumerate()
-        .map(|(index, ((&t, &tension), &k))| {
-            if !(tension.is_finite() && tension >= 0.0) {
-                return Err(HistoryError::InvalidSample {
-                    index,
-                    time_s: t,
-                    field: "tension_n",
-                    value: tension,
-                    reason: "must be finite and ≥ 0 (a strand cannot carry compression)".into(),
-                });
+    let mut slack_samples = 0;
+    let samples = (0..time_s.len())
+        .step_by(stride.max(1))
+        .map(|index| {
+            let (t, tension) = (time_s[index], tension_n[index]);
+            let refuse = |reason: &str| HistoryError::InvalidSample {
+                index,
+                time_s: t,
+                field: "tension_n",
+                value: tension,
+                reason: reason.into(),
+            };
+            if !tension.is_finite() {
+                return Err(refuse("must be finite"));
             }
+            let carried = if tension >= 0.0 {
+                tension
+            } else if slack == SlackTension::AsZero {
+                slack_samples += 1;
+                0.0
+            } else {
+                return Err(refuse("must be ≥ 0 (a strand cannot carry compression)"));
+            };
             Ok(LoadSample {
                 time_s: t,
-                strain: tension / axial_stiffness_n,
-                curvature_per_m: k,
+                strain: carried / axial_stiffness_n,
+                curvature_per_m: curvature_per_m[index],
             })
         })
-        .collect()
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((samples, slack_samples))
 }
 
 /// Straight-strand estimates of the axial stiffness of a multi-layer strand (N).

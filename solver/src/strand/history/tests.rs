@@ -7,7 +7,7 @@ use std::f64::consts::PI;
 use super::monitors::{MonitorChannel, MonitorQuantity};
 use super::stiffness::{
     contact_compliant_stiffness_n, measure_axial_stiffness_n, samples_from_tension,
-    straight_strand_stiffness,
+    straight_strand_stiffness, SlackTension,
 };
 use super::*;
 use crate::strand::model::{EndKind, StrandModelParameters};
@@ -63,7 +63,14 @@ fn bad_samples_are_refused_with_their_index() {
         (6, "curvature_per_m")
     );
     assert!(validate_samples(&model, &good, &options).is_ok());
-    match samples_from_tension(&[0.0, 1.0], &[1e4, -5.0], &[0.0, 0.0], 2e7) {
+    match samples_from_tension(
+        &[0.0, 1.0],
+        &[1e4, -5.0],
+        &[0.0, 0.0],
+        2e7,
+        1,
+        SlackTension::Refuse,
+    ) {
         Err(HistoryError::InvalidSample { index, field, .. }) => {
             assert_eq!((index, field), (1, "tension_n"))
         }
@@ -302,4 +309,49 @@ fn outer_arc_monitors_sit_on_the_stretched_side_and_neutral_axis_monitors_on_the
         (layer1_element.z_m - 0.5 * length).abs() < length / 6.0,
         "{layer1_element:?}"
     );
+}
+
+#[test]
+fn strain_is_tension_over_axial_stiffness_at_every_stride_sample() {
+    let time_s = [0.0, 0.1, 0.2, 0.3, 0.4];
+    let tension_n = [3.6e5, 7.2e5, -1.0e3, 0.0, 3.6e6];
+    let curvature_per_m = [0.01, 0.02, 0.03, 0.04, 0.05];
+    let (load, slack) = samples_from_tension(
+        &time_s,
+        &tension_n,
+        &curvature_per_m,
+        3.6e8,
+        2,
+        SlackTension::AsZero,
+    )
+    .unwrap();
+    let t: Vec<f64> = load.iter().map(|s| s.time_s).collect();
+    assert_eq!(t, vec![0.0, 0.2, 0.4]);
+    for (s, expected) in load.iter().zip([1e-3, 0.0, 1e-2]) {
+        // one division: within an ulp of the quotient
+        assert!(
+            (s.strain - expected).abs() <= f64::EPSILON * expected,
+            "{}",
+            s.strain
+        );
+    }
+    let k: Vec<f64> = load.iter().map(|s| s.curvature_per_m).collect();
+    assert_eq!(k, vec![0.01, 0.03, 0.05]);
+    assert_eq!(slack, 1);
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let tension_n = [3.6e5, bad];
+        match samples_from_tension(
+            &[0.0, 0.1],
+            &tension_n,
+            &[0.0; 2],
+            3.6e8,
+            1,
+            SlackTension::AsZero,
+        ) {
+            Err(HistoryError::InvalidSample { index, field, .. }) => {
+                assert_eq!((index, field), (1, "tension_n"), "{bad}")
+            }
+            other => panic!("tension {bad} accepted: {other:?}"),
+        }
+    }
 }

@@ -1,5 +1,11 @@
-// Campaign-level writes and reads: a whole plan in one transaction, campaign rows.
-// Part of the queue compiled per backend; see `queue_impl.rs`.
+//! Campaign-level writes and reads: a whole plan in one transaction, campaign rows.
+
+use super::plan::{checked_payloads, insert_campaign_row, insert_job_rows, insert_sea_state_rows};
+use super::{end_attempt, lease_lost, parse_json, Queue, Result};
+use crate::error::StoreError;
+use crate::model::{CampaignRecord, Lease, NewCampaign, NewSeaState, PlannedJob};
+use crate::types::{AttemptOutcome, CampaignId, JobId, SeaStateId};
+use sqlx::Row;
 
 impl Queue {
     /// Creates the campaign, its sea states and its jobs in one transaction, so that an

@@ -1,5 +1,15 @@
-// Reads: jobs, attempts, results, progress and lifetime views.
-// Part of the queue compiled per backend; see `queue_impl.rs`.
+//! Reads: jobs, attempts, results, progress and lifetime views.
+
+use super::{job_from_row, parse_json, Queue, Result, JOB_COLUMNS};
+use crate::error::StoreError;
+use crate::model::{
+    AttemptRecord, CampaignProgress, ContactStatistics, HotSpotSummary, JobArtifact, JobRecord,
+    JobResults, LifetimeDamage,
+};
+use crate::results::DamageInput;
+use crate::types::{AttemptId, AttemptOutcome, CampaignId, JobId, JobState, WorkerId};
+use serde_json::Value;
+use sqlx::Row;
 
 impl Queue {
     pub(crate) async fn job(&self, job: JobId) -> Result<JobRecord> {
@@ -36,7 +46,9 @@ impl Queue {
                 .await
                 .map_err(StoreError::db("read attempt"))?;
         match outcome {
-            Some(text) => text.map(|t| t.parse()).transpose(),
+            Some(text) => text
+                .map(|t| t.parse().map_err(StoreError::from))
+                .transpose(),
             None => Err(StoreError::InvalidParameter {
                 field: "attempt",
                 value: attempt.0.to_string(),

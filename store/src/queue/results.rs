@@ -1,14 +1,24 @@
-// Per-class damage rows and the result views, compiled once per backend by `include!` (see
-// `queue_impl.rs`).
+//! Per-class damage rows and the result views.
 
-const CLASS_COLUMNS: &str = "hot_spot_index, layer_interface, angular_position, seed_index, \
+use super::Db;
+use super::{json_text, parse_json, Queue, Result, Tx};
+use crate::error::StoreError;
+use crate::results::{
+    parse_position, ClassDamageInput, ContactRow, LifetimeClassDamage, SeaStateClassDamage,
+    SeaStateDamage, SeaStateStatus,
+};
+use crate::types::{CampaignId, JobId};
+use sqlx::Row;
+
+pub(super) const CLASS_COLUMNS: &str =
+    "hot_spot_index, layer_interface, angular_position, seed_index, \
      effective_duration_s, contacts, fretting_damage_rate_max_per_s, \
      fretting_damage_rate_mean_per_s, stick_cycles_per_hour, partial_slip_cycles_per_hour, \
      gross_slip_cycles_per_hour, ruiz_f1_max, ruiz_f2_max, peak_pressure_max_pa, \
      slip_amplitude_max_m, histogram_json";
 
 /// Inserts the class rows of a completing job inside its transaction.
-async fn insert_class_damage_inputs(
+pub(super) async fn insert_class_damage_inputs(
     tx: &mut Tx,
     job: JobId,
     rows: &[ClassDamageInput],
@@ -48,7 +58,8 @@ async fn insert_class_damage_inputs(
 }
 
 /// Copies the class rows of `source` to `job` (completion from the cache).
-const COPY_CLASS_DAMAGE_INPUTS: &str = "INSERT INTO class_damage_inputs (job_id, hot_spot_index, \
+pub(super) const COPY_CLASS_DAMAGE_INPUTS: &str =
+    "INSERT INTO class_damage_inputs (job_id, hot_spot_index, \
      layer_interface, angular_position, seed_index, effective_duration_s, contacts, \
      fretting_damage_rate_max_per_s, fretting_damage_rate_mean_per_s, stick_cycles_per_hour, \
      partial_slip_cycles_per_hour, gross_slip_cycles_per_hour, ruiz_f1_max, ruiz_f2_max, \
@@ -59,14 +70,21 @@ const COPY_CLASS_DAMAGE_INPUTS: &str = "INSERT INTO class_damage_inputs (job_id,
      gross_slip_cycles_per_hour, ruiz_f1_max, ruiz_f2_max, peak_pressure_max_pa, \
      slip_amplitude_max_m, histogram_json FROM class_damage_inputs WHERE job_id = $2";
 
-fn get<'r, T>(row: &'r <Db as sqlx::Database>::Row, column: &str, op: &'static str) -> Result<T>
+pub(super) fn get<'r, T>(
+    row: &'r <Db as sqlx::Database>::Row,
+    column: &str,
+    op: &'static str,
+) -> Result<T>
 where
     T: sqlx::Decode<'r, Db> + sqlx::Type<Db>,
 {
     row.try_get(column).map_err(StoreError::db(op))
 }
 
-fn class_from_row(row: &<Db as sqlx::Database>::Row, op: &'static str) -> Result<ClassDamageInput> {
+pub(super) fn class_from_row(
+    row: &<Db as sqlx::Database>::Row,
+    op: &'static str,
+) -> Result<ClassDamageInput> {
     let position: String = get(row, "angular_position", op)?;
     let histogram: String = get(row, "histogram_json", op)?;
     Ok(ClassDamageInput {

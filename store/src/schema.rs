@@ -1,5 +1,14 @@
-// Schema version check and migration, compiled once per backend by `include!` (see
-// `queue_impl.rs`); the including module defines `Db`, `DIALECT` and `MIGRATOR`.
+//! Schema version check and migration, written once for both backends.
+//!
+//! Mounted twice, as `sqlite::schema` and `postgres::schema`; each parent defines `Db`,
+//! `DIALECT` and `MIGRATOR`.
+
+use sqlx::Pool;
+
+use super::{Db, DIALECT, MIGRATOR};
+use crate::error::StoreError;
+
+type Result<T> = std::result::Result<T, StoreError>;
 
 /// Newest schema version this binary embeds.
 pub(crate) fn supported_version() -> i64 {

@@ -1,5 +1,15 @@
-// Leases: claim, heartbeat, completion (fresh or from the cache).
-// Part of the queue compiled per backend; see `queue_impl.rs`.
+//! Leases: claim, heartbeat, completion (fresh or from the cache).
+
+use super::results::{insert_class_damage_inputs, COPY_CLASS_DAMAGE_INPUTS};
+use super::DIALECT;
+use super::{end_attempt, json_text, lease_lost, parse_json, sha256_hex, Queue, Result, Tx};
+use crate::error::StoreError;
+use crate::model::{ClaimFilter, JobResults, Lease};
+use crate::types::{
+    AttemptId, AttemptOutcome, CampaignId, JobId, JobKind, JobState, LeaseToken, SeaStateId,
+    WorkerId,
+};
+use sqlx::Row;
 
 impl Queue {
     pub(crate) async fn claim(
@@ -149,7 +159,7 @@ impl Queue {
 
     /// Marks the leased job done if the token still matches; the caller's transaction then
     /// stores results and commits.
-    async fn finish_lease(
+    pub(super) async fn finish_lease(
         &self,
         tx: &mut Tx,
         lease: &Lease,

@@ -1,5 +1,11 @@
-// Failures, expired leases and cancellation.
-// Part of the queue compiled per backend; see `queue_impl.rs`.
+//! Failures, expired leases and cancellation.
+
+use super::DIALECT;
+use super::{end_attempt, fail_dependents, lease_lost, Queue, Result};
+use crate::error::StoreError;
+use crate::model::{CancelReport, FailureDisposition, FailureKind, JobFailure, Lease, SweepReport};
+use crate::types::{AttemptOutcome, CampaignId, JobId, JobState};
+use sqlx::Row;
 
 impl Queue {
     pub(crate) async fn fail(
@@ -65,7 +71,7 @@ impl Queue {
              WHERE id = $6 AND lease_token = $7",
         )
         .bind(state.as_str())
-        .bind(&failure.error_class)
+        .bind(failure.error_class.as_str())
         .bind(&message)
         .bind(not_before)
         .bind(now)

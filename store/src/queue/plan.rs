@@ -1,5 +1,10 @@
-// Planning: campaigns, sea states, jobs with their dependencies, workers.
-// Part of the queue compiled per backend; see `queue_impl.rs`.
+//! Planning: campaigns, sea states, jobs with their dependencies, workers.
+
+use super::{json_text, Queue, Result, Tx, PLAN_BATCH_ROWS};
+use super::{Db, DIALECT};
+use crate::error::StoreError;
+use crate::model::{NewCampaign, NewSeaState, PlannedJob, WorkerInfo};
+use crate::types::{CampaignId, JobId, JobState, SeaStateId, WorkerId};
 
 impl Queue {
     pub(crate) async fn create_campaign(&self, campaign: &NewCampaign) -> Result<CampaignId> {
@@ -68,7 +73,11 @@ impl Queue {
     }
 }
 
-async fn insert_campaign_row(tx: &mut Tx, campaign: &NewCampaign, now: i64) -> Result<CampaignId> {
+pub(super) async fn insert_campaign_row(
+    tx: &mut Tx,
+    campaign: &NewCampaign,
+    now: i64,
+) -> Result<CampaignId> {
     const OP: &str = "create campaign";
     let spec = json_text("campaigns.spec_json", &campaign.spec)?;
     let existing: Option<i64> = sqlx::query_scalar("SELECT id FROM campaigns WHERE name = $1")
@@ -96,7 +105,7 @@ async fn insert_campaign_row(tx: &mut Tx, campaign: &NewCampaign, now: i64) -> R
     Ok(CampaignId(id))
 }
 
-async fn insert_sea_state_rows(
+pub(super) async fn insert_sea_state_rows(
     tx: &mut Tx,
     campaign: CampaignId,
     sea_states: &[NewSeaState],
@@ -128,7 +137,7 @@ async fn insert_sea_state_rows(
 }
 
 /// Checks a plan's dependencies, attempts and costs; returns the payloads as text.
-fn checked_payloads(jobs: &[PlannedJob]) -> Result<Vec<String>> {
+pub(super) fn checked_payloads(jobs: &[PlannedJob]) -> Result<Vec<String>> {
     let mut payloads = Vec::with_capacity(jobs.len());
     for (index, job) in jobs.iter().enumerate() {
         if let Some(&dep) = job.depends_on.iter().find(|&&dep| dep >= index) {
@@ -156,7 +165,7 @@ fn checked_payloads(jobs: &[PlannedJob]) -> Result<Vec<String>> {
     Ok(payloads)
 }
 
-async fn insert_job_rows(
+pub(super) async fn insert_job_rows(
     tx: &mut Tx,
     campaign: CampaignId,
     jobs: &[PlannedJob],

@@ -1,33 +1,37 @@
-// Backend-independent queue operations, compiled once per backend by `include!` from
-// `sqlite.rs` and `postgres.rs`, which define `Db` (the sqlx database) and `DIALECT`.
-//
-// SQLite and PostgreSQL both accept `$n` placeholders, `RETURNING`, `WITH RECURSIVE … UPDATE`,
-// partial indexes and `||`, so the SQL text is shared; what differs (how a write transaction
-// begins, `FOR UPDATE SKIP LOCKED`, the server clock) is in `DIALECT`. Writing this once as
-// generic code over `sqlx::Database` would need a higher-ranked executor bound on every
-// function; textual inclusion keeps each backend's code concrete and identical.
+//! The job queue's operations, written once for both backends.
+//!
+//! This module is mounted twice, as `sqlite::queue` and `postgres::queue`; each parent defines
+//! `Db` (the sqlx database) and `DIALECT`. SQLite and PostgreSQL both accept `$n` placeholders,
+//! `RETURNING`, `WITH RECURSIVE … UPDATE`, partial indexes and `||`, so the SQL text is shared;
+//! what differs (how a write transaction begins, `FOR UPDATE SKIP LOCKED`, the server clock) is
+//! in `DIALECT`. Writing this as generic code over `sqlx::Database` would need a higher-ranked
+//! executor bound on every function; mounting the same files per backend keeps each backend's
+//! code concrete and identical.
+//!
+//! - [`plan`]: campaigns, sea states, jobs with their dependencies, workers;
+//! - [`campaign`]: a whole plan in one transaction, campaign rows;
+//! - [`lease`]: claim, heartbeat, completion (fresh or from the cache);
+//! - [`recovery`]: failures, expired leases and cancellation;
+//! - [`read`]: jobs, attempts, results, progress and lifetime views;
+//! - [`results`]: per-class damage rows and the result views.
 
+mod campaign;
+mod lease;
+mod plan;
+mod read;
+mod recovery;
+mod results;
+
+use super::{Db, DIALECT};
 use serde_json::Value;
 use sha2::{Digest, Sha256};
 use sqlx::{Pool, Row, Transaction};
 
-use super::clock::{system_now_ms, Clock};
-use super::error::StoreError;
-use super::model::{
-    AttemptRecord, CampaignProgress, CampaignRecord, CancelReport, ClaimFilter, ContactStatistics, DamageInput,
-    FailureDisposition, FailureKind, HotSpotSummary, JobArtifact, JobFailure, JobRecord,
-    JobResults, Lease, LifetimeDamage, NewCampaign, NewSeaState, PlannedJob, SweepReport,
-    WorkerInfo,
-};
-use super::policy::QueuePolicy;
-use super::results::{
-    parse_position, ClassDamageInput, ContactRow, LifetimeClassDamage, SeaStateClassDamage,
-    SeaStateDamage, SeaStateStatus,
-};
-use super::types::{
-    AttemptId, AttemptOutcome, CampaignId, JobId, JobKind, JobState, LeaseToken, SeaStateId,
-    WorkerId,
-};
+use crate::clock::{system_now_ms, Clock};
+use crate::error::StoreError;
+use crate::model::{JobRecord, Lease};
+use crate::policy::QueuePolicy;
+use crate::types::{AttemptOutcome, CampaignId, JobId, SeaStateId, WorkerId};
 
 type Result<T> = std::result::Result<T, StoreError>;
 
@@ -119,8 +123,10 @@ fn job_from_row(row: &<Db as sqlx::Database>::Row) -> Result<JobRecord> {
             .map_err(StoreError::db("decode job"))?
             .map(JobId),
         error_class: row
-            .try_get("error_class")
-            .map_err(StoreError::db("decode job"))?,
+            .try_get::<Option<String>, _>("error_class")
+            .map_err(StoreError::db("decode job"))?
+            .map(|t| t.parse())
+            .transpose()?,
         error_message: row
             .try_get("error_message")
             .map_err(StoreError::db("decode job"))?,
@@ -217,10 +223,3 @@ async fn fail_dependents(tx: &mut Tx, job: JobId, now: i64) -> Result<u64> {
     .rows_affected();
     Ok(failed)
 }
-
-include!("queue_plan.rs");
-include!("queue_campaign.rs");
-include!("queue_lease.rs");
-include!("queue_recovery.rs");
-include!("queue_read.rs");
-include!("queue_results.rs");

@@ -1,0 +1,118 @@
+//! The strand model of `moorfret run strand`: which profile, which contact regularisation,
+//! which end conditions ([`ModelArgs`]), and the model built from them ([`load_model`]).
+
+use std::path::PathBuf;
+
+use anyhow::{anyhow, Context};
+use clap::Args;
+use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
+use moorfret_solver::strand::profile::{
+    select_profile, ProfileError, Regularisation, Strand, StrandProfile,
+};
+use serde::Serialize;
+
+/// The strand model of a run: profile, regularisation and end conditions.
+#[derive(Debug, Args)]
+pub(crate) struct ModelArgs {
+    /// Strand profile JSON (as `campaigns/benchmarks/strand_1_6_1.json`): geometry, material,
+    /// `regularisation` sets and, without `--load`, the `loading` block; or a file of named
+    /// profiles (as `campaigns/data/strand_profiles.json`) with `--profile-name`.
+    pub(crate) profile: PathBuf,
+    /// Name of the profile in a file of named profiles.
+    #[arg(long)]
+    pub(crate) profile_name: Option<String>,
+    /// Name of the regularisation set of the profile.
+    #[arg(long, default_value = "vs_analytical")]
+    pub(crate) regularisation: String,
+    /// Normal penalty ε_N (N/m) and elastic slip γ_e (m), instead of a named regularisation set.
+    #[arg(long, num_args = 2, value_names = ["NORMAL_PENALTY_N_PER_M", "ELASTIC_SLIP_M"])]
+    pub(crate) contact_regularisation: Option<Vec<f64>>,
+    /// End conditions of the helical wires.
+    #[arg(long, value_enum, default_value_t = Ends::PenaltyTies)]
+    pub(crate) ends: Ends,
+}
+
+/// End conditions of the helical wires (`--ends`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum Ends {
+    /// Periodic constraints between the two ends (seed Sec. 2.3).
+    Periodic,
+    /// Penalty ties of the helical wire ends to the core end sections (seed Sec. 2.2).
+    PenaltyTies,
+}
+
+impl Ends {
+    /// The solver's end condition.
+    pub(crate) fn end_kind(self) -> EndKind {
+        match self {
+            Self::Periodic => EndKind::Periodic,
+            Self::PenaltyTies => EndKind::PenaltyTies,
+        }
+    }
+}
+
+/// Sizes of a strand model.
+#[derive(Debug, Serialize)]
+pub(crate) struct ModelSizes {
+    nodes: usize,
+    elements: usize,
+    contacts: usize,
+    free_dofs: usize,
+}
+
+impl ModelSizes {
+    pub(crate) fn of(model: &StrandModel) -> Self {
+        Self {
+            nodes: model.mesh.stats.nodes,
+            elements: model.mesh.stats.elements,
+            contacts: model.mesh.stats.contacts,
+            free_dofs: model.dofs.free_count(),
+        }
+    }
+}
+
+/// The profile of `args`, its validated strand, the model with the chosen regularisation and
+/// ends, and those model parameters.
+pub(crate) fn load_model(
+    args: &ModelArgs,
+) -> anyhow::Result<(StrandProfile, Strand, StrandModel, StrandModelParameters)> {
+    let text = std::fs::read_to_string(&args.profile)
+        .with_context(|| format!("reading strand profile {}", args.profile.display()))?;
+    let profile = select_profile(&text, args.profile_name.as_deref()).map_err(|e| match e {
+        ProfileError::UnknownProfile { name, .. } => anyhow!(
+            "--profile-name {name}: no such profile in {}",
+            args.profile.display()
+        ),
+        e => anyhow!(e).context(match &args.profile_name {
+            None => format!("in strand profile {}", args.profile.display()),
+            Some(_) => format!("in strand profiles {}", args.profile.display()),
+        }),
+    })?;
+    let strand = profile
+        .validate()
+        .with_context(|| format!("in strand profile {}", args.profile.display()))?;
+    let reg = match args.contact_regularisation.as_deref() {
+        Some(&[normal_penalty_n_per_m, elastic_slip_m]) => Regularisation {
+            normal_penalty_n_per_m,
+            elastic_slip_m,
+        },
+        _ => *profile
+            .regularisation
+            .as_ref()
+            .and_then(|m| m.get(&args.regularisation))
+            .ok_or_else(|| {
+                anyhow!(
+                    "profile has no regularisation named {:?} (give one with \
+                     --contact-regularisation NORMAL_PENALTY_N_PER_M ELASTIC_SLIP_M)",
+                    args.regularisation
+                )
+            })?,
+    };
+    let params = StrandModelParameters::penalty_contact(
+        reg.normal_penalty_n_per_m,
+        reg.elastic_slip_m,
+        args.ends.end_kind(),
+    );
+    let model = StrandModel::new(&strand, &params)?;
+    Ok((profile, strand, model, params))
+}
