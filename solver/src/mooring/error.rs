@@ -4,7 +4,7 @@
 //! carry what is needed to act: line, time, node with the largest residual and residual norm.
 //! Every variant here is deterministic (the same input fails the same way), so none is retryable.
 
-use super::line::NodeId;
+use super::ids::NodeId;
 
 /// Everything that can go wrong when building or solving a mooring line.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -16,19 +16,7 @@ use super::error::LineError;
 use super::section::{Section, SectionKind};
 use super::spec::{Environment, LineEnds, LineSpec};
 
-/// Index of a node along a line, 0 at the fairlead.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct NodeId(pub usize);
-
-impl std::fmt::Display for NodeId {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}", self.0)
-    }
-}
-
-/// Index of an element along a line, 0 at the fairlead.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub struct ElementId(pub usize);
+pub use super::ids::{ElementId, NodeId};
 
 /// A node of the mesh.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -20,6 +20,7 @@ pub mod error;
 pub mod hermite;
 pub mod hotspot;
 pub mod hydro;
+pub mod ids;
 pub mod line;
 pub mod loads;
 pub mod seabed;
@@ -30,4 +31,5 @@ pub mod trajectory;
 pub mod workspace;
 
 pub use error::LineError;
-pub use line::{ElementId, LineModel, NodeId};
+pub use ids::{ElementId, NodeId};
+pub use line::LineModel;

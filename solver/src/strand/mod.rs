@@ -13,6 +13,8 @@
 //! - [`ends`]: penalty ties of the helical wire ends to the core end sections;
 //! - [`periodic`]: periodic multi-point constraints of the wire ends (seed Eqs. 12-13);
 //! - [`model`]: the FE model (beams, contacts, ties, DOFs, pattern);
+//! - [`error`]: the errors of building the model ([`error::StrandModelError`], also at its
+//!   historical path `model::StrandModelError`);
 //! - [`problem`]: its equilibrium as a Newton problem;
 //! - [`driver`]: one loading case solved and its monitors extracted;
 //! - [`history`]: the model driven through a (t, ε, κ) load history, monitors and per-contact
@@ -27,6 +29,7 @@ pub mod clearance;
 pub mod contacts;
 pub mod driver;
 pub mod ends;
+pub mod error;
 pub mod helix;
 pub mod history;
 pub mod loading;

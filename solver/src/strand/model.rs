@@ -16,21 +16,21 @@
 
 use nalgebra::Vector3;
 
-use super::contacts::{find_contacts, ContactSearchParameters, GeometryError};
+use super::contacts::{find_contacts, ContactSearchParameters};
 use super::ends::EndTie;
 use super::mesh::{build_mesh, MeshParameters, StrandMesh};
 use super::periodic::{end_layout, PeriodicEnds};
 use super::profile::Strand;
-use crate::beam::frame::{BeamFrame, DofMap, FrameError, NodeId, NODE_DOFS};
-use crate::beam::section::{BeamSection, SectionError};
+use crate::beam::frame::{BeamFrame, DofMap, NodeId, NODE_DOFS};
+use crate::beam::section::BeamSection;
 use crate::contact::{
-    ContactError, ContactHistory, ContactPair, ContactParameters, NodeKinematics, NormalLaw,
-    TangentialLaw,
+    ContactHistory, ContactPair, ContactParameters, NodeKinematics, NormalLaw, TangentialLaw,
 };
 use crate::linalg::{
-    Equation, FactorPrecision, GmresParams, LinalgError, PatternError, SparsePattern, SplitSolver,
-    Storage,
+    Equation, FactorPrecision, GmresParams, LinalgError, SparsePattern, SplitSolver, Storage,
 };
+
+pub use super::error::StrandModelError;
 
 /// GMRES iterations a reused preconditioner may cost beyond a fresh one before the solver
 /// refactorises ([`GmresParams::reuse_margin`]): one LDLᵀ factorisation costs about as much as
@@ -38,50 +38,6 @@ use crate::linalg::{
 /// (`solver/examples/linear_solver_study.rs`), so ten extra iterations per solve are cheaper
 /// than refactorising as long as the pattern of stick and slip holds.
 pub const PRECONDITIONER_REUSE_MARGIN: usize = 10;
-
-/// Errors while building or solving a strand model.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum StrandModelError {
-    /// Contact detection or meshing failed.
-    #[error(transparent)]
-    Geometry(#[from] GeometryError),
-    /// A wire section is invalid.
-    #[error("wire {wire}: {source}")]
-    Section {
-        /// Wire index.
-        wire: usize,
-        /// Cause.
-        source: SectionError,
-    },
-    /// Frame construction failed.
-    #[error(transparent)]
-    Frame(#[from] FrameError),
-    /// A contact element cannot be built.
-    #[error("contact {contact} (nodes {node1}, {node2}): {source}")]
-    Contact {
-        /// Contact index.
-        contact: usize,
-        /// Inner node.
-        node1: usize,
-        /// Outer node.
-        node2: usize,
-        /// Cause.
-        source: ContactError,
-    },
-    /// Equation numbering failed.
-    #[error(transparent)]
-    Pattern(#[from] PatternError),
-    /// A model parameter is out of range.
-    #[error("strand model parameter {field} = {value}: {reason}")]
-    InvalidParameter {
-        /// Field.
-        field: &'static str,
-        /// Value.
-        value: f64,
-        /// Why.
-        reason: &'static str,
-    },
-}
 
 /// How the helical wire ends are held.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

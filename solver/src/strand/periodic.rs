@@ -47,9 +47,9 @@
 
 use nalgebra::{Matrix3, Vector3};
 
+use super::error::StrandModelError;
 use super::loading::SectionMotion;
 use super::mesh::StrandMesh;
-use super::model::StrandModelError;
 use super::profile::Strand;
 use crate::beam::frame::{DofMap, FrameState, NodeId, NODE_DOFS};
 use crate::linalg::{Equation, PatternError, SparsePattern, Storage};

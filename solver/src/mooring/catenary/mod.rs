@@ -4,6 +4,7 @@
 //! - [`single`]: one homogeneous line with seabed contact and friction, solved in closed form
 //!   (Jonkman 2007, NREL/TP-500-41958) by Newton with an analytic Jacobian.
 //! - [`profile`]: position, tension and curvature of a solved single line at any arc length.
+//! - [`segment`]: one uniform segment of a multi-segment line, extra masses and clumps.
 //! - [`segmented`]: fairlead-to-anchor lists of segments (chain, wire rope, extra masses),
 //!   solved by shooting from the anchor.
 //! - [`newton`]: the shared 2×2 damped Newton solve, its parameters and work counters.
@@ -17,6 +18,7 @@ pub mod error;
 pub mod newton;
 mod pieces;
 pub mod profile;
+pub mod segment;
 pub mod segmented;
 mod shooting;
 pub mod single;
@@ -24,8 +26,8 @@ pub mod single;
 pub use error::CatenaryError;
 pub use newton::{CatenaryParams, NewtonStats};
 pub use profile::ProfilePoint;
-pub use segmented::{
-    solve_segmented, LineSegment, SegmentedCatenary, SegmentedSolution, SEAWATER_DENSITY_KG_M3,
-    STANDARD_GRAVITY_M_S2, STEEL_DENSITY_KG_M3,
+pub use segment::{
+    LineSegment, SEAWATER_DENSITY_KG_M3, STANDARD_GRAVITY_M_S2, STEEL_DENSITY_KG_M3,
 };
+pub use segmented::{solve_segmented, SegmentedCatenary, SegmentedSolution};
 pub use single::{solve_catenary, Catenary, CatenarySolution, ElasticLine};

@@ -1,6 +1,7 @@
 //! Shooting integration of a segmented catenary for trial unknowns (H, V_F): where the line
 //! leaves the seabed, the laid and suspended pieces from the anchor up to the fairlead, and the
-//! analytic Jacobian of the fairlead position (see [`super::segmented`] for the method).
+//! analytic Jacobian of the fairlead position (the method is described with the multi-segment
+//! solver, see the parent module).
 //!
 //! Touchdown: walking down from the fairlead, each segment takes w_i L_i of V_F and each clump
 //! its weight; the touchdown is where nothing is left. Laid pieces carry the tension H at the
@@ -12,7 +13,7 @@
 use super::newton::Linearization;
 use super::pieces::{laid_stretch, suspended};
 use super::profile::ProfilePoint;
-use super::segmented::{LineSegment, SegmentedCatenary};
+use super::segment::LineSegment;
 
 /// How a piece of line is held.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -114,16 +115,16 @@ fn find_touchdown(segments: &[LineSegment], v_f: f64) -> Touchdown {
     }
 }
 
-/// Integrates the line from the anchor for unknowns (H, V_F): fairlead position, Jacobian, and
-/// the pieces (written into `pieces`, anchor first).
+/// Integrates the line `segs` (fairlead to anchor) on a seabed of friction coefficient `cb`
+/// from the anchor for unknowns (H, V_F): fairlead position, Jacobian, and the pieces (written
+/// into `pieces`, anchor first).
 pub(crate) fn shoot(
-    model: &SegmentedCatenary,
+    segs: &[LineSegment],
+    cb: f64,
     h: f64,
     v_f: f64,
     pieces: &mut Vec<Piece>,
 ) -> Linearization {
-    let segs = &model.segments_fairlead_to_anchor;
-    let cb = model.seabed_friction;
     pieces.clear();
     // Lowest suspended segment with its hanging length and bottom vertical tension, the
     // derivatives of those two with respect to V_F, the laid part of the touchdown segment and
@@ -291,29 +292,24 @@ pub(crate) fn hanging_length_m(segs: &[LineSegment], z: f64) -> f64 {
 mod tests {
     use super::*;
 
-    /// Chain-rope-chain line with a clump between rope and bottom chain.
-    fn three_segment(cb: f64) -> SegmentedCatenary {
-        SegmentedCatenary {
-            segments_fairlead_to_anchor: vec![
-                LineSegment::new(50.0, 980.4, 4.93e8),
-                LineSegment::new(150.0, 140.6, 3.6e8).with_clump_weight(2.0e4),
-                LineSegment::new(300.0, 980.4, 4.93e8),
-            ],
-            horizontal_span_m: 420.0,
-            vertical_span_m: 90.0,
-            seabed_friction: cb,
-        }
+    /// Chain-rope-chain line with a clump between rope and bottom chain, fairlead to anchor.
+    fn three_segment() -> Vec<LineSegment> {
+        vec![
+            LineSegment::new(50.0, 980.4, 4.93e8),
+            LineSegment::new(150.0, 140.6, 3.6e8).with_clump_weight(2.0e4),
+            LineSegment::new(300.0, 980.4, 4.93e8),
+        ]
     }
 
-    fn jacobian_matches_central_differences(model: &SegmentedCatenary, h: f64, v: f64) {
+    fn jacobian_matches_central_differences(segs: &[LineSegment], cb: f64, h: f64, v: f64) {
         let mut pieces = Vec::new();
-        let (_, jac) = shoot(model, h, v, &mut pieces);
+        let (_, jac) = shoot(segs, cb, h, v, &mut pieces);
         for (j, (du, shift)) in [(1e-6 * h, [1e-6 * h, 0.0]), (1e-6 * v, [0.0, 1e-6 * v])]
             .into_iter()
             .enumerate()
         {
-            let (p, _) = shoot(model, h + shift[0], v + shift[1], &mut pieces);
-            let (m, _) = shoot(model, h - shift[0], v - shift[1], &mut pieces);
+            let (p, _) = shoot(segs, cb, h + shift[0], v + shift[1], &mut pieces);
+            let (m, _) = shoot(segs, cb, h - shift[0], v - shift[1], &mut pieces);
             for i in 0..2 {
                 let fd = (p[i] - m[i]) / (2.0 * du);
                 let scale = jac[i][0].abs() + jac[i][1].abs();
@@ -328,7 +324,7 @@ mod tests {
 
     #[test]
     fn touchdown_walk_finds_segment_joint_or_uplift() {
-        let segs = three_segment(0.0).segments_fairlead_to_anchor;
+        let segs = three_segment();
         // Chain 49 020 N, rope 21 090 N, clump 20 000 N, bottom chain 294 120 N.
         match find_touchdown(&segs, 60_000.0) {
             Touchdown::Inside {
@@ -360,11 +356,11 @@ mod tests {
 
     #[test]
     fn shooting_jacobian_matches_central_differences_in_every_regime() {
+        let segs = three_segment();
         for cb in [0.0, 0.3, 5.0] {
-            let model = three_segment(cb);
             // Touchdown in the bottom chain, in the rope, at the clump, and fully suspended.
             for v in [1.5e5, 6.0e4, 8.0e4, 4.0e5] {
-                jacobian_matches_central_differences(&model, 2.0e5, v);
+                jacobian_matches_central_differences(&segs, cb, 2.0e5, v);
             }
         }
     }

@@ -13,7 +13,7 @@
 use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
-use super::run::{Recorder, Snapshot};
+use super::recording::{Recorder, Snapshot};
 use super::{HistoryError, HistoryStats};
 use crate::contact::ContactHistory;
 

@@ -471,6 +471,7 @@ pub fn validate_samples(
     Ok(())
 }
 
+mod recording;
 mod run;
 
 pub use run::{run_history, run_history_from};
