@@ -4,7 +4,8 @@
 //! Every non-zero cell becomes a sea state with Hs at the middle of its height bin and Tp at
 //! its column value, the given γ and seed; the case file supplies everything else (its own
 //! `sea_state` is replaced). Per cell it prints Hs, Tp, the wall time of the whole run
-//! (precomputation, statics and dynamics), time steps, coupling passes, coupled step cuts, the
+//! (precomputation, statics and dynamics) and its CPU time (`/proc/self/stat`, Linux), time
+//! steps, coupling passes, coupled step cuts, the
 //! high-frequency cut-off the stage chose, and the outcome (`ok`, the error, or `PANIC` and its
 //! message); then the median, p90 and worst wall times of the completed cells and the ratio of
 //! the worst to the median.
@@ -116,8 +117,7 @@ fn floater_input(case: &CaseSpec, case_path: &Path) -> Result<FloaterInput, Stri
     let base = case_path.parent().unwrap_or(Path::new("."));
     Ok(match &case.floater {
         FloaterSource::RigidBody { spec_path } => FloaterInput::RigidBody(Box::new(
-            FloaterSpec::from_json_str(&read(&base.join(spec_path))?)
-                .map_err(|e| e.to_string())?,
+            FloaterSpec::from_json_str(&read(&base.join(spec_path))?).map_err(|e| e.to_string())?,
         )),
         FloaterSource::PrescribedMotion { csv_path } => FloaterInput::Prescribed(
             PrescribedMotion::from_csv_str(&read(&base.join(csv_path))?)
@@ -129,6 +129,9 @@ fn floater_input(case: &CaseSpec, case_path: &Path) -> Result<FloaterInput, Stri
 /// What one cell's run gave.
 struct CellOutcome {
     wall_s: f64,
+    /// CPU time of the process over the run (s), less sensitive than the wall time to other
+    /// jobs on a shared machine.
+    cpu_s: f64,
     steps: usize,
     passes: usize,
     cuts: usize,
@@ -138,8 +141,30 @@ struct CellOutcome {
     outcome: String,
 }
 
+/// User + system CPU time of this process (s) from `/proc/self/stat` (Linux; NaN elsewhere),
+/// in clock ticks of 10 ms.
+fn cpu_time_s() -> f64 {
+    let Ok(stat) = std::fs::read_to_string("/proc/self/stat") else {
+        return f64::NAN;
+    };
+    // Fields after the parenthesised command name: utime and stime are the 12th and 13th.
+    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
+    let ticks: Vec<f64> = rest
+        .split_whitespace()
+        .skip(11)
+        .take(2)
+        .filter_map(|v| v.parse().ok())
+        .collect();
+    if ticks.len() == 2 {
+        (ticks[0] + ticks[1]) / 100.0
+    } else {
+        f64::NAN
+    }
+}
+
 fn run_cell(case: &CaseSpec, floater: &FloaterInput, v: Variant) -> CellOutcome {
     let clock = Instant::now();
+    let cpu0 = cpu_time_s();
     let attempt = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         let mut model = GlobalModel::new(case, floater.clone(), None)?;
         let mut params = RunParams::default();
@@ -170,8 +195,10 @@ fn run_cell(case: &CaseSpec, floater: &FloaterInput, v: Variant) -> CellOutcome 
         run(&model, &params, |_, _| {}).map(|r| (r, cut_off))
     }));
     let wall_s = clock.elapsed().as_secs_f64();
+    let cpu_s = cpu_time_s() - cpu0;
     let empty = |outcome: String| CellOutcome {
         wall_s,
+        cpu_s,
         steps: 0,
         passes: 0,
         cuts: 0,
@@ -182,6 +209,7 @@ fn run_cell(case: &CaseSpec, floater: &FloaterInput, v: Variant) -> CellOutcome 
     match attempt {
         Ok(Ok((r, cut_off))) => CellOutcome {
             wall_s,
+            cpu_s,
             steps: r.stats.steps,
             passes: r.stats.coupling_iterations,
             cuts: r.stats.cut_coupled_steps,
@@ -221,8 +249,8 @@ fn main() -> Result<(), String> {
     case.timing.duration_s = o.duration_s;
     let floater = floater_input(&case, case_path)?;
     let cells: Vec<(f64, f64)> = if o.cells.is_empty() {
-        let table = ScatterTable::parse(&read(Path::new(&o.scatter_path))?)
-            .map_err(|e| e.to_string())?;
+        let table =
+            ScatterTable::parse(&read(Path::new(&o.scatter_path))?).map_err(|e| e.to_string())?;
         table
             .cells()
             .into_iter()
@@ -246,10 +274,20 @@ fn main() -> Result<(), String> {
         o.seed
     );
     println!(
-        "{:>6} {:>6} {:>9} {:>7} {:>8} {:>6} {:>10} {:>10}  {:<40} outcome",
-        "Hs m", "Tp s", "wall s", "steps", "passes", "cuts", "T std N", "k std 1/m", "wave band"
+        "{:>6} {:>6} {:>9} {:>8} {:>7} {:>8} {:>6} {:>10} {:>10}  {:<40} outcome",
+        "Hs m",
+        "Tp s",
+        "wall s",
+        "cpu s",
+        "steps",
+        "passes",
+        "cuts",
+        "T std N",
+        "k std 1/m",
+        "wave band"
     );
     let mut walls = Vec::new();
+    let mut cpus: Vec<f64> = Vec::new();
     let mut failed = 0;
     let sweep = Instant::now();
     for &(hs, tp) in &cells {
@@ -260,10 +298,11 @@ fn main() -> Result<(), String> {
         case.name = format!("hs{hs}_tp{tp}");
         let c = run_cell(&case, &floater, o.variant);
         println!(
-            "{:>6.2} {:>6.1} {:>9.2} {:>7} {:>8} {:>6} {:>10.1} {:>10.3e}  {:<40} {}",
+            "{:>6.2} {:>6.1} {:>9.2} {:>8.2} {:>7} {:>8} {:>6} {:>10.1} {:>10.3e}  {:<40} {}",
             hs,
             tp,
             c.wall_s,
+            c.cpu_s,
             c.steps,
             c.passes,
             c.cuts,
@@ -274,6 +313,7 @@ fn main() -> Result<(), String> {
         );
         if c.outcome == "ok" {
             walls.push((c.wall_s, hs, tp));
+            cpus.push(c.cpu_s);
         } else {
             failed += 1;
         }
@@ -298,6 +338,15 @@ fn main() -> Result<(), String> {
         worst.2,
         worst.0 / median,
         sweep.elapsed().as_secs_f64()
+    );
+    cpus.sort_by(f64::total_cmp);
+    println!(
+        "cpu median {:.2} s, p90 {:.2} s, worst {:.2} s, worst/median {:.2}, total {:.1} s",
+        percentile(&cpus, 0.5),
+        percentile(&cpus, 0.9),
+        cpus.last().copied().unwrap_or(f64::NAN),
+        cpus.last().copied().unwrap_or(f64::NAN) / percentile(&cpus, 0.5),
+        cpus.iter().sum::<f64>()
     );
     Ok(())
 }
