@@ -24,13 +24,13 @@ use nalgebra::{Matrix3, Vector6};
 
 use super::coupling::{coupled_step, Alpha, FloaterStart, LineRun, StepContext};
 use super::error::GlobalError;
+use super::resolution::WaveResolution;
 use super::results::{FloaterSeries, GlobalResult, HotSpotResult, LineResult, RunStats};
 use super::sea::{FloaterSeaTable, LineSeaCache, PassSea, Ramp, RampedSea};
 use super::system::{FloaterModel, GlobalModel, StaticEquilibrium};
 use crate::floater::BodyState;
 use crate::mooring::dynamics::{DynamicParams, LineIntegrator, LineState};
 use crate::mooring::hotspot::{node_values, LineRecorder};
-use super::resolution::WaveResolution;
 use crate::waves::{SeaKinematics, SeriesParams, TableParams};
 
 /// Settings of the coupled dynamics.

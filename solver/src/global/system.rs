@@ -23,6 +23,7 @@ use rayon::prelude::*;
 
 use super::case::{CaseSpec, FloaterSource};
 use super::error::GlobalError;
+use super::resolution::{WaveCutOff, WaveResolution};
 use crate::beam::rotation::exp_so3;
 use crate::floater::prescribed::PrescribedMotion;
 use crate::floater::{fairlead_load, BodyState, Floater, FloaterSpec, JacobianSteps};
@@ -30,10 +31,7 @@ use crate::mooring::spec::{Environment, LineEnds, LineSpec};
 use crate::mooring::statics::{solve_statics, StaticParams, StaticSolution, StaticStart};
 use crate::mooring::workspace::LineWorkspace;
 use crate::mooring::LineModel;
-use super::resolution::{WaveCutOff, WaveResolution};
-use crate::waves::{
-    IrregularSea, Jonswap, RealisationParams, RotorTable, StillWater, TableParams,
-};
+use crate::waves::{IrregularSea, Jonswap, RealisationParams, RotorTable, StillWater, TableParams};
 
 /// The parsed content of the case's floater file.
 #[derive(Debug, Clone)]
