@@ -16,7 +16,7 @@ use moorfret_solver::waves::{
 };
 use nalgebra::Vector3;
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngSeed};
+use proptest::test_runner::{Config, RngSeed, TestCaseError};
 
 const CASE: &str = include_str!(concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -166,12 +166,12 @@ proptest! {
         match table.kinematics(&Vector3::new(x, 0.3 * x, z), t) {
             Ok(k) => prop_assert!(k.velocity.iter().all(|v| v.is_finite())),
             Err(WavesError::OutsideTable { lower, upper, .. }) => prop_assert!(lower < upper),
-            Err(e) => prop_assert!(false, "unexpected error {e}"),
+            Err(e) => return Err(TestCaseError::fail(format!("unexpected error {e}"))),
         }
         match table.elevation(x, -x, t) {
             Ok(e) => prop_assert!(e.is_finite()),
             Err(WavesError::OutsideTable { lower, upper, .. }) => prop_assert!(lower < upper),
-            Err(e) => prop_assert!(false, "unexpected error {e}"),
+            Err(e) => return Err(TestCaseError::fail(format!("unexpected error {e}"))),
         }
     }
 }

@@ -148,7 +148,9 @@ fn stencil<const P: usize>(
     let before = (P / 2 - 1) as f64;
     // Stencil nodes i0 − before … i0 − before + P − 1 must lie in 0 … n − 1.
     let last_start = n as f64 - P as f64 + before;
-    if !(tau >= before && tau < last_start + 1.0) {
+    // Written so that a NaN τ is outside too.
+    let inside = tau >= before && tau < last_start + 1.0;
+    if !inside {
         return Err(WavesError::OutsideTable {
             coordinate,
             value: v,
