@@ -24,6 +24,7 @@ use nalgebra::{Matrix3, Vector6};
 
 use super::coupling::{coupled_step, Alpha, FloaterStart, LineRun, StepContext};
 use super::error::GlobalError;
+use super::resolution::WaveResolution;
 use super::results::{FloaterSeries, GlobalResult, HotSpotResult, LineResult, RunStats};
 use super::sea::{FloaterSeaTable, LineSeaCache, PassSea, Ramp, RampedSea};
 use super::system::{FloaterModel, GlobalModel, StaticEquilibrium};
@@ -137,8 +138,23 @@ pub fn run_dynamics(
     } else {
         model.lines.iter().map(|_| None).collect()
     };
-    // Tabulated floater kinematics.
+    // Tabulated floater kinematics, when the table resolves every component of the sea (a
+    // table coarser than the one the model's cut-off was chosen for is not used: its values
+    // would be wrong near the surface; the floater then samples the sea directly).
+    let resolved = |t: &TableParams| {
+        WaveResolution::default().table_limit_rad_s(t, model.sea.field().depth_m())
+            >= model.wave_cut_off.highest_component_rad_s
+    };
     let floater_table = match (&model.floater, &params.floater_table) {
+        (FloaterModel::RigidBody(_), Some(table)) if !resolved(table) => {
+            tracing::warn!(
+                spacing_m = table.spacing_along_m.max(table.spacing_stretched_m),
+                highest_rad_s = model.wave_cut_off.highest_component_rad_s,
+                "floater table too coarse for the sea: direct summation"
+            );
+            stats.floater_table_unresolved = true;
+            None
+        }
         (FloaterModel::RigidBody(f), Some(table)) => Some(FloaterSeaTable::new(
             f,
             &eq.body,
@@ -372,6 +388,7 @@ pub fn run_dynamics(
         static_body_angles_rad: angles(&eq.body.rotation),
         wind_speed_m_s: model.wind_speed_m_s,
         thrust_n: model.thrust_n,
+        wave_cut_off: model.wave_cut_off,
         stats,
     };
     result.check_finite()?;

@@ -4,7 +4,8 @@
 //! T(t) and curvature κ(t) at the hot spots, envelopes along every line and floater motions.
 //!
 //! Data flow: [`case::CaseSpec`] (JSON) → [`system::GlobalModel`] (validated, sea realised,
-//! thrust from the wind law) → [`system::solve_coupled_statics`] (floater equilibrium with all
+//! thrust from the wind law, waves cut off at the highest frequency the run resolves:
+//! [`resolution`]) → [`system::solve_coupled_statics`] (floater equilibrium with all
 //! lines and the mean thrust) → [`dynamics::run_dynamics`] (coupled time integration) →
 //! [`results::GlobalResult`] and its [`results::GlobalSummary`]. [`run`] chains the three.
 //!
@@ -16,6 +17,7 @@ mod coupling;
 pub mod dynamics;
 pub mod error;
 pub mod motion;
+pub mod resolution;
 pub mod results;
 pub mod run;
 pub mod sea;
@@ -23,6 +25,7 @@ pub mod system;
 
 pub use case::CaseSpec;
 pub use error::GlobalError;
+pub use resolution::{CutOffLimit, WaveCutOff, WaveResolution};
 pub use results::{GlobalResult, GlobalSummary};
 pub use run::{run, RunParams};
 pub use system::{FloaterInput, GlobalModel};

@@ -8,6 +8,7 @@
 use serde::Serialize;
 
 use super::error::GlobalError;
+use super::resolution::WaveCutOff;
 use crate::mooring::hotspot::Envelope;
 
 /// T(t) and κ(t) at one hot spot.
@@ -83,6 +84,9 @@ pub struct RunStats {
     /// Floater kinematics queries answered by direct summation because they fell outside the
     /// floater's table.
     pub floater_table_misses: usize,
+    /// Whether the floater's table was left unused because it could not resolve the sea's
+    /// shortest waves (the floater then sampled the sea by direct summation).
+    pub floater_table_unresolved: bool,
     /// Wall time of the kinematics precomputation (s).
     pub precompute_s: f64,
     /// Wall time of the coupled statics (s), set by the caller.
@@ -116,6 +120,8 @@ pub struct GlobalResult {
     pub wind_speed_m_s: f64,
     /// Mean rotor thrust (N).
     pub thrust_n: f64,
+    /// The frequency cut-off of the sea and what it kept.
+    pub wave_cut_off: WaveCutOff,
     /// Work counts and timings.
     pub stats: RunStats,
 }
@@ -213,6 +219,8 @@ pub struct GlobalSummary {
     pub static_body_position_m: [f64; 3],
     /// Static roll, pitch, yaw (rad).
     pub static_body_angles_rad: [f64; 3],
+    /// The frequency cut-off of the sea the stage chose and what it kept.
+    pub wave_cut_off: WaveCutOff,
     /// Hot spots.
     pub hot_spots: Vec<HotSpotSummary>,
     /// Lines.
@@ -281,6 +289,7 @@ impl GlobalResult {
             thrust_n: self.thrust_n,
             static_body_position_m: self.static_body_position_m,
             static_body_angles_rad: self.static_body_angles_rad,
+            wave_cut_off: self.wave_cut_off,
             hot_spots: self
                 .hot_spots
                 .iter()

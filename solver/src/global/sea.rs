@@ -364,7 +364,7 @@ impl<'a> FloaterSeaTable<'a> {
     fn on_slice<R>(
         &self,
         t: f64,
-        query: impl FnOnce(&PlaneKinematicsTable, &TimeSlice) -> Option<R>,
+        query: impl FnOnce(&PlaneKinematicsTable, &TimeSlice) -> Result<R, WavesError>,
     ) -> Option<R> {
         let mut slice = match self.slice.lock() {
             Ok(s) => s,
@@ -373,7 +373,7 @@ impl<'a> FloaterSeaTable<'a> {
         if slice.time_s() != Some(t) && !self.table.fill_slice(t, &mut slice) {
             return None;
         }
-        query(&self.table, &slice)
+        query(&self.table, &slice).ok()
     }
 }
 

@@ -23,6 +23,7 @@ use rayon::prelude::*;
 
 use super::case::{CaseSpec, FloaterSource};
 use super::error::GlobalError;
+use super::resolution::{WaveCutOff, WaveResolution};
 use crate::beam::rotation::exp_so3;
 use crate::floater::prescribed::PrescribedMotion;
 use crate::floater::{fairlead_load, BodyState, Floater, FloaterSpec, JacobianSteps};
@@ -30,7 +31,7 @@ use crate::mooring::spec::{Environment, LineEnds, LineSpec};
 use crate::mooring::statics::{solve_statics, StaticParams, StaticSolution, StaticStart};
 use crate::mooring::workspace::LineWorkspace;
 use crate::mooring::LineModel;
-use crate::waves::{IrregularSea, Jonswap, RealisationParams, RotorTable, StillWater};
+use crate::waves::{IrregularSea, Jonswap, RealisationParams, RotorTable, StillWater, TableParams};
 
 /// The parsed content of the case's floater file.
 #[derive(Debug, Clone)]
@@ -74,8 +75,10 @@ pub struct GlobalModel {
     pub line_spec: LineSpec,
     /// Site data of the lines.
     pub environment: Environment,
-    /// Realised sea.
+    /// Realised sea, cut off at the highest frequency the run resolves.
     pub sea: IrregularSea,
+    /// The frequency cut-off applied to the sea and what it kept ([`super::resolution`]).
+    pub wave_cut_off: WaveCutOff,
     /// Hub wind speed (m/s).
     pub wind_speed_m_s: f64,
     /// Mean rotor thrust along +x at the hub (N).
@@ -84,7 +87,10 @@ pub struct GlobalModel {
 
 impl GlobalModel {
     /// Builds the model of `case` (validated here) with the floater content `floater`; the sea
-    /// is realised for the case's transient plus duration, or `duration_s` when given.
+    /// is realised for the case's transient plus duration, or `duration_s` when given, and cut
+    /// off at the highest frequency that the case's time step and the default floater table
+    /// ([`TableParams::default`], as in [`super::dynamics::DynamicsParams::default`]) resolve
+    /// ([`WaveResolution::default`], see [`super::resolution`]).
     pub fn new(
         case: &CaseSpec,
         floater: FloaterInput,
@@ -125,6 +131,13 @@ impl GlobalModel {
             .collect();
         let s = &case.sea_state;
         let spectrum = Jonswap::new(s.hs_m, s.tp_s, case.peak_enhancement()?)?;
+        let table = TableParams::default();
+        let resolution = WaveResolution::default();
+        let (cut_off, limit, table_limit) = resolution.cut_off_rad_s(
+            case.timing.time_step_s,
+            matches!(floater, FloaterModel::RigidBody(_)).then_some(&table),
+            case.site.water_depth_m,
+        );
         let sea = IrregularSea::new(
             &spectrum,
             &RealisationParams {
@@ -133,9 +146,18 @@ impl GlobalModel {
                 heading_rad: s.heading_deg.to_radians(),
                 depth_m: case.site.water_depth_m,
                 water_density_kg_m3: case.site.water_density_kg_m3,
+                cut_off_rad_s: Some(cut_off),
                 ..RealisationParams::default()
             },
         )?;
+        let wave_cut_off = WaveCutOff::of(
+            &sea,
+            cut_off,
+            limit,
+            resolution.time_step_limit_rad_s(case.timing.time_step_s),
+            table_limit,
+        );
+        tracing::debug!(%wave_cut_off, "sea realised");
         let w = &case.wind;
         let wind_speed_m_s = match (w.wind_speed_m_s, &w.law) {
             (Some(u), _) => u,
@@ -161,6 +183,7 @@ impl GlobalModel {
             floater,
             lines,
             sea,
+            wave_cut_off,
             wind_speed_m_s,
             thrust_n,
         })

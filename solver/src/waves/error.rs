@@ -48,6 +48,21 @@ pub enum WavesError {
         /// The reason given by the thread-pool builder.
         reason: String,
     },
+    /// A query of a kinematics table fell outside it: the coordinate, its value and the range
+    /// of values whose interpolation stencil lies inside the table.
+    #[error(
+        "{coordinate} = {value} outside the kinematics table, which covers [{lower}, {upper}]"
+    )]
+    OutsideTable {
+        /// The coordinate that left the table: `x_beta_m`, `stretched_height_m` or `time_s`.
+        coordinate: &'static str,
+        /// Its value (non-finite values included).
+        value: f64,
+        /// Lowest value with a full stencil.
+        lower: f64,
+        /// Highest value with a full stencil.
+        upper: f64,
+    },
     /// Two tables that must have equal lengths do not.
     #[error("{field}: expected {expected} values, got {got}")]
     LengthMismatch {

@@ -56,6 +56,13 @@ pub struct RealisationParams {
     pub depth_m: f64,
     /// Water density (kg/m³).
     pub water_density_kg_m3: f64,
+    /// Highest component frequency kept (rad/s): components of the band above it are dropped
+    /// after the renormalisation, so the kept ones are exactly those of the uncut realisation
+    /// (same amplitudes and phases) and the energy above the cut-off is removed, not
+    /// redistributed; a cut-off below the whole band leaves a calm sea. `None` keeps the whole
+    /// band.
+    #[serde(default)]
+    pub cut_off_rad_s: Option<f64>,
 }
 
 impl Default for RealisationParams {
@@ -68,6 +75,7 @@ impl Default for RealisationParams {
             heading_rad: 0.0,
             depth_m: 100.0,
             water_density_kg_m3: 1025.0,
+            cut_off_rad_s: None,
         }
     }
 }
@@ -136,6 +144,8 @@ pub struct IrregularSea {
     repeat_period_s: f64,
     d_omega: f64,
     band_rad_s: (f64, f64),
+    /// Fraction of the renormalised band's m0 carried by the kept components.
+    kept_m0_fraction: f64,
 }
 
 impl IrregularSea {
@@ -146,6 +156,10 @@ impl IrregularSea {
         let depth = positive("depth_m", params.depth_m)?;
         let rho = positive("water_density_kg_m3", params.water_density_kg_m3)?;
         let heading = finite("heading_rad", params.heading_rad)?;
+        let cut_off = match params.cut_off_rad_s {
+            Some(w) => positive("cut_off_rad_s", w)?,
+            None => f64::INFINITY,
+        };
         let d_omega = 2.0 * PI / t_rep;
         let (lo, hi) = spectrum.band(params.band_energy_fraction)?;
         let n_lo = ((lo / d_omega).ceil() as usize).max(1);
@@ -161,9 +175,16 @@ impl IrregularSea {
         let spectrum = spectrum.renormalised(&omegas, d_omega)?;
         let mut normals = NormalPairs::new(params.seed);
         let mut components = Vec::with_capacity(omegas.len());
+        let (mut kept_m0, mut band_m0) = (0.0, 0.0);
         for &omega in &omegas {
+            // Drawn for every component of the band, so a cut leaves the others unchanged.
             let (x, y) = normals.next_pair();
             let scale = (spectrum.density(omega) * d_omega).sqrt();
+            band_m0 += scale * scale;
+            if omega > cut_off {
+                continue;
+            }
+            kept_m0 += scale * scale;
             components.push(WaveComponent {
                 omega_rad_s: omega,
                 wavenumber_rad_m: wavenumber(omega, depth)?,
@@ -176,6 +197,7 @@ impl IrregularSea {
             repeat_period_s: t_rep,
             d_omega,
             band_rad_s: (lo, hi),
+            kept_m0_fraction: kept_m0 / band_m0,
         })
     }
 
@@ -198,6 +220,11 @@ impl IrregularSea {
     /// Band [ω_min, ω_max] (rad/s) chosen from the spectrum before snapping to the grid.
     pub fn band_rad_s(&self) -> (f64, f64) {
         self.band_rad_s
+    }
+    /// Fraction of the spectrum's m0 (Hs²/16 over the band) carried by the kept components: 1
+    /// without a cut-off.
+    pub fn kept_m0_fraction(&self) -> f64 {
+        self.kept_m0_fraction
     }
     /// Variance of η of this realisation over one repeat period, Σ|aₙ|²/2 (m²).
     pub fn realised_m0(&self) -> f64 {

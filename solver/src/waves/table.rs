@@ -34,7 +34,10 @@
 //! Only the samples of [0, `end_time_s`] are stored (the FFT gives the whole repeat period; the
 //! series is periodic with it).
 //! Queries outside the table (x_β outside the node range, σ below the lowest node, t outside
-//! the stored samples) return `None`; callers fall back to direct summation.
+//! the stored samples, or any non-finite coordinate) return [`WavesError::OutsideTable`] with
+//! the coordinate, its value and the covered range; callers fall back to direct summation. The
+//! range is checked in floating point before an index is formed, so no query can index out of
+//! the stored values.
 //!
 //! Memory: 4 bytes × (5 n_σ + 1) n_x per stored sample, laid out time-major.
 //!
@@ -129,21 +132,35 @@ fn lagrange_weights<const P: usize>(u: f64) -> [f64; P] {
     w
 }
 
-/// First node and weights of the `P`-point stencil of coordinate `v` on nodes v₀ + i h, i < n;
-/// `None` when the stencil would leave the nodes.
+/// First node and weights of the `P`-point stencil of `coordinate` = `v` on the nodes
+/// v₀ + i h, i < n; a [`WavesError::OutsideTable`] with the covered range when the stencil would
+/// leave the nodes or `v` is not finite. The bounds are checked in floating point before any
+/// index is formed, so no position, however far or non-finite, can produce an index.
 #[inline]
-fn stencil<const P: usize>(v: f64, origin: f64, step: f64, n: usize) -> Option<(usize, [f64; P])> {
+fn stencil<const P: usize>(
+    coordinate: &'static str,
+    v: f64,
+    origin: f64,
+    step: f64,
+    n: usize,
+) -> Result<(usize, [f64; P]), WavesError> {
     let tau = (v - origin) / step;
     let before = (P / 2 - 1) as f64;
-    if tau.is_nan() || tau < before {
-        return None;
+    // Stencil nodes i0 − before … i0 − before + P − 1 must lie in 0 … n − 1.
+    let last_start = n as f64 - P as f64 + before;
+    // Written so that a NaN τ is outside too.
+    let inside = tau >= before && tau < last_start + 1.0;
+    if !inside {
+        return Err(WavesError::OutsideTable {
+            coordinate,
+            value: v,
+            lower: origin + before * step,
+            upper: origin + (last_start + 1.0) * step,
+        });
     }
     let i0 = tau.floor();
     let first = (i0 - before) as usize;
-    if first + P > n {
-        return None;
-    }
-    Some((first, lagrange_weights::<P>(tau - i0)))
+    Ok((first, lagrange_weights::<P>(tau - i0)))
 }
 
 impl PlaneKinematicsTable {
@@ -286,16 +303,16 @@ impl PlaneKinematicsTable {
 
     /// Row index of the first stencil sample and the time weights.
     #[inline]
-    fn time_stencil(&self, t: f64) -> Option<(usize, [f64; TIME_POINTS])> {
-        // Row r is sample r − 1: shift the origin by one step.
-        stencil::<TIME_POINTS>(t + self.time_step_s, 0.0, self.time_step_s, self.rows)
+    fn time_stencil(&self, t: f64) -> Result<(usize, [f64; TIME_POINTS]), WavesError> {
+        // Row r is sample r − 1: the origin is one step before t = 0.
+        stencil::<TIME_POINTS>("time_s", t, -self.time_step_s, self.time_step_s, self.rows)
     }
 
     /// The x_β stencil of the horizontal position (x, y).
     #[inline]
-    fn along_stencil(&self, x: f64, y: f64) -> Option<(usize, [f64; SPACE_POINTS])> {
+    fn along_stencil(&self, x: f64, y: f64) -> Result<(usize, [f64; SPACE_POINTS]), WavesError> {
         let xb = x * self.direction.0 + y * self.direction.1;
-        stencil::<SPACE_POINTS>(xb, self.along.0, self.along.1, self.nx)
+        stencil::<SPACE_POINTS>("x_beta_m", xb, self.along.0, self.along.1, self.nx)
     }
 
     /// η at the x_β stencil `xs` from `value(i)`, the elevation at node i.
@@ -309,7 +326,7 @@ impl PlaneKinematicsTable {
 
     /// Kinematics at `p` with the x_β stencil `xs` and surface elevation `eta`, from
     /// `value(k)`, the k-th stored value of one time sample (layout x node, σ node, quantity):
-    /// zero above the surface, `None` below the lowest σ node.
+    /// zero above the surface, an error below the lowest σ node.
     #[inline(always)]
     fn kinematics_from(
         &self,
@@ -317,13 +334,19 @@ impl PlaneKinematicsTable {
         (i0, wx): (usize, [f64; SPACE_POINTS]),
         eta: f64,
         value: impl Fn(usize) -> f64,
-    ) -> Option<FluidKinematics> {
+    ) -> Result<FluidKinematics, WavesError> {
         let d = self.depth_m;
         if p.z > eta || d + eta <= 0.0 {
-            return Some(FluidKinematics::default());
+            return Ok(FluidKinematics::default());
         }
         let sigma = (p.z + d) * d / (d + eta) - d;
-        let (m0, ws) = stencil::<SPACE_POINTS>(sigma, self.stretched.0, self.stretched.1, self.ns)?;
+        let (m0, ws) = stencil::<SPACE_POINTS>(
+            "stretched_height_m",
+            sigma,
+            self.stretched.0,
+            self.stretched.1,
+            self.ns,
+        )?;
         let mut v = [0.0f64; QUANTITIES];
         for (b, wb) in wx.iter().enumerate() {
             let base = ((i0 + b) * self.ns + m0) * QUANTITIES;
@@ -336,7 +359,7 @@ impl PlaneKinematicsTable {
             }
         }
         let (cx, cy) = self.direction;
-        Some(FluidKinematics {
+        Ok(FluidKinematics {
             velocity: Vector3::new(v[0] * cx, v[0] * cy, v[1]),
             acceleration: Vector3::new(v[2] * cx, v[2] * cy, v[3]),
             dynamic_pressure_pa: v[4],
@@ -359,19 +382,19 @@ impl PlaneKinematicsTable {
         }
     }
 
-    /// Surface elevation η (m) at (x, y), time t, or `None` outside the table.
-    pub fn elevation(&self, x: f64, y: f64, t: f64) -> Option<f64> {
+    /// Surface elevation η (m) at (x, y), time t, or [`WavesError::OutsideTable`].
+    pub fn elevation(&self, x: f64, y: f64, t: f64) -> Result<f64, WavesError> {
         let ts = self.time_stencil(t)?;
         let xs = self.along_stencil(x, y)?;
-        Some(Self::elevation_from(
+        Ok(Self::elevation_from(
             xs,
             Self::in_time(&self.elevation, self.nx, ts),
         ))
     }
 
-    /// Kinematics at `p` (m) and time `t` (s), zero above the interpolated surface, or `None`
-    /// outside the table.
-    pub fn kinematics(&self, p: &Vector3<f64>, t: f64) -> Option<FluidKinematics> {
+    /// Kinematics at `p` (m) and time `t` (s), zero above the interpolated surface, or
+    /// [`WavesError::OutsideTable`].
+    pub fn kinematics(&self, p: &Vector3<f64>, t: f64) -> Result<FluidKinematics, WavesError> {
         let ts = self.time_stencil(t)?;
         let xs = self.along_stencil(p.x, p.y)?;
         let eta = Self::elevation_from(xs, Self::in_time(&self.elevation, self.nx, ts));
@@ -387,7 +410,7 @@ impl PlaneKinematicsTable {
     /// quantity instead of 144), and the slice costs about as much as 40 direct queries.
     pub fn fill_slice(&self, t: f64, slice: &mut TimeSlice) -> bool {
         slice.time_s = None;
-        let Some(ts) = self.time_stencil(t) else {
+        let Ok(ts) = self.time_stencil(t) else {
             return false;
         };
         let plane = self.nx * self.ns * QUANTITIES;
@@ -410,20 +433,40 @@ impl PlaneKinematicsTable {
     }
 
     /// As [`PlaneKinematicsTable::kinematics`] at the time of `slice` (filled by
-    /// [`PlaneKinematicsTable::fill_slice`] of this table); `None` outside the table or for an
-    /// empty slice.
-    pub fn slice_kinematics(&self, slice: &TimeSlice, p: &Vector3<f64>) -> Option<FluidKinematics> {
-        slice.time_s?;
+    /// [`PlaneKinematicsTable::fill_slice`] of this table); [`WavesError::OutsideTable`] outside
+    /// the table or for an empty slice (reported as a time outside it).
+    pub fn slice_kinematics(
+        &self,
+        slice: &TimeSlice,
+        p: &Vector3<f64>,
+    ) -> Result<FluidKinematics, WavesError> {
+        self.slice_time(slice)?;
         let xs = self.along_stencil(p.x, p.y)?;
         let eta = Self::elevation_from(xs, |i| slice.elevation[i]);
         self.kinematics_from(p, xs, eta, |k| slice.data[k])
     }
 
     /// As [`PlaneKinematicsTable::elevation`] at the time of `slice`.
-    pub fn slice_elevation(&self, slice: &TimeSlice, x: f64, y: f64) -> Option<f64> {
-        slice.time_s?;
+    pub fn slice_elevation(&self, slice: &TimeSlice, x: f64, y: f64) -> Result<f64, WavesError> {
+        self.slice_time(slice)?;
         let xs = self.along_stencil(x, y)?;
-        Some(Self::elevation_from(xs, |i| slice.elevation[i]))
+        Ok(Self::elevation_from(xs, |i| slice.elevation[i]))
+    }
+
+    /// The instant of a filled slice of this table, or [`WavesError::OutsideTable`] for an
+    /// empty one (or one whose values do not have this table's layout).
+    fn slice_time(&self, slice: &TimeSlice) -> Result<f64, WavesError> {
+        let layout =
+            slice.elevation.len() == self.nx && slice.data.len() == self.nx * self.ns * QUANTITIES;
+        match slice.time_s {
+            Some(t) if layout => Ok(t),
+            _ => Err(WavesError::OutsideTable {
+                coordinate: "time_s",
+                value: slice.time_s.unwrap_or(f64::NAN),
+                lower: 0.0,
+                upper: (self.rows as f64 - 3.0) * self.time_step_s,
+            }),
+        }
     }
 }
 
@@ -533,26 +576,124 @@ mod tests {
         }
     }
 
+    /// Largest error of the table's horizontal and vertical accelerations against direct
+    /// summation, relative to the largest value, at points from 0.5 m to 20 m below the still
+    /// water level in the floater region.
+    fn acceleration_error(sea: &IrregularSea) -> f64 {
+        let region = TableRegion {
+            along_m: (-40.0, 60.0),
+            lowest_stretched_m: -40.0,
+            end_time_s: 100.0,
+        };
+        let table = PlaneKinematicsTable::new(sea, &region, &TableParams::default()).unwrap();
+        let (mut err, mut max) = (0.0f64, 0.0f64);
+        for i in 0..1500 {
+            let f = i as f64;
+            let p = Vector3::new(-35.0 + (f * 7.31) % 90.0, 0.0, -0.5 - (f * 1.913) % 19.5);
+            let t = 0.5 + (f * 0.0731) % 99.0;
+            let direct = sea.kinematics(&p, t);
+            let tab = table.kinematics(&p, t).unwrap();
+            if (direct == FluidKinematics::default()) != (tab == FluidKinematics::default()) {
+                continue;
+            }
+            err = err.max((tab.acceleration - direct.acceleration).amax());
+            max = max.max(direct.acceleration.amax());
+        }
+        err / max
+    }
+
+    /// The cause of the short-period failures of the global stage: in a Tp = 5 s sea the
+    /// shortest components (k = 3.4 rad/m, k Δ = 8.5) are far beyond what the 2.5 m table
+    /// interpolates, and its accelerations near the surface are wrong by more than their own
+    /// size; cut off at k Δ = 1 (1.98 rad/s) the same table matches direct summation.
+    #[test]
+    fn a_short_period_sea_is_tabulated_only_up_to_k_spacing_one() {
+        let realise = |cut: Option<f64>| {
+            let s = Jonswap::new(1.75, 5.0, PeakEnhancement::Given(1.3)).unwrap();
+            let p = RealisationParams {
+                duration_s: 100.0,
+                seed: 1,
+                cut_off_rad_s: cut,
+                ..Default::default()
+            };
+            IrregularSea::new(&s, &p).unwrap()
+        };
+        let uncut = acceleration_error(&realise(None));
+        let cut = acceleration_error(&realise(Some((9.81f64 * 0.4).sqrt())));
+        println!("table acceleration error / largest: uncut {uncut:e}, cut {cut:e}");
+        assert!(uncut > 1.0, "uncut {uncut:e}");
+        assert!(cut < 5e-3, "cut {cut:e}");
+    }
+
     #[test]
     fn queries_outside_the_table_are_refused() {
         let sea = severe_sea();
         let table = PlaneKinematicsTable::new(&sea, &region(), &TableParams::default()).unwrap();
         let c = 30f64.to_radians().cos();
         // Along the heading: inside at x_β = 50 m, outside at 80 m and −60 m.
-        assert!(table.elevation(50.0 * c, 50.0 * 0.5, 10.0).is_some());
-        assert!(table.elevation(80.0 * c, 80.0 * 0.5, 10.0).is_none());
-        assert!(table.elevation(-60.0 * c, -60.0 * 0.5, 10.0).is_none());
+        assert!(table.elevation(50.0 * c, 50.0 * 0.5, 10.0).is_ok());
+        assert!(table.elevation(80.0 * c, 80.0 * 0.5, 10.0).is_err());
+        assert!(table.elevation(-60.0 * c, -60.0 * 0.5, 10.0).is_err());
         // Time beyond the stored samples, and far below the lowest σ node.
-        assert!(table.elevation(0.0, 0.0, 320.0).is_none());
+        assert!(table.elevation(0.0, 0.0, 320.0).is_err());
         assert!(table
             .kinematics(&Vector3::new(0.0, 0.0, -90.0), 10.0)
-            .is_none());
+            .is_err());
         // Dry points are answered (zero), even above the table's top node.
         assert_eq!(
             table.kinematics(&Vector3::new(0.0, 0.0, 40.0), 10.0),
-            Some(FluidKinematics::default())
+            Ok(FluidKinematics::default())
         );
         assert!(table.memory_bytes() > 0);
+    }
+
+    #[test]
+    fn far_or_non_finite_positions_are_bounds_errors_with_the_range() {
+        let sea = severe_sea();
+        let table = PlaneKinematicsTable::new(&sea, &region(), &TableParams::default()).unwrap();
+        // Positions whose node index would not fit in an integer, infinite or NaN: each is an
+        // error naming the coordinate, its value and the covered range, never an index.
+        for x in [1e300, -1e300, f64::INFINITY, f64::NEG_INFINITY, f64::NAN] {
+            let e = table.elevation(x, 0.0, 10.0).unwrap_err();
+            let WavesError::OutsideTable {
+                coordinate,
+                lower,
+                upper,
+                ..
+            } = e
+            else {
+                panic!("{e}");
+            };
+            assert_eq!(coordinate, "x_beta_m");
+            // The covered range contains the requested region.
+            assert!(lower <= -40.0 && upper >= 60.0, "[{lower}, {upper}]");
+            assert!(table.kinematics(&Vector3::new(x, 0.0, -5.0), 10.0).is_err());
+        }
+        for t in [f64::NAN, f64::INFINITY, -1e300, 1e300] {
+            let e = table.elevation(0.0, 0.0, t).unwrap_err();
+            assert!(e.to_string().starts_with("time_s = "), "{e}");
+        }
+        let e = table
+            .kinematics(&Vector3::new(0.0, 0.0, f64::NEG_INFINITY), 10.0)
+            .unwrap_err();
+        assert!(e.to_string().starts_with("stretched_height_m = "), "{e}");
+        // A slice filled by another (smaller) table is refused rather than indexed.
+        let small = PlaneKinematicsTable::new(
+            &sea,
+            &TableRegion {
+                along_m: (0.0, 5.0),
+                lowest_stretched_m: -5.0,
+                end_time_s: 20.0,
+            },
+            &TableParams::default(),
+        )
+        .unwrap();
+        let mut slice = TimeSlice::default();
+        assert!(small.fill_slice(3.0, &mut slice));
+        assert!(table
+            .slice_kinematics(&slice, &Vector3::new(0.0, 0.0, -5.0))
+            .is_err());
+        assert!(table.slice_elevation(&slice, 0.0, 0.0).is_err());
     }
 
     #[test]
@@ -597,6 +738,6 @@ mod tests {
         assert_eq!(slice.time_s(), None);
         assert!(table
             .slice_kinematics(&slice, &Vector3::new(0.0, 0.0, -5.0))
-            .is_none());
+            .is_err());
     }
 }
