@@ -86,6 +86,8 @@ pub fn run_global(
         "wind_speed_m_s": result.wind_speed_m_s,
         "thrust_n": result.thrust_n,
         "lines": summary.lines,
+        // The highest wave frequency the run kept, the limit that set it and what it kept.
+        "wave_cut_off": summary.wave_cut_off,
         // Work counts only: wall times would make equal results differ.
         "work": {
             "steps": result.stats.steps,
