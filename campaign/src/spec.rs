@@ -18,6 +18,7 @@
 //! ```
 
 use moorfret_solver::global::case::{GammaSpec, HotSpotSpec, WindSpec};
+use moorfret_solver::strand::history::{HistoryError, HistoryOptions};
 use serde::{Deserialize, Serialize};
 
 use crate::error::CampaignError;
@@ -174,6 +175,21 @@ pub enum StrandEnds {
     Periodic,
     /// Penalty ties of the helical wire ends to the core end sections (seed Sec. 2.2).
     PenaltyTies,
+}
+
+impl StrandSpec {
+    /// The solver settings of a strand job's history run.
+    pub fn history_options(&self) -> HistoryOptions {
+        let defaults = HistoryOptions::default();
+        HistoryOptions {
+            checkpoint_interval_segments: self.checkpoint_every_segments,
+            threads: self.threads,
+            turning_point_tolerance: self
+                .turning_point_tolerance
+                .unwrap_or(defaults.turning_point_tolerance),
+            ..defaults
+        }
+    }
 }
 
 impl StrandEnds {
@@ -337,20 +353,19 @@ impl CampaignSpec {
                 "must be >= 1",
             ));
         }
-        if let Some(t) = st.turning_point_tolerance {
-            if !(0.0..1.0).contains(&t) {
-                return Err(invalid(
-                    "strand.turning_point_tolerance",
-                    t,
-                    "must be in [0, 1)",
-                ));
-            }
-        }
+        st.history_options().validated().map_err(|e| match e {
+            HistoryError::InvalidOption {
+                field,
+                value,
+                reason,
+            } => invalid(format!("strand.{field}"), value, &reason),
+            e => invalid("strand", "history settings", &e.to_string()),
+        })?;
         if !(1..=MAX_STRAND_THREADS).contains(&st.threads) {
             return Err(invalid(
                 "strand.threads",
                 st.threads,
-                "must be from 1 to 256",
+                &format!("must be from 1 to {MAX_STRAND_THREADS}"),
             ));
         }
         self.fatigue

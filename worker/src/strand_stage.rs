@@ -30,7 +30,7 @@ use moorfret_solver::fretting::{
 };
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
 use moorfret_solver::strand::history::stiffness::{samples_from_tension, SlackTension};
-use moorfret_solver::strand::history::{run_history_from, HistoryObserver, HistoryOptions};
+use moorfret_solver::strand::history::{run_history_from, HistoryObserver};
 use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::Strand;
 use serde_json::json;
@@ -219,15 +219,7 @@ pub fn run_strand(
         .map_err(|e| permanent(FailureClass::InvalidStrand, e))?;
     let model = StrandModel::new(&strand, &model_parameters(inputs))
         .map_err(|e| permanent(FailureClass::InvalidStrand, e))?;
-    let settings = &inputs.spec.strand;
-    let mut options = HistoryOptions {
-        checkpoint_interval_segments: settings.checkpoint_every_segments,
-        threads: settings.threads,
-        ..HistoryOptions::default()
-    };
-    if let Some(t) = settings.turning_point_tolerance {
-        options.turning_point_tolerance = t;
-    }
+    let options = inputs.spec.strand.history_options();
     let pointer = lease
         .cache_key
         .as_ref()
