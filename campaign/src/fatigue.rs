@@ -160,6 +160,18 @@ impl FatigueSpec {
         axial_stiffness_n: f64,
     ) -> DamageInputsConfig {
         DamageInputsConfig {
+            tn_curves: self
+                .tn_curves
+                .clone()
+                .unwrap_or_else(|| default_tn_curves(line_type)),
+            ..self.fretting_config(strand, axial_stiffness_n)
+        }
+    }
+
+    /// The fretting part of [`Self::damage_config`]: the configured T-N curves only (none by
+    /// default), for comparing strand runs without a line.
+    pub fn fretting_config(&self, strand: &Strand, axial_stiffness_n: f64) -> DamageInputsConfig {
+        DamageInputsConfig {
             slip_amplitude_edges_m: self.slip_amplitude_edges_m.clone(),
             normal_force_edges_n: self.normal_force_edges_n.clone(),
             fretting: FrettingParams {
@@ -170,10 +182,7 @@ impl FatigueSpec {
             },
             interfaces: interface_geometry(strand),
             metallic_area_m2: axial_stiffness_n / strand.young_modulus_pa,
-            tn_curves: self
-                .tn_curves
-                .clone()
-                .unwrap_or_else(|| default_tn_curves(line_type)),
+            tn_curves: self.tn_curves.clone().unwrap_or_default(),
         }
     }
 }

@@ -9,6 +9,7 @@ pub(crate) mod query;
 pub(crate) mod rainflow;
 pub(crate) mod report;
 pub(crate) mod run;
+pub(crate) mod strand;
 pub(crate) mod worker;
 
 /// moorfret: fretting fatigue of spiral-strand mooring ropes over a site's long-term sea climate.
@@ -26,6 +27,9 @@ pub(crate) enum Command {
     /// Single runs of one stage for one case, outside any campaign.
     #[command(subcommand)]
     Run(run::RunCommand),
+    /// The reduced strand response: calibrate it, compare a reduced run with an FE run.
+    #[command(subcommand)]
+    Strand(strand::StrandCommand),
     /// Rainflow-count one column of a CSV file (ASTM E1049-85), cycles as JSON or CSV.
     Rainflow(rainflow::RainflowArgs),
     /// Campaigns: launch, resume, status, cancel.
@@ -43,6 +47,7 @@ pub(crate) enum Command {
 pub(crate) fn execute(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Run(cmd) => run::execute(cmd),
+        Command::Strand(cmd) => strand::execute(cmd),
         Command::Rainflow(args) => rainflow::execute(args),
         Command::Campaign(cmd) => campaign::execute(cmd),
         Command::Worker(args) => worker::execute(args),

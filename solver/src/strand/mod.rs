@@ -18,7 +18,9 @@
 //! - [`problem`]: its equilibrium as a Newton problem;
 //! - [`driver`]: one loading case solved and its monitors extracted;
 //! - [`history`]: the model driven through a (t, ε, κ) load history, monitors and per-contact
-//!   rainflow records.
+//!   rainflow records;
+//! - [`reduced`]: a reduced response calibrated on the FE model, per-contact Jenkins elements
+//!   that turn a load history into the same records in seconds.
 //!
 //! Strand frame: axis along z, angular position θ in the x-y plane (θ = +π/2 outer arc for
 //! bending about y with κ > 0 towards +x is the DESIGN convention). Units: m, rad, N, Pa.
@@ -38,4 +40,5 @@ pub mod model;
 pub mod periodic;
 pub mod problem;
 pub mod profile;
+pub mod reduced;
 pub mod wires;

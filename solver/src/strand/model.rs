@@ -152,6 +152,9 @@ pub struct StrandModel {
     /// a wire of radius r (a moment imbalance M weighs like the force M/r at the wire surface,
     /// where the contacts act).
     pub merit_weights: Vec<f64>,
+    /// The contact laws as the contacts use them: the given laws with the friction coefficient
+    /// and elastic constants of the strand.
+    pub contact_parameters: ContactParameters,
 }
 
 impl StrandModel {
@@ -331,6 +334,7 @@ impl StrandModel {
             sections,
             prescribed,
             merit_weights,
+            contact_parameters: contact_params,
         })
     }
 

@@ -7,6 +7,7 @@ pub(crate) mod global;
 pub(crate) mod strand;
 pub(crate) mod strand_history;
 pub(crate) mod strand_model;
+pub(crate) mod strand_reduced;
 
 /// Single-stage runs.
 #[derive(Debug, Subcommand)]

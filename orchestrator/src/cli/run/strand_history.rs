@@ -52,7 +52,13 @@ use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
 use serde::Serialize;
 use sha2::{Digest, Sha256};
 
-use super::strand_model::{load_model, ModelArgs, ModelSizes};
+use super::strand_model::{load_strand, ModelArgs, ModelSizes};
+use super::strand_reduced::{
+    cache_root, calibration_for, range_of, widened, CalibrationRequest, CalibrationSource,
+    Fidelity, ReducedArgs,
+};
+use moorfret_solver::strand::profile::Strand;
+use moorfret_solver::strand::reduced::run_reduced;
 use moorfret_orchestrator::plot::{strand_history_svgs, LoadPlot};
 
 /// Options of a history run (`--load`).
@@ -67,20 +73,9 @@ pub(crate) struct HistoryArgs {
     /// Threads of the sparse factorisation and solves (results equal to round-off).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=MAX_STRAND_THREADS as i64))]
     pub(crate) threads: u16,
-    /// Axial strain of the tension step that measures EA.
-    #[arg(long, default_value_t = 1e-3)]
-    pub(crate) stiffness_strain: f64,
-    /// EA (N) for ε = T / EA instead of measuring it, e.g. the `axial_stiffness.ea_n` of an
-    /// earlier run's summary on the same model (saves the tension step).
-    #[arg(long, conflicts_with = "stiffness_strain")]
-    pub(crate) axial_stiffness_n: Option<f64>,
-    /// Directory of the cache of measured EA values, one file per model and measuring strain
-    /// (default: `$XDG_CACHE_HOME/moorfret`, else `~/.cache/moorfret`).
-    #[arg(long, env = "MOORFRET_CACHE_DIR")]
-    pub(crate) cache_dir: Option<PathBuf>,
-    /// Measure EA even if the cache holds it (the new value replaces the cached one).
-    #[arg(long)]
-    pub(crate) no_cache: bool,
+    /// EA of the tension-to-strain conversion and the cache.
+    #[command(flatten)]
+    pub(crate) stiffness: StiffnessArgs,
     /// Checkpoint file of the history run (written every `--checkpoint-every` segments).
     #[arg(long)]
     pub(crate) checkpoint: Option<PathBuf>,
@@ -93,6 +88,60 @@ pub(crate) struct HistoryArgs {
     /// Stop after this many segments, as an interrupted run would (tests of `--resume`).
     #[arg(long, hide = true)]
     pub(crate) stop_after_segments: Option<usize>,
+    /// Fidelity and calibration of the strand response.
+    #[command(flatten)]
+    pub(crate) reduced: ReducedArgs,
+}
+
+/// How a tension history becomes a strain history (EA) and where measured values are cached.
+#[derive(Debug, Args)]
+pub(crate) struct StiffnessArgs {
+    /// Axial strain of the tension step that measures EA.
+    #[arg(long, default_value_t = 1e-3)]
+    pub(crate) stiffness_strain: f64,
+    /// EA (N) for ε = T / EA instead of measuring it, e.g. the `axial_stiffness.ea_n` of an
+    /// earlier run's summary on the same model (saves the tension step).
+    #[arg(long, conflicts_with = "stiffness_strain")]
+    pub(crate) axial_stiffness_n: Option<f64>,
+    /// Directory of the cache of measured EA values and of reduced-response calibrations
+    /// (default: `$XDG_CACHE_HOME/moorfret`, else `~/.cache/moorfret`).
+    #[arg(long, env = "MOORFRET_CACHE_DIR")]
+    pub(crate) cache_dir: Option<PathBuf>,
+    /// Measure EA (and calibrate a reduced response) even if the cache holds it; the new value
+    /// replaces the cached one.
+    #[arg(long)]
+    pub(crate) no_cache: bool,
+}
+
+/// The strand model, built on first use: a reduced run with a cached calibration and a cached
+/// EA never builds it.
+pub(crate) struct LazyModel<'a> {
+    strand: &'a Strand,
+    params: &'a StrandModelParameters,
+    model: Option<StrandModel>,
+}
+
+impl<'a> LazyModel<'a> {
+    pub(crate) fn new(strand: &'a Strand, params: &'a StrandModelParameters) -> Self {
+        Self {
+            strand,
+            params,
+            model: None,
+        }
+    }
+
+    /// The model, built now if it was not yet.
+    pub(crate) fn get(&mut self) -> anyhow::Result<&StrandModel> {
+        if self.model.is_none() {
+            self.model = Some(StrandModel::new(self.strand, self.params)?);
+        }
+        self.model.as_ref().ok_or_else(|| anyhow!("strand model not built"))
+    }
+
+    /// The model if it is built.
+    fn built(&self) -> Option<&StrandModel> {
+        self.model.as_ref()
+    }
 }
 
 /// What the second column of the load file holds.
@@ -113,7 +162,7 @@ impl LoadKind {
 
 /// The load file as read: times, tension or strain, curvatures.
 #[derive(Debug)]
-struct LoadTable {
+pub(crate) struct LoadTable {
     kind: LoadKind,
     time_s: Vec<f64>,
     value: Vec<f64>,
@@ -130,7 +179,7 @@ fn at(path: &Path, index: usize, column: &str) -> String {
 }
 
 /// Reads and checks the load file (module docs); the error names the sample and the column.
-fn read_load(path: &Path, slack_as_zero: bool) -> anyhow::Result<LoadTable> {
+pub(crate) fn read_load(path: &Path, slack_as_zero: bool) -> anyhow::Result<LoadTable> {
     let mut reader = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .from_path(path)
@@ -221,7 +270,7 @@ fn read_load(path: &Path, slack_as_zero: bool) -> anyhow::Result<LoadTable> {
 }
 
 /// Progress bar on a terminal (log lines otherwise) and checkpoint writer.
-struct Observer {
+pub(crate) struct Observer {
     bar: Option<indicatif::ProgressBar>,
     next_log: usize,
     checkpoint: Option<PathBuf>,
@@ -231,6 +280,25 @@ struct Observer {
 }
 
 impl Observer {
+    /// Progress only: a bar on a terminal, log lines otherwise; no checkpoints.
+    pub(crate) fn progress_only() -> Self {
+        Self {
+            bar: progress_bar(),
+            next_log: 0,
+            checkpoint: None,
+            written: 0,
+            done: 0,
+            stop_after: None,
+        }
+    }
+
+    /// Clears the bar.
+    pub(crate) fn finish(&self) {
+        if let Some(b) = &self.bar {
+            b.finish_and_clear();
+        }
+    }
+
     fn write(&self, path: &Path, checkpoint: &HistoryCheckpoint) -> anyhow::Result<()> {
         let bytes = checkpoint.to_bytes()?;
         replace_file(path, &bytes).with_context(|| format!("writing {}", path.display()))
@@ -270,11 +338,23 @@ impl HistoryObserver for Observer {
     }
 }
 
+/// A progress bar on a terminal, none otherwise (the observer logs lines then).
+pub(crate) fn progress_bar() -> Option<indicatif::ProgressBar> {
+    std::io::stderr().is_terminal().then(|| {
+        let b = indicatif::ProgressBar::new(1);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {msg}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    })
+}
+
 /// The EA used for a tension history.
 #[derive(Debug, Serialize)]
-struct AxialStiffness {
+pub(crate) struct AxialStiffness {
     /// EA used (N).
-    ea_n: f64,
+    pub(crate) ea_n: f64,
     /// "measured" (by this run), "cached" (measured by an earlier run on the same model) or
     /// "given" (`--axial-stiffness-n`).
     source: &'static str,
@@ -302,7 +382,12 @@ struct Summary<'a> {
     regularisation: String,
     ends: String,
     #[serde(flatten)]
-    sizes: ModelSizes,
+    sizes: Option<ModelSizes>,
+    /// "fe" or "reduced".
+    fidelity: &'static str,
+    /// The calibration of a reduced run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    calibration: Option<CalibrationSource>,
     load: String,
     load_kind: &'static str,
     samples: usize,
@@ -456,23 +541,16 @@ impl StiffnessCache {
     /// `None` when no cache directory is known.
     fn new(
         dir: Option<&Path>,
-        model: &StrandModel,
+        strand: &Strand,
         params: &StrandModelParameters,
         strain: f64,
         newton: &NewtonParams,
     ) -> Option<Self> {
-        let dir = match dir {
-            Some(d) => d.to_path_buf(),
-            None => std::env::var_os("XDG_CACHE_HOME")
-                .filter(|v| !v.is_empty())
-                .map(PathBuf::from)
-                .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))?
-                .join("moorfret"),
-        };
+        let dir = cache_root(dir)?;
         let description = format!(
             "moorfret {} axial stiffness; strand {:?}; model {:?}; strain {:e}; newton {:?}",
             env!("CARGO_PKG_VERSION"),
-            model.strand,
+            strand,
             params,
             strain,
             newton
@@ -514,9 +592,8 @@ impl StiffnessCache {
 /// EA for a tension history: given (`--axial-stiffness-n`), from the cache, or measured on
 /// `model` (and cached); with its source and the measuring strain (none when given).
 fn axial_stiffness_n(
-    model: &StrandModel,
-    params: &StrandModelParameters,
-    args: &HistoryArgs,
+    lazy: &mut LazyModel<'_>,
+    args: &StiffnessArgs,
     options: &HistoryOptions,
 ) -> anyhow::Result<(f64, &'static str, Option<f64>)> {
     if let Some(ea) = args.axial_stiffness_n {
@@ -528,8 +605,8 @@ fn axial_stiffness_n(
     let strain = args.stiffness_strain;
     let cache = StiffnessCache::new(
         args.cache_dir.as_deref(),
-        model,
-        params,
+        lazy.strand,
+        lazy.params,
         strain,
         &options.initialisation_newton(),
     );
@@ -540,7 +617,7 @@ fn axial_stiffness_n(
     {
         return Ok((ea, "cached", Some(strain)));
     }
-    let ea = measure_axial_stiffness_n(model, strain, options)
+    let ea = measure_axial_stiffness_n(lazy.get()?, strain, options)
         .context("measuring the axial stiffness EA of the strand model")?;
     if let Some(c) = &cache {
         c.put(ea, strain);
@@ -549,11 +626,10 @@ fn axial_stiffness_n(
 }
 
 /// The load samples of `table` on `model`, with the EA used and the slack sample count.
-fn samples_of(
+pub(crate) fn samples_of(
     table: &LoadTable,
-    model: &StrandModel,
-    params: &StrandModelParameters,
-    args: &HistoryArgs,
+    lazy: &mut LazyModel<'_>,
+    args: &StiffnessArgs,
     options: &HistoryOptions,
 ) -> anyhow::Result<(Vec<LoadSample>, Option<AxialStiffness>, usize)> {
     match table.kind {
@@ -568,17 +644,18 @@ fn samples_of(
             Ok((samples, None, 0))
         }
         LoadKind::Tension => {
-            let estimate = straight_strand_stiffness(&model.strand);
-            let (ea, source, measured_at_strain) = axial_stiffness_n(model, params, args, options)?;
+            let estimate = straight_strand_stiffness(lazy.strand);
+            let (ea, source, measured_at_strain) = axial_stiffness_n(lazy, args, options)?;
             let how = match measured_at_strain {
                 Some(strain) => format!("{source} on the model at ε = {strain}"),
                 None => source.to_string(),
             };
-            let compliant = match params.contact.normal {
-                NormalLaw::Penalty { stiffness_n_per_m } => {
+            // the estimate needs the model's contacts: left out when the model is not built
+            let compliant = match (lazy.params.contact.normal, lazy.built()) {
+                (NormalLaw::Penalty { stiffness_n_per_m }, Some(model)) => {
                     Some(contact_compliant_stiffness_n(model, stiffness_n_per_m))
                 }
-                NormalLaw::Hertz => None,
+                _ => None,
             };
             println!(
                 "axial stiffness EA = {ea:.6e} N ({how}; straight strand {:.6e} N, \
@@ -649,7 +726,12 @@ pub(super) fn execute(
         bail!("--checkpoint-every must be >= 1");
     }
     let table = read_load(load, h.slack_as_zero)?;
-    let (_, _, model, params) = load_model(args)?;
+    let (_, strand, params) = load_strand(args)?;
+    let mut lazy = LazyModel::new(&strand, &params);
+    let fidelity = h.reduced.fidelity;
+    if fidelity == Fidelity::Fe {
+        lazy.get()?;
+    }
     let mut options = HistoryOptions {
         checkpoint_interval_segments: if h.checkpoint.is_some() || h.stop_after_segments.is_some() {
             h.checkpoint_every
@@ -663,8 +745,25 @@ pub(super) fn execute(
         options.turning_point_tolerance = t;
     }
     let options = options.validated()?;
-    let (samples, stiffness, slack_samples) = samples_of(&table, &model, &params, h, &options)?;
-    validate_samples(&model, &samples, &options).map_err(|e| refused(load, table.kind, e))?;
+    let (samples, stiffness, slack_samples) =
+        samples_of(&table, &mut lazy, &h.stiffness, &options)?;
+    if fidelity == Fidelity::Reduced {
+        let run = ReducedRun {
+            args,
+            h,
+            load,
+            out,
+            table: &table,
+            samples: &samples,
+            stiffness,
+            slack_samples,
+            options: &options,
+            start,
+        };
+        return run.execute(&mut lazy);
+    }
+    let model = lazy.get()?;
+    validate_samples(model, &samples, &options).map_err(|e| refused(load, table.kind, e))?;
     let resume = match (&h.checkpoint, h.resume) {
         (Some(path), true) if path.exists() => {
             let bytes =
@@ -677,14 +776,7 @@ pub(super) fn execute(
     };
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
 
-    let bar = std::io::stderr().is_terminal().then(|| {
-        let b = indicatif::ProgressBar::new(1);
-        b.set_style(
-            indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {msg}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        b
-    });
+    let bar = progress_bar();
     let mut observer = Observer {
         bar,
         next_log: 0,
@@ -700,7 +792,7 @@ pub(super) fn execute(
             h.checkpoint.as_deref().unwrap_or(Path::new("")).display()
         );
     }
-    let result = run_history_from(&model, &samples, &options, resume.as_ref(), &mut observer);
+    let result = run_history_from(model, &samples, &options, resume.as_ref(), &mut observer);
     if let Some(b) = &observer.bar {
         b.finish_and_clear();
     }
@@ -717,16 +809,7 @@ pub(super) fn execute(
         Err(e) => return Err(anyhow!(e).context("strand history run failed")),
     };
 
-    write_monitors(&out.join("monitors.csv"), &result)?;
-    write_contacts(&out.join("contacts.csv"), &result.contacts)?;
-    std::fs::write(
-        out.join("contact_records.json"),
-        serde_json::to_vec(&result.contacts)?,
-    )?;
-    let load_plot = LoadPlot {
-        tension_n: (table.kind == LoadKind::Tension).then_some(table.value.as_slice()),
-    };
-    strand_history_svgs(&result.monitors, &load_plot, out)?;
+    write_outputs(out, &result, &table)?;
     let summary = Summary {
         profile: args.profile.display().to_string(),
         regularisation: match &args.contact_regularisation {
@@ -734,7 +817,9 @@ pub(super) fn execute(
             None => args.regularisation.clone(),
         },
         ends: format!("{:?}", args.ends.end_kind()),
-        sizes: ModelSizes::of(&model),
+        sizes: Some(ModelSizes::of(model)),
+        fidelity: fidelity.as_str(),
+        calibration: None,
         load: load.display().to_string(),
         load_kind: table.kind.column(),
         samples: samples.len(),
@@ -762,6 +847,106 @@ pub(super) fn execute(
         out.display()
     );
     Ok(())
+}
+
+/// The output files of a history run, FE or reduced: monitors, contacts, contact records and
+/// plots.
+fn write_outputs(out: &Path, result: &HistoryResult, table: &LoadTable) -> anyhow::Result<()> {
+    write_monitors(&out.join("monitors.csv"), result)?;
+    write_contacts(&out.join("contacts.csv"), &result.contacts)?;
+    std::fs::write(
+        out.join("contact_records.json"),
+        serde_json::to_vec(&result.contacts)?,
+    )?;
+    let load_plot = LoadPlot {
+        tension_n: (table.kind == LoadKind::Tension).then_some(table.value.as_slice()),
+    };
+    strand_history_svgs(&result.monitors, &load_plot, out)?;
+    Ok(())
+}
+
+/// A history run through the reduced response (`--fidelity reduced`).
+struct ReducedRun<'a> {
+    args: &'a ModelArgs,
+    h: &'a HistoryArgs,
+    load: &'a Path,
+    out: &'a Path,
+    table: &'a LoadTable,
+    samples: &'a [LoadSample],
+    stiffness: Option<AxialStiffness>,
+    slack_samples: usize,
+    options: &'a HistoryOptions,
+    start: Instant,
+}
+
+impl ReducedRun<'_> {
+    fn execute(self, lazy: &mut LazyModel<'_>) -> anyhow::Result<()> {
+        let h = self.h;
+        let margin = h.reduced.calibration_margin;
+        if !(margin.is_finite() && (0.0..=1.0).contains(&margin)) {
+            bail!("--calibration-margin {margin}: must lie in [0, 1]");
+        }
+        let range = range_of(self.samples)?;
+        let request = CalibrationRequest {
+            strand: lazy.strand,
+            params: lazy.params,
+            cache_dir: h.stiffness.cache_dir.as_deref(),
+            given: h.reduced.calibration.as_deref(),
+            threads: self.options.threads,
+            refresh: h.stiffness.no_cache,
+        };
+        let mut observer = Observer::progress_only();
+        let (strand, params) = (lazy.strand, lazy.params);
+        let mut build = || StrandModel::new(strand, params).map_err(anyhow::Error::from);
+        let (reduced, source) = calibration_for(
+            &request,
+            &range,
+            widened(range, margin),
+            &mut build,
+            &mut observer,
+        )?;
+        observer.finish();
+        let result = run_reduced(&reduced, self.samples, self.options.slip_gate_m)
+            .map_err(|e| anyhow!("{}: {e}", self.load.display()))?;
+        std::fs::create_dir_all(self.out)
+            .with_context(|| format!("creating {}", self.out.display()))?;
+        write_outputs(self.out, &result, self.table)?;
+        let args = self.args;
+        let summary = Summary {
+            profile: args.profile.display().to_string(),
+            regularisation: match &args.contact_regularisation {
+                Some(v) => format!("normal penalty {} N/m, elastic slip {} m", v[0], v[1]),
+                None => args.regularisation.clone(),
+            },
+            ends: format!("{:?}", args.ends.end_kind()),
+            sizes: None,
+            fidelity: Fidelity::Reduced.as_str(),
+            calibration: Some(source),
+            load: self.load.display().to_string(),
+            load_kind: self.table.kind.column(),
+            samples: self.samples.len(),
+            slack_samples: self.slack_samples,
+            axial_stiffness: self.stiffness,
+            turning_point_tolerance: 0.0,
+            resumed_from_checkpoint: false,
+            checkpoints_written: 0,
+            history: &result.stats,
+            peaks_by_interface: peaks_by_interface(&result.contacts),
+            wall_time_s: self.start.elapsed().as_secs_f64(),
+        };
+        std::fs::write(
+            self.out.join("summary.json"),
+            serde_json::to_string_pretty(&summary)?,
+        )?;
+        tracing::info!(
+            samples = self.samples.len(),
+            reduced_s = result.stats.total_time_s,
+            wall_s = summary.wall_time_s,
+            "reduced strand history done; outputs in {}",
+            self.out.display()
+        );
+        Ok(())
+    }
 }
 
 #[cfg(test)]

@@ -76,6 +76,16 @@ impl ModelSizes {
 pub(crate) fn load_model(
     args: &ModelArgs,
 ) -> anyhow::Result<(StrandProfile, Strand, StrandModel, StrandModelParameters)> {
+    let (profile, strand, params) = load_strand(args)?;
+    let model = StrandModel::new(&strand, &params)?;
+    Ok((profile, strand, model, params))
+}
+
+/// The profile of `args`, its validated strand and the model parameters, without building the
+/// model.
+pub(crate) fn load_strand(
+    args: &ModelArgs,
+) -> anyhow::Result<(StrandProfile, Strand, StrandModelParameters)> {
     let text = std::fs::read_to_string(&args.profile)
         .with_context(|| format!("reading strand profile {}", args.profile.display()))?;
     let profile = select_profile(&text, args.profile_name.as_deref()).map_err(|e| match e {
@@ -113,6 +123,5 @@ pub(crate) fn load_model(
         reg.elastic_slip_m,
         args.ends.end_kind(),
     );
-    let model = StrandModel::new(&strand, &params)?;
-    Ok((profile, strand, model, params))
+    Ok((profile, strand, params))
 }

@@ -37,7 +37,7 @@ use super::loading::{LoadPath, SectionMotion};
 use super::model::StrandModel;
 use super::problem::StrandProblem;
 use crate::beam::frame::FrameError;
-use crate::fretting::{ContactRecord, FrettingError};
+use crate::fretting::{ContactRecord, ContactSample, FrettingError};
 use crate::linalg::newton::NewtonParamError;
 use crate::linalg::{
     FactorPrecision, LinalgError, NewtonError, NewtonParams, NewtonStats, SplitStats,
@@ -339,6 +339,12 @@ pub trait HistoryObserver {
     /// Called every [`HistoryOptions::checkpoint_interval_segments`] segments with the complete
     /// state; the default drops it.
     fn checkpoint(&mut self, _checkpoint: &checkpoint::HistoryCheckpoint) {}
+
+    /// Called with the solved (or interpolated) state of every original sample, in order: the
+    /// sample, every contact's (slip, f_N, f_T) in mesh contact order, and the wire-element
+    /// monitor values (monitor channel order, contact channels skipped). The default does
+    /// nothing; the reduced strand's calibration ([`crate::strand::reduced`]) learns from it.
+    fn sample(&mut self, _sample: &LoadSample, _contacts: &[ContactSample], _elements: &[f64]) {}
 
     /// Asked after every segment (after the checkpoint, if any); `true` ends the run with
     /// [`HistoryError::Stopped`]. The default never stops.

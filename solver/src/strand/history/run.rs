@@ -207,6 +207,7 @@ pub fn run_history_from(
             let t_out = Instant::now();
             let previous = runner.snapshot(&recorder.monitors.channels)?;
             recorder.push(first, &previous)?;
+            observer.sample(first, &previous.contacts, &previous.elements);
             runner.stats.output_time_s += t_out.elapsed().as_secs_f64();
             (recorder, previous, 0)
         }
@@ -232,12 +233,14 @@ pub fn run_history_from(
         for (i, s) in (a + 1..=b).zip(positions.iter().skip(1)) {
             if n == 0 {
                 recorder.push(&samples[i], &points[0])?;
+                observer.sample(&samples[i], &points[0].contacts, &points[0].elements);
                 continue;
             }
             let x = s * n as f64;
             let k = (x.floor() as usize).min(n - 1);
             Snapshot::blend(&points[k], &points[k + 1], x - k as f64, &mut scratch);
             recorder.push(&samples[i], &scratch)?;
+            observer.sample(&samples[i], &scratch.contacts, &scratch.elements);
         }
         previous = points.pop().unwrap_or_else(|| scratch.clone());
         runner.stats.output_time_s += t_out.elapsed().as_secs_f64();

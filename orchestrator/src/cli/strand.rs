@@ -1,0 +1,379 @@
+//! `moorfret strand …`: the reduced strand response on its own.
+//!
+//! - `calibrate`: calibrate the reduced response of a strand model over the range of one or more
+//!   load histories and/or given ranges, into the cache (and `--out FILE`), and print how well
+//!   it reproduces its own calibration run;
+//! - `compare`: compare two history runs of the same strand model (`moorfret run strand
+//!   --load`, e.g. `--fidelity reduced` against `fe`), per layer interface (largest slip range,
+//!   accumulated slip and number of the cycles of at least `--min-slip-range-m`) and per contact
+//!   class (the damage inputs of the campaigns' default fatigue settings).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, bail, Context};
+use clap::{Args, Subcommand};
+use moorfret_campaign::fatigue::FatigueSpec;
+use moorfret_solver::fretting::{
+    sea_state_damage_inputs, ContactRecord, SeaStateInputs, TensionHistory,
+};
+use moorfret_solver::strand::history::HistoryOptions;
+use moorfret_solver::strand::profile::Strand;
+use moorfret_solver::strand::reduced::compare::{compare_records, relative_difference};
+use moorfret_solver::strand::reduced::LoadRange;
+
+use super::run::strand_history::{
+    read_load, samples_of, LazyModel, Observer, StiffnessArgs,
+};
+use super::run::strand_model::{load_strand, ModelArgs};
+use super::run::strand_reduced::{
+    calibration_for, range_of, widened, write_calibration, CalibrationRequest,
+};
+
+/// The reduced strand response on its own.
+#[derive(Debug, Subcommand)]
+pub(crate) enum StrandCommand {
+    /// Calibrate the reduced response of a strand model over load histories or ranges (kept
+    /// in the cache; `--out` also writes it).
+    Calibrate(CalibrateArgs),
+    /// Compare two history runs of the same strand model, interface by interface and class by
+    /// class (e.g. `--fidelity reduced` against `fe`).
+    Compare(CompareArgs),
+}
+
+/// Arguments of `moorfret strand calibrate`.
+#[derive(Debug, Args)]
+pub(crate) struct CalibrateArgs {
+    /// The strand model.
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Load history whose range the calibration covers (repeatable; columns as `run strand
+    /// --load`).
+    #[arg(long)]
+    load: Vec<PathBuf>,
+    /// Axial strain range to cover, lowest and highest.
+    #[arg(long, num_args = 2, value_names = ["LOW", "HIGH"])]
+    strain_range: Option<Vec<f64>>,
+    /// Curvature range to cover (1/m), lowest and highest.
+    #[arg(long, num_args = 2, value_names = ["LOW", "HIGH"])]
+    curvature_range: Option<Vec<f64>>,
+    /// Margin on each side of the range, as a fraction of it.
+    #[arg(long, default_value_t = 0.05)]
+    margin: f64,
+    /// Threads of the FE calibration run.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=256))]
+    threads: u16,
+    /// Also write the calibration to this file (for `run strand --calibration`).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// EA and cache.
+    #[command(flatten)]
+    stiffness: StiffnessArgs,
+}
+
+/// Arguments of `moorfret strand compare`.
+#[derive(Debug, Args)]
+pub(crate) struct CompareArgs {
+    /// The strand model both runs used (for the contact geometry of the damage inputs).
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Output directory of the reference run (e.g. the FE run).
+    reference: PathBuf,
+    /// Output directory of the compared run (e.g. the reduced run).
+    compared: PathBuf,
+    /// Smallest slip range of the counted cycles (m).
+    #[arg(long, default_value_t = 1e-6)]
+    min_slip_range_m: f64,
+    /// Run-in left out of the statistics (s).
+    #[arg(long, default_value_t = 0.0)]
+    run_in_s: f64,
+    /// Write the comparison as JSON to this file.
+    #[arg(long)]
+    json: Option<PathBuf>,
+}
+
+/// Execute a `strand` subcommand.
+pub(crate) fn execute(cmd: StrandCommand) -> anyhow::Result<()> {
+    match cmd {
+        StrandCommand::Calibrate(args) => calibrate(&args),
+        StrandCommand::Compare(args) => compare(&args),
+    }
+}
+
+fn pair(v: &Option<Vec<f64>>, name: &str) -> anyhow::Result<Option<[f64; 2]>> {
+    match v.as_deref() {
+        None => Ok(None),
+        Some(&[lo, hi]) if lo.is_finite() && hi.is_finite() && lo < hi => Ok(Some([lo, hi])),
+        Some(other) => bail!("--{name} {other:?}: give two finite numbers, the lower first"),
+    }
+}
+
+fn calibrate(args: &CalibrateArgs) -> anyhow::Result<()> {
+    if !(args.margin.is_finite() && (0.0..=1.0).contains(&args.margin)) {
+        bail!("--margin {}: must lie in [0, 1]", args.margin);
+    }
+    let (_, strand, params) = load_strand(&args.model)?;
+    let mut lazy = LazyModel::new(&strand, &params);
+    let options = HistoryOptions {
+        threads: usize::from(args.threads),
+        ..HistoryOptions::default()
+    };
+    let mut range: Option<LoadRange> = None;
+    for path in &args.load {
+        let table = read_load(path, true)?;
+        let (samples, _, _) = samples_of(&table, &mut lazy, &args.stiffness, &options)?;
+        let r = range_of(&samples).with_context(|| format!("in {}", path.display()))?;
+        range = Some(range.map_or(r, |a| a.union(r)));
+    }
+    let strain = pair(&args.strain_range, "strain-range")?;
+    let curvature = pair(&args.curvature_range, "curvature-range")?;
+    let range = match (range, strain, curvature) {
+        (r, Some(s), Some(k)) => {
+            let given = LoadRange {
+                strain: s,
+                curvature_per_m: k,
+            };
+            r.map_or(given, |r| r.union(given))
+        }
+        (Some(r), s, k) => {
+            let mut r = r;
+            if let Some(s) = s {
+                r = r.union(LoadRange {
+                    strain: s,
+                    curvature_per_m: r.curvature_per_m,
+                });
+            }
+            if let Some(k) = k {
+                r = r.union(LoadRange {
+                    strain: r.strain,
+                    curvature_per_m: k,
+                });
+            }
+            r
+        }
+        (None, _, _) => bail!(
+            "nothing to calibrate over: give --load FILE, or both --strain-range and \
+             --curvature-range"
+        ),
+    };
+    let range = widened(range, args.margin);
+    let request = CalibrationRequest {
+        strand: &strand,
+        params: &params,
+        cache_dir: args.stiffness.cache_dir.as_deref(),
+        given: None,
+        threads: usize::from(args.threads),
+        refresh: args.stiffness.no_cache,
+    };
+    let mut observer = Observer::progress_only();
+    let mut build = || {
+        moorfret_solver::strand::model::StrandModel::new(&strand, &params)
+            .map_err(anyhow::Error::from)
+    };
+    let (reduced, source) = calibration_for(&request, &range, range, &mut build, &mut observer)?;
+    observer.finish();
+    println!(
+        "reduced strand response {} ({}): {} contacts, strain {:.4e} … {:.4e}, curvature \
+         {:.4e} … {:.4e} 1/m",
+        source.source,
+        source.file.as_deref().unwrap_or("not cached"),
+        reduced.laws.len(),
+        reduced.range.strain[0],
+        reduced.range.strain[1],
+        reduced.range.curvature_per_m[0],
+        reduced.range.curvature_per_m[1],
+    );
+    let c = &reduced.calibration;
+    println!(
+        "calibration run: {} samples, {} FE sub-steps, {} Newton iterations, {:.1} s",
+        c.design_samples, c.fe_substeps, c.fe_iterations, c.fe_wall_time_s
+    );
+    println!("interface  slip rms resid/spread  f_N rms resid/spread  g=0  replay: max range  accumulated  cycles");
+    for (f, r) in c.fits.iter().zip(&c.replay) {
+        println!(
+            "{:>9}  {:>9.2e} / {:<9.2e}  {:>8.2e} / {:<9.2e}  {:>4}  {:>+16.1}%  {:>+10.1}%  {:>+6.1}%",
+            f.interface,
+            f.slip_rms_residual_m,
+            f.slip_rms_m,
+            f.normal_rms_residual_n,
+            f.normal_rms_n,
+            f.compliance_clamped,
+            100.0 * r.max_slip_range_error,
+            100.0 * r.accumulated_slip_error,
+            100.0 * r.cycles_error
+        );
+    }
+    if let Some(out) = &args.out {
+        write_calibration(out, &reduced)?;
+        println!("written to {}", out.display());
+    }
+    Ok(())
+}
+
+/// Contact records, strain series, times and EA of a `run strand --load` output directory.
+struct RunOutput {
+    records: Vec<ContactRecord>,
+    strain: Vec<f64>,
+    dt_s: f64,
+    ea_n: f64,
+}
+
+fn read_run(dir: &Path) -> anyhow::Result<RunOutput> {
+    let path = dir.join("contact_records.json");
+    let text =
+        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
+    let records: Vec<ContactRecord> =
+        serde_json::from_str(&text).with_context(|| format!("reading {}", path.display()))?;
+    let path = dir.join("summary.json");
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?,
+    )
+    .with_context(|| format!("reading {}", path.display()))?;
+    let ea_n = summary
+        .pointer("/axial_stiffness/ea_n")
+        .and_then(serde_json::Value::as_f64)
+        .ok_or_else(|| {
+            anyhow!(
+                "{}: no axial_stiffness.ea_n (a run on a tension history is needed)",
+                path.display()
+            )
+        })?;
+    let path = dir.join("monitors.csv");
+    let mut reader =
+        csv::Reader::from_path(&path).with_context(|| format!("reading {}", path.display()))?;
+    let (mut time, mut strain) = (Vec::new(), Vec::new());
+    for (i, rec) in reader.records().enumerate() {
+        let rec = rec.with_context(|| format!("{}: line {}", path.display(), i + 2))?;
+        let num = |k: usize| -> anyhow::Result<f64> {
+            rec.get(k)
+                .and_then(|v| v.parse::<f64>().ok())
+                .ok_or_else(|| anyhow!("{}: line {}, column {k}: not a number", path.display(), i + 2))
+        };
+        time.push(num(0)?);
+        strain.push(num(1)?);
+    }
+    if time.len() < 2 {
+        bail!("{}: fewer than two samples", path.display());
+    }
+    let dt_s = (time[time.len() - 1] - time[0]) / (time.len() - 1) as f64;
+    Ok(RunOutput {
+        records,
+        strain,
+        dt_s,
+        ea_n,
+    })
+}
+
+fn damage_inputs(
+    run: &RunOutput,
+    strand: &Strand,
+    run_in_samples: usize,
+) -> anyhow::Result<SeaStateInputs> {
+    let config = FatigueSpec::default().fretting_config(strand, run.ea_n);
+    let tension: Vec<f64> = run.strain.iter().map(|e| e * run.ea_n).collect();
+    let history = TensionHistory {
+        tension_n: &tension,
+        dt_s: run.dt_s,
+        run_in_samples,
+    };
+    Ok(sea_state_damage_inputs(&run.records, &history, &config)?)
+}
+
+fn compare(args: &CompareArgs) -> anyhow::Result<()> {
+    let (_, strand, _) = load_strand(&args.model)?;
+    let a = read_run(&args.reference)?;
+    let b = read_run(&args.compared)?;
+    if a.records.len() != b.records.len() {
+        bail!(
+            "{} has {} contacts, {} has {}: not the same strand model",
+            args.reference.display(),
+            a.records.len(),
+            args.compared.display(),
+            b.records.len()
+        );
+    }
+    if !(args.run_in_s >= 0.0 && args.run_in_s.is_finite()) {
+        bail!("--run-in-s {}: must be finite and ≥ 0", args.run_in_s);
+    }
+    let run_in = (args.run_in_s / a.dt_s).round() as usize;
+    let interfaces = compare_records(&a.records, &b.records, args.min_slip_range_m, run_in);
+    println!(
+        "per interface, cycles of at least {:.2e} m after {} s (compared / reference − 1):",
+        args.min_slip_range_m, args.run_in_s
+    );
+    println!("interface  max slip range (ref → cmp)        accumulated slip (ref → cmp)       cycles (ref → cmp)");
+    for c in &interfaces {
+        println!(
+            "{:>9}  {:.3e} → {:.3e} m {:>+6.1}%   {:.3e} → {:.3e} m {:>+6.1}%   {:>9.1} → {:<9.1} {:>+6.1}%",
+            c.interface,
+            c.reference.max_slip_range_m,
+            c.compared.max_slip_range_m,
+            100.0 * c.max_slip_range_error,
+            c.reference.accumulated_slip_m,
+            c.compared.accumulated_slip_m,
+            100.0 * c.accumulated_slip_error,
+            c.reference.cycles,
+            c.compared.cycles,
+            100.0 * c.cycles_error
+        );
+    }
+    let da = damage_inputs(&a, &strand, run_in)?;
+    let db = damage_inputs(&b, &strand, run_in)?;
+    println!("per contact class, damage inputs (compared / reference − 1):");
+    println!("class                      fretting damage rate mean       max              slip cycles/h (all regimes)");
+    let mut classes = Vec::new();
+    for ca in &da.classes {
+        let Some(cb) = db.classes.iter().find(|c| c.class == ca.class) else {
+            continue;
+        };
+        let total = |r: &moorfret_solver::fretting::RegimeCounts| {
+            r.stick + r.partial_slip + r.gross_slip
+        };
+        let row = serde_json::json!({
+            "interface": ca.class.interface,
+            "position": ca.class.position.as_str(),
+            "damage_rate_mean_per_s": [ca.fretting_damage_rate_mean_per_s, cb.fretting_damage_rate_mean_per_s],
+            "damage_rate_max_per_s": [ca.fretting_damage_rate_max_per_s, cb.fretting_damage_rate_max_per_s],
+            "cycles_per_hour": [total(&ca.regime_cycles_per_hour), total(&cb.regime_cycles_per_hour)],
+        });
+        println!(
+            "{:>2} {:<22} {:.3e} → {:.3e} {:>+6.1}%  {:.3e} → {:.3e} {:>+6.1}%  {:.3e} → {:.3e} {:>+6.1}%",
+            ca.class.interface,
+            ca.class.position.as_str(),
+            ca.fretting_damage_rate_mean_per_s,
+            cb.fretting_damage_rate_mean_per_s,
+            100.0
+                * relative_difference(
+                    ca.fretting_damage_rate_mean_per_s,
+                    cb.fretting_damage_rate_mean_per_s
+                ),
+            ca.fretting_damage_rate_max_per_s,
+            cb.fretting_damage_rate_max_per_s,
+            100.0
+                * relative_difference(
+                    ca.fretting_damage_rate_max_per_s,
+                    cb.fretting_damage_rate_max_per_s
+                ),
+            total(&ca.regime_cycles_per_hour),
+            total(&cb.regime_cycles_per_hour),
+            100.0
+                * relative_difference(
+                    total(&ca.regime_cycles_per_hour),
+                    total(&cb.regime_cycles_per_hour)
+                ),
+        );
+        classes.push(row);
+    }
+    if let Some(path) = &args.json {
+        let doc = serde_json::json!({
+            "reference": args.reference.display().to_string(),
+            "compared": args.compared.display().to_string(),
+            "min_slip_range_m": args.min_slip_range_m,
+            "run_in_s": args.run_in_s,
+            "interfaces": interfaces,
+            "classes": classes,
+        });
+        std::fs::write(path, serde_json::to_vec_pretty(&doc)?)
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,193 @@
+//! Calibration of a reduced strand response on its FE model ([`super`] module docs).
+
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+use super::compare::compare_records;
+use super::design::{design_history, DesignParams};
+use super::fit::FitAccumulator;
+use super::{
+    CalibrationReport, InterfaceFit, LoadRange, LoadScaling, ReducedError, ReducedStrand,
+    FORMAT_VERSION,
+};
+use crate::contact::TangentialLaw;
+use crate::fretting::ContactSample;
+use crate::strand::history::checkpoint::HistoryCheckpoint;
+use crate::strand::history::monitors::contact_sites;
+use crate::strand::history::{
+    run_history, HistoryObserver, HistoryOptions, HistoryProgress, LoadSample,
+};
+use crate::strand::model::StrandModel;
+
+/// Settings of a calibration.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CalibrationOptions {
+    /// Settings of the FE history run (its turning-point tolerance is set to 0: the designed
+    /// history has no sample to drop).
+    pub history: HistoryOptions,
+    /// The designed history.
+    pub design: DesignParams,
+    /// Threshold of the counted slip cycles of the in-sample comparison (m).
+    pub min_slip_range_m: f64,
+}
+
+impl Default for CalibrationOptions {
+    fn default() -> Self {
+        Self {
+            history: HistoryOptions::default(),
+            design: DesignParams::default(),
+            min_slip_range_m: 1e-6,
+        }
+    }
+}
+
+/// Feeds every sample of the FE run to the fit, and passes progress on.
+struct Learner<'a> {
+    scaling: LoadScaling,
+    fit: FitAccumulator,
+    buffer: Vec<(f64, f64, f64)>,
+    inner: &'a mut dyn HistoryObserver,
+}
+
+impl HistoryObserver for Learner<'_> {
+    fn progress(&mut self, progress: &HistoryProgress) {
+        self.inner.progress(progress);
+    }
+
+    fn checkpoint(&mut self, _checkpoint: &HistoryCheckpoint) {}
+
+    fn sample(&mut self, sample: &LoadSample, contacts: &[ContactSample], elements: &[f64]) {
+        let (x, y) = self.scaling.scaled(sample.strain, sample.curvature_per_m);
+        self.buffer.clear();
+        self.buffer.extend(
+            contacts
+                .iter()
+                .map(|c| (c.slip_m, c.normal_force_n, c.tangential_force_n)),
+        );
+        self.fit.add(x, y, &self.buffer, elements);
+    }
+
+    fn should_stop(&mut self) -> bool {
+        self.inner.should_stop()
+    }
+}
+
+/// The elastic slip γ_e of the model's tangential law; other laws have no reduced form here.
+fn elastic_slip_of(model: &StrandModel) -> Result<f64, ReducedError> {
+    match model.contact_parameters.tangential {
+        TangentialLaw::ElasticSlip { elastic_slip_m } => Ok(elastic_slip_m),
+        TangentialLaw::Mindlin => Err(ReducedError::Calibration {
+            reason: "the reduced response models the elastic-slip tangential law; this model \
+                     uses the Mindlin law"
+                .into(),
+        }),
+    }
+}
+
+/// Calibrates the reduced response of `model` over `range` (module docs of [`super`]);
+/// `observer` sees the progress of the FE run and may stop it.
+pub fn calibrate(
+    model: &StrandModel,
+    range: LoadRange,
+    options: &CalibrationOptions,
+    observer: &mut dyn HistoryObserver,
+) -> Result<ReducedStrand, ReducedError> {
+    let start = Instant::now();
+    let range = range.validated()?;
+    let elastic_slip_m = elastic_slip_of(model)?;
+    let history = HistoryOptions {
+        turning_point_tolerance: 0.0,
+        checkpoint_interval_segments: 0,
+        ..options.history
+    };
+    let design = design_history(&range, &options.design, &history);
+    let scaling = LoadScaling::of(&range);
+    let sites = contact_sites(model);
+    let mut learner = Learner {
+        scaling,
+        fit: FitAccumulator::new(model.contacts.len(), 0),
+        buffer: Vec::with_capacity(model.contacts.len()),
+        inner: observer,
+    };
+    // the element channels are known once the run has made its monitors: size the sums then
+    let channels = crate::strand::history::monitors::default_channels(model, &sites);
+    let elements = channels
+        .iter()
+        .filter(|c| matches!(c.target, crate::strand::history::monitors::MonitorTarget::Element(_)))
+        .count();
+    learner.fit = FitAccumulator::new(model.contacts.len(), elements);
+    let fe = run_history(model, &design, &history, &mut learner)?;
+    let fits = learner.fit.contact_fits();
+    let element_fits = learner
+        .fit
+        .element_fits()
+        .into_iter()
+        .map(|f| f.coefficients)
+        .collect();
+
+    let mut per_interface: BTreeMap<usize, InterfaceFit> = BTreeMap::new();
+    for (site, f) in sites.iter().zip(&fits) {
+        let e = per_interface.entry(site.interface).or_insert(InterfaceFit {
+            interface: site.interface,
+            contacts: 0,
+            slip_rms_residual_m: 0.0,
+            slip_rms_m: 0.0,
+            normal_rms_residual_n: 0.0,
+            normal_rms_n: 0.0,
+            compliance_clamped: 0,
+        });
+        e.contacts += 1;
+        e.slip_rms_residual_m += f.slip_residual_ss;
+        e.slip_rms_m += f.slip_spread_ss;
+        e.normal_rms_residual_n += f.normal_residual_ss;
+        e.normal_rms_n += f.normal_spread_ss;
+        e.compliance_clamped += usize::from(f.compliance_clamped);
+    }
+    let n = learner.fit.samples().max(1) as f64;
+    let fits_report = per_interface
+        .into_values()
+        .map(|mut e| {
+            let m = n * e.contacts.max(1) as f64;
+            e.slip_rms_residual_m = (e.slip_rms_residual_m / m).sqrt();
+            e.slip_rms_m = (e.slip_rms_m / m).sqrt();
+            e.normal_rms_residual_n = (e.normal_rms_residual_n / m).sqrt();
+            e.normal_rms_n = (e.normal_rms_n / m).sqrt();
+            e
+        })
+        .collect();
+
+    let mut reduced = ReducedStrand {
+        format: FORMAT_VERSION,
+        model_key: String::new(),
+        friction_coefficient: model.strand.friction_coefficient,
+        elastic_slip_m,
+        range,
+        scaling,
+        sites,
+        laws: fits.iter().map(|f| f.law).collect(),
+        channels: channels
+            .into_iter()
+            .map(|mut c| {
+                c.values.clear();
+                c
+            })
+            .collect(),
+        element_fits,
+        calibration: CalibrationReport {
+            design_samples: design.len(),
+            fe_substeps: fe.stats.substeps,
+            fe_iterations: fe.stats.iterations,
+            fe_wall_time_s: start.elapsed().as_secs_f64(),
+            fits: fits_report,
+            replay: Vec::new(),
+        },
+    };
+    let replay = super::run_reduced(&reduced, &design, history.slip_gate_m)?;
+    reduced.calibration.replay = compare_records(
+        &fe.contacts,
+        &replay.contacts,
+        options.min_slip_range_m,
+        0,
+    );
+    Ok(reduced)
+}

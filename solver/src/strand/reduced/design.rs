@@ -1,0 +1,154 @@
+//! The designed load history of a calibration ([`super`] module docs).
+//!
+//! In the scaled coordinates `x` (tension) and `y` (curvature) of the range, both in [−1, 1],
+//! the path visits, at each of [`DesignParams::tension_levels`] tension levels from the lowest
+//! to the highest:
+//! 1. curvature cycles about the range's centre at fixed tension, `y = ±A` for every amplitude
+//!    of [`DesignParams::amplitudes`] (largest first, [`DesignParams::cycles`] each): loops of
+//!    every size below the largest, as a rainflow-counted sea state has them;
+//! 2. tension cycles at fixed curvature, `x = x_j ± A` (clipped to the range);
+//! 3. combined cycles, tension and curvature in phase and in opposition, for the largest two
+//!    amplitudes (a hot spot's tension and curvature move together or against each other);
+//!
+//! then the corners of the range. Every straight stretch is sampled at the sub-steps the FE
+//! history run will solve (`ceil(max(|Δε|/Δε_max, |Δκ|/Δκ_max))` equal parts), so the
+//! calibration sees every solved state and nothing interpolated. Times are one second apart.
+
+use super::{LoadRange, LoadScaling};
+use crate::strand::history::{HistoryOptions, LoadSample};
+
+/// Settings of the designed history.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DesignParams {
+    /// Tension levels, evenly spaced from the lowest to the highest (≥ 2).
+    pub tension_levels: usize,
+    /// Cycle amplitudes as fractions of the half range, largest first, each in (0, 1].
+    pub amplitudes: Vec<f64>,
+    /// Cycles per amplitude (≥ 1).
+    pub cycles: usize,
+}
+
+impl Default for DesignParams {
+    fn default() -> Self {
+        Self {
+            tension_levels: 3,
+            amplitudes: vec![1.0, 0.6, 0.35, 0.2, 0.1, 0.05, 0.02],
+            cycles: 2,
+        }
+    }
+}
+
+/// The vertices of the path in scaled coordinates (module docs).
+pub fn design_vertices(params: &DesignParams) -> Vec<(f64, f64)> {
+    let levels = params.tension_levels.max(2);
+    let mut v = Vec::new();
+    for j in 0..levels {
+        let xj = -1.0 + 2.0 * j as f64 / (levels - 1) as f64;
+        v.push((xj, 0.0));
+        for &a in &params.amplitudes {
+            for _ in 0..params.cycles.max(1) {
+                v.push((xj, a));
+                v.push((xj, -a));
+            }
+        }
+        v.push((xj, 0.0));
+        for &a in &params.amplitudes {
+            for _ in 0..params.cycles.max(1) {
+                v.push(((xj + a).min(1.0), 0.0));
+                v.push(((xj - a).max(-1.0), 0.0));
+            }
+        }
+        v.push((xj, 0.0));
+        for &a in params.amplitudes.iter().take(2) {
+            for sign in [1.0, -1.0] {
+                for _ in 0..params.cycles.max(1) {
+                    v.push(((xj + a).min(1.0), sign * a));
+                    v.push(((xj - a).max(-1.0), -sign * a));
+                }
+            }
+        }
+        v.push((xj, 0.0));
+    }
+    v.extend([(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0)]);
+    v
+}
+
+/// The designed history over `range`, sampled at the sub-steps of `options`.
+pub fn design_history(
+    range: &LoadRange,
+    params: &DesignParams,
+    options: &HistoryOptions,
+) -> Vec<LoadSample> {
+    let scaling = LoadScaling::of(range);
+    let vertices = design_vertices(params);
+    let mut out: Vec<LoadSample> = Vec::new();
+    let push = |strain: f64, curvature_per_m: f64, out: &mut Vec<LoadSample>| {
+        if let Some(last) = out.last() {
+            if last.strain == strain && last.curvature_per_m == curvature_per_m {
+                return;
+            }
+        }
+        out.push(LoadSample {
+            time_s: out.len() as f64,
+            strain,
+            curvature_per_m,
+        });
+    };
+    let Some(&(x0, y0)) = vertices.first() else {
+        return out;
+    };
+    let (e0, k0) = scaling.load(x0, y0);
+    push(e0, k0, &mut out);
+    let mut from = (e0, k0);
+    for &(x, y) in &vertices[1..] {
+        let to = scaling.load(x, y);
+        let (de, dk) = ((to.0 - from.0).abs(), (to.1 - from.1).abs());
+        let n = ((de / options.max_substep_strain)
+            .max(dk / options.max_substep_curvature_per_m)
+            .ceil() as usize)
+            .max(1);
+        for k in 1..=n {
+            let f = k as f64 / n as f64;
+            let (e, c) = if k == n {
+                to
+            } else {
+                (from.0 + f * (to.0 - from.0), from.1 + f * (to.1 - from.1))
+            };
+            push(e, c, &mut out);
+        }
+        from = to;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_design_covers_the_range_and_stays_inside_it() {
+        let range = LoadRange {
+            strain: [2e-4, 1.2e-3],
+            curvature_per_m: [1e-3, 1.8e-2],
+        };
+        let opts = HistoryOptions::default();
+        let h = design_history(&range, &DesignParams::default(), &opts);
+        let got = LoadRange::of(&h).expect("samples");
+        for (a, b) in got
+            .strain
+            .iter()
+            .zip(&range.strain)
+            .chain(got.curvature_per_m.iter().zip(&range.curvature_per_m))
+        {
+            assert!((a - b).abs() <= 1e-12 * b.abs().max(1e-3), "{got:?} vs {range:?}");
+        }
+        for w in h.windows(2) {
+            assert!(w[1].time_s > w[0].time_s);
+            assert!((w[1].strain - w[0].strain).abs() <= opts.max_substep_strain * (1.0 + 1e-12));
+            assert!(
+                (w[1].curvature_per_m - w[0].curvature_per_m).abs()
+                    <= opts.max_substep_curvature_per_m * (1.0 + 1e-12)
+            );
+        }
+    }
+}

@@ -1,0 +1,455 @@
+//! A reduced strand response, calibrated on the FE model, for the strand stage at campaign scale
+//! (the seed's aim of making "the large number of simulations required by a fatigue life
+//! estimate" affordable, its abstract and Sec. 2.2).
+//!
+//! # Model
+//!
+//! The strand is quasi-static and rate-independent, with Coulomb friction at the contacts. Each
+//! contact `c` of the FE model becomes one Jenkins element (a spring in series with a Coulomb
+//! slider) that obeys the FE model's own tangential law, loaded through the rest of the strand,
+//! which is reduced to a linear drive and a compliance:
+//!
+//! - structure: `s + g f_T = d(ε, κ)`, with `d = a x + b y + c` linear in the scaled loads
+//!   `x = (ε − ε₀)/ε_h`, `y = (κ − κ₀)/κ_h` ([`LoadScaling`]) and `g ≥ 0` the compliance through
+//!   which the strand around the contact answers its tangential force;
+//! - contact (the elastic-slip law of [`crate::contact::laws`], seed Sec. 2.1): the slip
+//!   `s = s_e + s_p`, elastic part `s_e` with `f_T = (μ f_N / γ_e) s_e`, `|s_e| ≤ γ_e`, and an
+//!   irreversible part `s_p` that moves only while the contact slides;
+//! - normal force: `f_N(x, y)`, quadratic in the scaled loads, clipped at zero.
+//!
+//! `s` and `f_T` are the FE model's slip and tangential force along the outer wire
+//! ([`crate::strand::history::monitors`]). The response to a closed load cycle is then a
+//! Masing-type hysteresis loop set by the cycle's range and by the normal force that the
+//! tension sets, and in the stick regime (`|s_e| < γ_e` throughout, most contacts of mild sea
+//! states) it is linear in the loads.
+//!
+//! # Calibration
+//!
+//! [`calibrate`] drives the FE model through a designed load history ([`design`]: curvature,
+//! tension and combined cycles of decreasing amplitude at several tension levels over the
+//! requested [`LoadRange`]), and fits per contact, by linear least squares on every sample
+//! ([`fit`]): `f_N` on the six quadratic load features, and `(a, b, c, g)` on
+//! `s = a x + b y + c − g f_T` (the structure equation with the FE's `s` and `f_T`; `g` is
+//! refitted at zero if the fit makes it negative). Wire axial forces of the monitor channels are
+//! fitted like `f_N`. The calibration then replays the designed history through the reduced
+//! model and reports, per layer interface, its in-sample error against the FE run
+//! ([`CalibrationReport`]).
+//!
+//! # Use
+//!
+//! [`run_reduced`] turns a `(t, ε, κ)` history into the outputs of an FE history run
+//! ([`crate::strand::history::HistoryResult`]: one [`crate::fretting::ContactRecord`] per contact
+//! with every slip cycle and its forces, the monitor series), in seconds. A sample outside the
+//! calibrated range (beyond [`RANGE_SLACK`] of it) is refused with the range, never
+//! extrapolated. The first sample is reached as the FE initialisation reaches it, by bending the
+//! tensioned strand from the straight state: every contact starts unloaded tangentially at zero
+//! curvature and the first sample's tension, then follows the drive to the first curvature.
+//!
+//! What it leaves out, by construction: the interaction of contacts beyond the compliance `g`
+//! (the slip of one contact changes the load of its neighbours only through the fitted drive),
+//! a drive that depends on the load level, and the FE's initialisation at a small tension. Its error against
+//! the FE model is measured on held-out histories (docs/reduced-strand.md), not assumed.
+//!
+//! Units: m, N, 1/m.
+
+mod calibrate;
+pub mod compare;
+pub mod design;
+pub mod fit;
+mod run;
+
+use serde::{Deserialize, Serialize};
+
+use super::history::monitors::{ContactSite, MonitorChannel};
+use super::history::{HistoryError, LoadSample};
+
+pub use calibrate::{calibrate, CalibrationOptions};
+pub use run::run_reduced;
+
+/// Version of the stored calibration; a file of another version is refused.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// Slack of the calibrated range, as a fraction of each channel's range: a sample this far
+/// outside is still accepted (round-off of the tension-to-strain conversion).
+pub const RANGE_SLACK: f64 = 0.01;
+
+/// Errors of the reduced strand response.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ReducedError {
+    /// A sample lies outside the calibrated range.
+    #[error(
+        "load sample {index} (t = {time_s} s): {field} = {value:e} lies outside the calibrated \
+         range [{low:e}, {high:e}]; calibrate the reduced strand over a range that covers it"
+    )]
+    OutOfRange {
+        /// Sample index.
+        index: usize,
+        /// Its time (s).
+        time_s: f64,
+        /// `strain` or `curvature_per_m`.
+        field: &'static str,
+        /// The value.
+        value: f64,
+        /// Calibrated lower bound.
+        low: f64,
+        /// Calibrated upper bound.
+        high: f64,
+    },
+    /// A sample is not usable at all (non-finite, time not increasing).
+    #[error("load sample {index}: {field} = {value}: {reason}")]
+    InvalidSample {
+        /// Sample index.
+        index: usize,
+        /// Field.
+        field: &'static str,
+        /// Value.
+        value: f64,
+        /// Why.
+        reason: String,
+    },
+    /// A setting or a range is invalid.
+    #[error("reduced strand: {field} = {value}: {reason}")]
+    InvalidSetting {
+        /// Field.
+        field: &'static str,
+        /// Value.
+        value: f64,
+        /// Why.
+        reason: String,
+    },
+    /// The calibration data do not match the model or the stored format.
+    #[error("reduced strand calibration: {reason}")]
+    Calibration {
+        /// Why.
+        reason: String,
+    },
+    /// The FE run of the calibration failed.
+    #[error("FE calibration run: {0}")]
+    History(#[from] HistoryError),
+}
+
+fn invalid(field: &'static str, value: f64, reason: impl Into<String>) -> ReducedError {
+    ReducedError::InvalidSetting {
+        field,
+        value,
+        reason: reason.into(),
+    }
+}
+
+/// The load range a calibration covers: axial strain and curvature, lowest and highest.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadRange {
+    /// Lowest and highest axial strain.
+    pub strain: [f64; 2],
+    /// Lowest and highest curvature (1/m).
+    pub curvature_per_m: [f64; 2],
+}
+
+impl LoadRange {
+    /// The range of `samples` (`None` if there are none).
+    pub fn of(samples: &[LoadSample]) -> Option<Self> {
+        let first = samples.first()?;
+        let mut r = Self {
+            strain: [first.strain; 2],
+            curvature_per_m: [first.curvature_per_m; 2],
+        };
+        for s in samples {
+            r.strain = [r.strain[0].min(s.strain), r.strain[1].max(s.strain)];
+            r.curvature_per_m = [
+                r.curvature_per_m[0].min(s.curvature_per_m),
+                r.curvature_per_m[1].max(s.curvature_per_m),
+            ];
+        }
+        Some(r)
+    }
+
+    /// The smallest range holding both.
+    pub fn union(self, other: Self) -> Self {
+        Self {
+            strain: [
+                self.strain[0].min(other.strain[0]),
+                self.strain[1].max(other.strain[1]),
+            ],
+            curvature_per_m: [
+                self.curvature_per_m[0].min(other.curvature_per_m[0]),
+                self.curvature_per_m[1].max(other.curvature_per_m[1]),
+            ],
+        }
+    }
+
+    /// Checks the bounds: finite, ordered, strain ≥ 0, and a strain range that is not empty
+    /// (a calibration needs the tension to vary to separate its effect from the curvature's).
+    pub fn validated(self) -> Result<Self, ReducedError> {
+        for (field, [lo, hi]) in [
+            ("range.strain", self.strain),
+            ("range.curvature_per_m", self.curvature_per_m),
+        ] {
+            if !(lo.is_finite() && hi.is_finite()) {
+                return Err(invalid(field, if lo.is_finite() { hi } else { lo }, "not finite"));
+            }
+            if hi <= lo {
+                return Err(invalid(field, hi - lo, "the upper bound must exceed the lower"));
+            }
+        }
+        if self.strain[0] < 0.0 {
+            return Err(invalid(
+                "range.strain",
+                self.strain[0],
+                "negative: the strand would be in compression",
+            ));
+        }
+        Ok(self)
+    }
+
+    /// The sample's first field outside the range widened by [`RANGE_SLACK`], if any.
+    pub fn check(&self, index: usize, s: &LoadSample) -> Result<(), ReducedError> {
+        for (field, value, [lo, hi]) in [
+            ("strain", s.strain, self.strain),
+            ("curvature_per_m", s.curvature_per_m, self.curvature_per_m),
+        ] {
+            let slack = RANGE_SLACK * (hi - lo);
+            if !(value >= lo - slack && value <= hi + slack) {
+                return Err(ReducedError::OutOfRange {
+                    index,
+                    time_s: s.time_s,
+                    field,
+                    value,
+                    low: lo,
+                    high: hi,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Affine map of the loads onto the scaled coordinates `x, y ∈ [−1, 1]` of a [`LoadRange`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LoadScaling {
+    /// Centre (ε₀, κ₀).
+    pub centre: [f64; 2],
+    /// Half widths (ε_h, κ_h), > 0.
+    pub half: [f64; 2],
+}
+
+impl LoadScaling {
+    /// The scaling of a validated range.
+    pub fn of(range: &LoadRange) -> Self {
+        let c = |[lo, hi]: [f64; 2]| (0.5 * (lo + hi), 0.5 * (hi - lo));
+        let (e0, eh) = c(range.strain);
+        let (k0, kh) = c(range.curvature_per_m);
+        Self {
+            centre: [e0, k0],
+            half: [eh, kh],
+        }
+    }
+
+    /// Scaled coordinates (x, y) of a load.
+    #[inline]
+    pub fn scaled(&self, strain: f64, curvature_per_m: f64) -> (f64, f64) {
+        (
+            (strain - self.centre[0]) / self.half[0],
+            (curvature_per_m - self.centre[1]) / self.half[1],
+        )
+    }
+
+    /// The load (ε, κ) of scaled coordinates (x, y).
+    pub fn load(&self, x: f64, y: f64) -> (f64, f64) {
+        (
+            self.centre[0] + x * self.half[0],
+            self.centre[1] + y * self.half[1],
+        )
+    }
+}
+
+/// Number of load features of the force fits.
+pub const FORCE_FEATURES: usize = 6;
+
+/// The quadratic load features `[1, x, y, x y, x², y²]` of the force fits.
+#[inline]
+pub fn force_features(x: f64, y: f64) -> [f64; FORCE_FEATURES] {
+    [1.0, x, y, x * y, x * x, y * y]
+}
+
+fn dot<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
+    a.iter().zip(b).map(|(p, q)| p * q).sum()
+}
+
+/// The fitted law of one contact (module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ContactLaw {
+    /// Coefficients of `f_N` on [`force_features`] (N).
+    pub normal: [f64; FORCE_FEATURES],
+    /// Drive `d = a x + b y + c`: `[a, b, c]` (m).
+    pub drive: [f64; 3],
+    /// Compliance `g ≥ 0` of the strand at the contact (m/N).
+    pub compliance_m_per_n: f64,
+}
+
+impl ContactLaw {
+    /// Normal force at the features `f` (N, ≥ 0).
+    #[inline]
+    pub fn normal_force_n(&self, f: &[f64; FORCE_FEATURES]) -> f64 {
+        dot(&self.normal, f).max(0.0)
+    }
+
+    /// Drive `d` at scaled loads (x, y) (m).
+    #[inline]
+    pub fn drive_m(&self, x: f64, y: f64) -> f64 {
+        self.drive[0] * x + self.drive[1] * y + self.drive[2]
+    }
+}
+
+/// The state of one contact's Jenkins element: its irreversible slip.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JenkinsState {
+    /// Irreversible slip `s_p` (m).
+    pub plastic_slip_m: f64,
+}
+
+impl JenkinsState {
+    /// The state in which the contact carries no tangential force under drive `d`.
+    pub fn unloaded(drive_m: f64) -> Self {
+        Self {
+            plastic_slip_m: drive_m,
+        }
+    }
+
+    /// Advances to drive `d` and normal force `f_N`: returns (slip, tangential force).
+    /// `stick_per_n = μ / γ_e` (1/m), `elastic_slip_m = γ_e`, `g` the compliance.
+    #[inline]
+    pub fn step(
+        &mut self,
+        drive_m: f64,
+        normal_force_n: f64,
+        compliance_m_per_n: f64,
+        stick_per_m: f64,
+        elastic_slip_m: f64,
+    ) -> (f64, f64) {
+        let k = stick_per_m * normal_force_n;
+        let factor = 1.0 + compliance_m_per_n * k;
+        let mut elastic = (drive_m - self.plastic_slip_m) / factor;
+        if elastic.abs() > elastic_slip_m {
+            elastic = elastic_slip_m.copysign(elastic);
+            self.plastic_slip_m = drive_m - elastic * factor;
+        }
+        (elastic + self.plastic_slip_m, k * elastic)
+    }
+}
+
+/// In-sample quality of one layer interface's fit on the calibration run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct InterfaceFit {
+    /// Layer interface.
+    pub interface: usize,
+    /// Contacts.
+    pub contacts: usize,
+    /// Root mean square of the slip residual of the least-squares fit over the interface's
+    /// contacts and samples (m).
+    pub slip_rms_residual_m: f64,
+    /// Root mean square of the slip about each contact's mean (m), the scale of the residual.
+    pub slip_rms_m: f64,
+    /// Root mean square of the normal-force residual (N).
+    pub normal_rms_residual_n: f64,
+    /// Root mean square of the normal force about each contact's mean (N).
+    pub normal_rms_n: f64,
+    /// Contacts whose compliance was refitted at zero (the free fit made it negative).
+    pub compliance_clamped: usize,
+}
+
+/// How the calibration went: what it ran and how well the reduced model reproduces its own
+/// calibration run (in-sample; the held-out error is measured separately).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CalibrationReport {
+    /// Samples of the designed history.
+    pub design_samples: usize,
+    /// FE sub-steps solved (initialisation included).
+    pub fe_substeps: usize,
+    /// Newton iterations of the FE run.
+    pub fe_iterations: usize,
+    /// Wall time of the FE run (s).
+    pub fe_wall_time_s: f64,
+    /// Least-squares fits per interface.
+    pub fits: Vec<InterfaceFit>,
+    /// The designed history replayed through the reduced model against the FE run.
+    pub replay: Vec<compare::InterfaceComparison>,
+}
+
+/// A reduced strand response: the fitted laws of every contact of one FE model, the range they
+/// were calibrated over and the monitor channels (module docs).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ReducedStrand {
+    /// [`FORMAT_VERSION`] of the stored calibration.
+    pub format: u32,
+    /// Content address of the FE model and settings it was calibrated on, set by the caller
+    /// (empty if none): a stored calibration is used only on the model of the same key.
+    #[serde(default)]
+    pub model_key: String,
+    /// Coulomb friction coefficient μ of the model's contacts.
+    pub friction_coefficient: f64,
+    /// Elastic slip γ_e of the model's tangential law (m).
+    pub elastic_slip_m: f64,
+    /// Calibrated load range.
+    pub range: LoadRange,
+    /// Scaling of the loads used by the fits.
+    pub scaling: LoadScaling,
+    /// Where every contact sits, mesh contact order.
+    pub sites: Vec<ContactSite>,
+    /// Fitted law of every contact, mesh contact order.
+    pub laws: Vec<ContactLaw>,
+    /// Monitor channels of the FE run (no values).
+    pub channels: Vec<MonitorChannel>,
+    /// Fitted axial force of every wire-element channel, in channel order (contact channels
+    /// skipped), on [`force_features`] (N).
+    pub element_fits: Vec<[f64; FORCE_FEATURES]>,
+    /// How the calibration went.
+    pub calibration: CalibrationReport,
+}
+
+impl ReducedStrand {
+    /// Checks what a stored calibration must hold before use: its format, one law per site,
+    /// finite parameters.
+    pub fn validated(self) -> Result<Self, ReducedError> {
+        if self.format != FORMAT_VERSION {
+            return Err(ReducedError::Calibration {
+                reason: format!(
+                    "format {} is not the supported {FORMAT_VERSION}; calibrate again",
+                    self.format
+                ),
+            });
+        }
+        if self.laws.len() != self.sites.len() {
+            return Err(ReducedError::Calibration {
+                reason: format!(
+                    "{} contact laws for {} contacts",
+                    self.laws.len(),
+                    self.sites.len()
+                ),
+            });
+        }
+        let range = self.range.validated()?;
+        let mu = self.friction_coefficient;
+        if !(mu.is_finite() && mu >= 0.0) {
+            return Err(invalid("friction_coefficient", mu, "must be finite and ≥ 0"));
+        }
+        let ge = self.elastic_slip_m;
+        if !(ge.is_finite() && ge > 0.0) {
+            return Err(invalid("elastic_slip_m", ge, "must be finite and > 0"));
+        }
+        for (c, law) in self.laws.iter().enumerate() {
+            let finite = law.normal.iter().chain(&law.drive).all(|v| v.is_finite())
+                && law.compliance_m_per_n.is_finite()
+                && law.compliance_m_per_n >= 0.0;
+            if !finite {
+                return Err(ReducedError::Calibration {
+                    reason: format!("contact {c}: a fitted coefficient is not finite or g < 0"),
+                });
+            }
+        }
+        Ok(Self { range, ..self })
+    }
+}
+
+#[cfg(test)]
+mod tests;

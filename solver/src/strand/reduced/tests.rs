@@ -1,0 +1,168 @@
+//! The reduced strand response: its Jenkins element against the closed-form loops, the range
+//! refusal, and reduced against FE on the 1+6+1 benchmark strand through a history that the
+//! calibration did not see.
+
+use std::f64::consts::PI;
+
+use super::compare::compare_records;
+use super::*;
+use crate::strand::history::{run_history, NoObserver};
+use crate::strand::model::{EndKind, StrandModel, StrandModelParameters};
+use crate::strand::profile::profile_from_json;
+
+const BENCHMARK: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../campaigns/benchmarks/strand_1_6_1.json"
+));
+
+#[test]
+fn a_jenkins_element_follows_its_closed_form_loops() {
+    let (mu_over_ge, ge, g, n) = (0.12 / 1e-5, 1e-5, 2e-8, 500.0);
+    let k = mu_over_ge * n; // 6e6 N/m
+    // stick: slip range 2D / (1 + g k)
+    let d = 0.5 * ge;
+    let mut st = JenkinsState::unloaded(0.0);
+    let mut lo = f64::INFINITY;
+    let mut hi = f64::NEG_INFINITY;
+    for i in 0..=400 {
+        let drive = d * (2.0 * PI * i as f64 / 100.0).sin();
+        let (s, f) = st.step(drive, n, g, mu_over_ge, ge);
+        assert!(f.abs() <= 0.12 * n * (1.0 + 1e-12));
+        lo = lo.min(s);
+        hi = hi.max(s);
+    }
+    let stick = 2.0 * d / (1.0 + g * k);
+    assert!(((hi - lo) - stick).abs() < 1e-12 * stick.max(1e-9) + 1e-15);
+    // gross slip: after the first half cycle the loop spans 2D − 2 g μ N
+    let d = 20.0 * ge;
+    let mut st = JenkinsState::unloaded(0.0);
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for i in 0..=400 {
+        let drive = d * (2.0 * PI * i as f64 / 100.0).sin();
+        let (s, f) = st.step(drive, n, g, mu_over_ge, ge);
+        if i >= 100 {
+            lo = lo.min(s);
+            hi = hi.max(s);
+        }
+        assert!(f.abs() <= 0.12 * n * (1.0 + 1e-12));
+    }
+    let gross = 2.0 * d - 2.0 * g * 0.12 * n;
+    assert!(((hi - lo) - gross).abs() < 1e-9 * gross, "{} vs {gross}", hi - lo);
+}
+
+fn model() -> StrandModel {
+    let strand = profile_from_json(BENCHMARK)
+        .expect("benchmark profile parses")
+        .validate()
+        .expect("benchmark profile is valid");
+    // the campaigns' elastic slip, 10 µm
+    let params = StrandModelParameters::penalty_contact(2e8, 1e-5, EndKind::PenaltyTies);
+    StrandModel::new(&strand, &params).expect("benchmark model builds")
+}
+
+/// An irregular history: three incommensurate components in each channel, 0.5 s apart.
+fn irregular(samples: usize, phase: f64) -> Vec<LoadSample> {
+    (0..samples)
+        .map(|i| {
+            let t = 0.5 * i as f64;
+            let w = |p: f64| (2.0 * PI * t / p + phase).sin();
+            LoadSample {
+                time_s: t,
+                strain: 1e-3 + 2e-4 * w(13.0) + 1e-4 * w(7.3) + 0.5e-4 * w(3.1),
+                curvature_per_m: 0.004
+                    + 0.012 * (2.0 * PI * t / 11.0 + 2.0 * phase).sin()
+                    + 0.006 * w(5.7)
+                    + 0.003 * w(2.3),
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn a_load_outside_the_calibrated_range_is_refused_with_the_range() {
+    let range = LoadRange {
+        strain: [5e-4, 1.5e-3],
+        curvature_per_m: [-0.02, 0.03],
+    };
+    let reduced = ReducedStrand {
+        format: FORMAT_VERSION,
+        model_key: String::new(),
+        friction_coefficient: 0.12,
+        elastic_slip_m: 1e-5,
+        range,
+        scaling: LoadScaling::of(&range),
+        sites: Vec::new(),
+        laws: Vec::new(),
+        channels: Vec::new(),
+        element_fits: Vec::new(),
+        calibration: CalibrationReport {
+            design_samples: 0,
+            fe_substeps: 0,
+            fe_iterations: 0,
+            fe_wall_time_s: 0.0,
+            fits: Vec::new(),
+            replay: Vec::new(),
+        },
+    };
+    let mut h = irregular(20, 0.0);
+    assert!(run_reduced(&reduced, &h, 1e-8).is_ok());
+    h[7].curvature_per_m = 0.05;
+    match run_reduced(&reduced, &h, 1e-8) {
+        Err(ReducedError::OutOfRange {
+            index,
+            field,
+            low,
+            high,
+            ..
+        }) => {
+            assert_eq!((index, field), (7, "curvature_per_m"));
+            assert_eq!((low, high), (-0.02, 0.03));
+        }
+        other => panic!("expected the range refusal, got {other:?}"),
+    }
+    h[7].curvature_per_m = 0.0;
+    h[3].strain = 2e-3;
+    assert!(matches!(
+        run_reduced(&reduced, &h, 1e-8),
+        Err(ReducedError::OutOfRange { index: 3, field: "strain", .. })
+    ));
+    let message = run_reduced(&reduced, &h, 1e-8).unwrap_err().to_string();
+    assert!(message.contains("calibrated range"), "{message}");
+}
+
+#[test]
+fn reduced_matches_fe_on_a_held_out_history_of_the_benchmark_strand() {
+    let model = model();
+    let held_out = irregular(240, 0.7);
+    let range = LoadRange::of(&held_out).expect("samples").union(LoadRange {
+        strain: [7e-4, 1.35e-3],
+        curvature_per_m: [-0.015, 0.025],
+    });
+    let options = CalibrationOptions::default();
+    let reduced = calibrate(&model, range, &options, &mut NoObserver).expect("calibrates");
+    let reduced = reduced.validated().expect("a valid calibration");
+    let fe = run_history(&model, &held_out, &options.history, &mut NoObserver).expect("FE run");
+    let red = run_reduced(&reduced, &held_out, options.history.slip_gate_m).expect("reduced run");
+    assert_eq!(red.contacts.len(), fe.contacts.len());
+    let cmp = compare_records(&fe.contacts, &red.contacts, 1e-6, 0);
+    for c in &cmp {
+        eprintln!(
+            "interface {}: max slip range FE {:.3e} reduced {:.3e} ({:+.1} %), accumulated \
+             {:.3e} / {:.3e} ({:+.1} %), cycles {} / {} ({:+.1} %)",
+            c.interface,
+            c.reference.max_slip_range_m,
+            c.compared.max_slip_range_m,
+            100.0 * c.max_slip_range_error,
+            c.reference.accumulated_slip_m,
+            c.compared.accumulated_slip_m,
+            100.0 * c.accumulated_slip_error,
+            c.reference.cycles,
+            c.compared.cycles,
+            100.0 * c.cycles_error
+        );
+    }
+    for c in &cmp {
+        assert!(c.reference.max_slip_range_m > 1e-6, "the history makes slip cycles");
+        assert!(c.worst() <= 0.10, "interface {}: {:?}", c.interface, c);
+    }
+}
