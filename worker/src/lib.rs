@@ -10,9 +10,11 @@
 //!   statistics and per-sea-state damage inputs;
 //! - [`series`]: the hot-spot series format the global stage writes and the strand stage reads;
 //! - [`failure`]: failure reports of the stages;
+//! - [`args`]: the command-line arguments of a worker process;
 //! - [`process`]: a whole worker process (store, signals, runtime), shared by the `moorfret
 //!   worker` command and the `moorfret-worker` binary.
 
+pub mod args;
 pub mod execute;
 pub mod failure;
 pub mod global_stage;

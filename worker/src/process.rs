@@ -12,7 +12,8 @@ use anyhow::Context;
 use tokio::sync::watch;
 
 use moorfret_store::{
-    ArtifactStore, Clock, QueuePolicy, Store, StoreLocation, StoreOptions, WallTimeBudget,
+    ArtifactStore, Clock, JobKind, QueuePolicy, Store, StoreLocation, StoreOptions,
+    WallTimeBudget,
 };
 
 use crate::serve::{self, WorkerConfig};
@@ -104,6 +105,8 @@ pub struct ProcessOptions {
     pub wall_time_s: Option<f64>,
     /// Part of `wall_time_s` kept for storing the last job's results, s.
     pub wall_time_reserve_s: f64,
+    /// Job kinds this worker takes (all if empty).
+    pub kinds: Vec<JobKind>,
 }
 
 /// Runs a worker until a signal (or idle, with `exit_when_idle`).
@@ -131,6 +134,7 @@ pub fn run(options: ProcessOptions) -> anyhow::Result<()> {
             exit_when_idle: options.exit_when_idle,
             idle_poll: Duration::from_millis(options.poll_ms),
             wall_time,
+            kinds: options.kinds.clone(),
             ..WorkerConfig::default()
         };
         let summary = serve::run(store.clone(), artifacts, config, rx).await;

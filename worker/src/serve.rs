@@ -91,9 +91,23 @@ pub fn this_process() -> WorkerInfo {
     }
 }
 
-/// Whether any campaign still has work that may become claimable.
-async fn work_remains(store: &Store, retry: &RetryPolicy) -> Result<bool, StoreError> {
+/// Whether any campaign still has work that may become claimable (of `kinds`, all if empty).
+async fn work_remains(
+    store: &Store,
+    retry: &RetryPolicy,
+    kinds: &[JobKind],
+) -> Result<bool, StoreError> {
+    let open = |s: &JobState| matches!(s, JobState::Ready | JobState::Running | JobState::Blocked);
     for campaign in retry.run("list campaigns", || store.campaigns()).await? {
+        if !kinds.is_empty() {
+            let jobs = retry
+                .run("list jobs", || store.jobs_of_campaign(campaign.id))
+                .await?;
+            if jobs.iter().any(|j| kinds.contains(&j.kind) && open(&j.state)) {
+                return Ok(true);
+            }
+            continue;
+        }
         let progress = retry
             .run("read progress", || store.progress(campaign.id))
             .await?;
@@ -150,7 +164,7 @@ pub async fn run(
             .run("claim job", || store.claim(&worker, &filter))
             .await?;
         let Some(lease) = claimed else {
-            if config.exit_when_idle && !work_remains(&store, retry).await? {
+            if config.exit_when_idle && !work_remains(&store, retry, &config.kinds).await? {
                 return Ok(summary);
             }
             tokio::select! {
