@@ -434,3 +434,91 @@ fn a_profile_is_picked_by_name_from_a_file_of_profiles_or_refused_by_name() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(out.join("monitors.csv").exists());
 }
+
+/// A strain history with slip at the outer contacts (γ_e = 10 µm, the campaigns' value).
+fn slipping_strain_history(phase: f64) -> String {
+    let mut s = String::from("time_s,axial_strain,curvature_per_m\n");
+    for i in 0..=80 {
+        let t = 0.25 * i as f64;
+        let e = 1e-3 + 1.5e-4 * (2.0 * PI * t / 7.0 + phase).sin();
+        let k = 0.004 + 0.012 * (2.0 * PI * t / 5.0 + 2.0 * phase).sin();
+        s.push_str(&format!("{t},{e},{k}\n"));
+    }
+    s
+}
+
+#[test]
+fn a_reduced_run_writes_the_fe_files_calibrates_once_and_refuses_a_load_out_of_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let load = dir.path().join("load.csv");
+    std::fs::write(&load, slipping_strain_history(0.4)).unwrap();
+    let reg = ["--contact-regularisation", "2e8", "1e-5"];
+    let fe = dir.path().join("fe");
+    let o = run(&load, &fe, &reg);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let reduced = dir.path().join("reduced");
+    let mut args = reg.to_vec();
+    args.extend(["--fidelity", "reduced"]);
+    let o = run(&load, &reduced, &args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let files = |d: &Path| {
+        let mut v: Vec<String> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    };
+    assert_eq!(files(&fe), files(&reduced));
+    let summary = |d: &Path| -> serde_json::Value {
+        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap()
+    };
+    assert_eq!(summary(&fe)["fidelity"], "fe");
+    let s = summary(&reduced);
+    assert_eq!(s["fidelity"], "reduced");
+    assert_eq!(s["calibration"]["source"], "calibrated");
+    let (hf, mf) = csv_rows(&fe.join("monitors.csv"), 0);
+    let (hr, mr) = csv_rows(&reduced.join("monitors.csv"), 0);
+    assert_eq!(hf, hr, "same monitor channels");
+    assert_eq!(mf.len(), mr.len());
+
+    // a second run on the same model finds the calibration in the cache
+    let again = dir.path().join("again");
+    let o = run(&load, &again, &args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(summary(&again)["calibration"]["source"], "cached");
+
+    // the two runs compare file by file
+    let o = moorfret()
+        .args(["strand", "compare"])
+        .arg(profile())
+        .args(reg)
+        .arg(&fe)
+        .arg(&reduced)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(text.contains("per interface") && text.contains("per contact class"), "{text}");
+
+    // a calibration written to a file covers its range only
+    let cal = dir.path().join("cal.json");
+    let o = moorfret()
+        .env("MOORFRET_CACHE_DIR", dir.path().join("cache2"))
+        .args(["strand", "calibrate"])
+        .arg(profile())
+        .args(reg)
+        .args(["--strain-range", "8e-4", "1.2e-3", "--curvature-range", "-0.01", "0.02"])
+        .arg("--out")
+        .arg(&cal)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut args = reg.to_vec();
+    args.extend(["--fidelity", "reduced", "--calibration", cal.to_str().unwrap()]);
+    let o = run(&load, &dir.path().join("outside"), &args);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(e.contains("covers") && e.contains("calibrate"), "{e}");
+    assert!(!dir.path().join("outside").join("contacts.csv").exists());
+}

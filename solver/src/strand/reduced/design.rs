@@ -1,8 +1,9 @@
 //! The designed load history of a calibration ([`super`] module docs).
 //!
 //! In the scaled coordinates `x` (tension) and `y` (curvature) of the range, both in [−1, 1],
-//! the path starts at the middle tension and the smallest curvature and visits, at each of [`DesignParams::tension_levels`] tension levels from the lowest
-//! to the highest:
+//! the path starts at the middle tension and the smallest curvature (where the FE initialisation
+//! is cheap), then visits, at each of [`DesignParams::tension_levels`] tension levels at the
+//! midpoints of equal bins of the tension range, from the lowest:
 //! 1. curvature cycles about the range's centre at fixed tension, `y = ±A` for every amplitude
 //!    of [`DesignParams::amplitudes`] (largest first, [`DesignParams::cycles`] each): loops of
 //!    every size below the largest, as a rainflow-counted sea state has them;
@@ -20,7 +21,7 @@ use crate::strand::history::{HistoryOptions, LoadSample};
 /// Settings of the designed history.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DesignParams {
-    /// Tension levels, evenly spaced from the lowest to the highest (≥ 2).
+    /// Tension levels, at the midpoints of equal bins of the range (≥ 2).
     pub tension_levels: usize,
     /// Cycle amplitudes as fractions of the half range, largest first, each in (0, 1].
     pub amplitudes: Vec<f64>,
@@ -31,7 +32,7 @@ pub struct DesignParams {
 impl Default for DesignParams {
     fn default() -> Self {
         Self {
-            tension_levels: 3,
+            tension_levels: 4,
             amplitudes: vec![1.0, 0.6, 0.35, 0.2, 0.1, 0.05, 0.02],
             cycles: 2,
         }
@@ -46,7 +47,10 @@ pub fn design_vertices(params: &DesignParams) -> Vec<(f64, f64)> {
     // at the range's middle curvature costs minutes on the six-layer strand
     let mut v = vec![(0.0, -1.0)];
     for j in 0..levels {
-        let xj = -1.0 + 2.0 * j as f64 / (levels - 1) as f64;
+        // midpoints of `levels` equal bins: the extremes of the range are reached by the
+        // largest cycles and the corners, not held (at the smallest tension of a campaign,
+        // a near-slack instant, the strand barely carries its contacts and the FE crawls)
+        let xj = -1.0 + (2 * j + 1) as f64 / levels as f64;
         v.push((xj, 0.0));
         for &a in &params.amplitudes {
             for _ in 0..params.cycles.max(1) {
