@@ -58,6 +58,7 @@ use super::strand_reduced::{
     Fidelity, ReducedArgs,
 };
 use moorfret_solver::strand::profile::Strand;
+use moorfret_solver::strand::reduced::design::design_strain_floor;
 use moorfret_solver::strand::reduced::run_reduced;
 use moorfret_orchestrator::plot::{strand_history_svgs, LoadPlot};
 
@@ -898,7 +899,7 @@ impl ReducedRun<'_> {
         let mut observer = Observer::progress_only();
         let (strand, params) = (lazy.strand, lazy.params);
         let mut build = || StrandModel::new(strand, params).map_err(anyhow::Error::from);
-        let (reduced, source) = calibration_for(
+        let (reduced, mut source) = calibration_for(
             &request,
             &range,
             widened(range, margin),
@@ -906,6 +907,9 @@ impl ReducedRun<'_> {
             &mut observer,
         )?;
         observer.finish();
+        let floor = design_strain_floor(&reduced.range);
+        source.samples_below_design_strain =
+            self.samples.iter().filter(|s| s.strain < floor).count();
         let result = run_reduced(&reduced, self.samples, self.options.slip_gate_m)
             .map_err(|e| anyhow!("{}: {e}", self.load.display()))?;
         std::fs::create_dir_all(self.out)

@@ -70,6 +70,9 @@ pub(crate) struct CalibrationSource {
     pub(crate) range: LoadRange,
     /// Wall time of the calibration's FE run (s).
     pub(crate) calibration_wall_time_s: f64,
+    /// Samples of this run below the lowest strain the calibration's design visited (near
+    /// slack; run with the fitted laws continued, see `strand::reduced::design`).
+    pub(crate) samples_below_design_strain: usize,
 }
 
 /// The cache directory: `dir`, else `$XDG_CACHE_HOME/moorfret`, else `~/.cache/moorfret`.
@@ -210,6 +213,7 @@ pub(crate) fn calibration_for(
         file: file.map(|f| f.display().to_string()),
         range: r.range,
         calibration_wall_time_s: r.calibration.fe_wall_time_s,
+        samples_below_design_strain: 0,
     };
     if let Some(path) = req.given {
         let reduced = read_calibration(path)?;

@@ -11,7 +11,8 @@
 //! 3. combined cycles, tension and curvature in phase and in opposition, for the largest two
 //!    amplitudes (a hot spot's tension and curvature move together or against each other);
 //!
-//! then the corners of the range. Every straight stretch is sampled at the sub-steps the FE
+//! then the corners of the range. No vertex lies below [`design_strain_floor`]. Every straight
+//! stretch is sampled at the sub-steps the FE
 //! history run will solve (`ceil(max(|Δε|/Δε_max, |Δκ|/Δκ_max))` equal parts), so the
 //! calibration sees every solved state and nothing interpolated. Times are one second apart.
 
@@ -37,6 +38,19 @@ impl Default for DesignParams {
             cycles: 2,
         }
     }
+}
+
+/// Lowest tension the design visits, as a fraction of the range's highest strain.
+pub const MIN_STRAIN_FRACTION: f64 = 0.1;
+
+/// The lowest strain the designed history visits: the range's lowest, but not below
+/// [`MIN_STRAIN_FRACTION`] of its highest. A campaign's lowest tension is a near-slack instant
+/// of its most severe sea state, where the strand barely presses its contacts: the FE model
+/// converges there along a recorded history but not along the design's large straight strokes,
+/// and its contacts carry too little force to matter for fretting. Samples below it are run
+/// with the fitted laws continued (quadratic normal forces clipped at zero).
+pub fn design_strain_floor(range: &LoadRange) -> f64 {
+    range.strain[0].max(MIN_STRAIN_FRACTION * range.strain[1])
 }
 
 /// The vertices of the path in scaled coordinates (module docs).
@@ -87,7 +101,11 @@ pub fn design_history(
     options: &HistoryOptions,
 ) -> Vec<LoadSample> {
     let scaling = LoadScaling::of(range);
-    let vertices = design_vertices(params);
+    let x_floor = scaling.scaled(design_strain_floor(range), 0.0).0;
+    let vertices: Vec<(f64, f64)> = design_vertices(params)
+        .into_iter()
+        .map(|(x, y)| (x.max(x_floor), y))
+        .collect();
     let mut out: Vec<LoadSample> = Vec::new();
     let push = |strain: f64, curvature_per_m: f64, out: &mut Vec<LoadSample>| {
         if let Some(last) = out.last() {
@@ -141,6 +159,7 @@ mod tests {
         let opts = HistoryOptions::default();
         let h = design_history(&range, &DesignParams::default(), &opts);
         let got = LoadRange::of(&h).expect("samples");
+        assert!(design_strain_floor(&range) == range.strain[0]);
         for (a, b) in got
             .strain
             .iter()
