@@ -35,6 +35,15 @@ pub(crate) struct GlobalArgs {
     /// Discarded start-up time (s), overriding the case (the wave ramp is shortened to fit).
     #[arg(long)]
     pub(crate) transient_s: Option<f64>,
+    /// Significant wave height (m), overriding the case's sea state.
+    #[arg(long)]
+    pub(crate) hs_m: Option<f64>,
+    /// Peak period (s), overriding the case's sea state.
+    #[arg(long)]
+    pub(crate) tp_s: Option<f64>,
+    /// Seed of the sea's realisation, overriding the case's.
+    #[arg(long)]
+    pub(crate) seed: Option<u64>,
     /// Worker threads for the lines.
     #[arg(long, default_value_t = 1)]
     pub(crate) threads: usize,
@@ -77,6 +86,15 @@ pub(crate) fn execute(args: &GlobalArgs) -> anyhow::Result<()> {
     if let Some(t) = args.transient_s {
         case.timing.transient_s = t;
         case.timing.wave_ramp_s = case.timing.wave_ramp_s.min(t);
+    }
+    if let Some(hs) = args.hs_m {
+        case.sea_state.hs_m = hs;
+    }
+    if let Some(tp) = args.tp_s {
+        case.sea_state.tp_s = tp;
+    }
+    if let Some(seed) = args.seed {
+        case.sea_state.seed = seed;
     }
     let model = GlobalModel::new(&case, floater, args.duration_s)
         .with_context(|| format!("in case file {}", args.case.display()))?;
