@@ -5,11 +5,11 @@
 //! contact, so their Gram matrices are shared: per contact only the right-hand sides, the
 //! cross terms with its own tangential force and the sums of squares are kept.
 //!
-//! Fits, per contact, with `φ = [1, x, y, xy, x², y²]` and `ψ = [x, y, 1]`:
+//! Fits, per contact, with `φ = [1, x, y, xy, x², y²]` and `ψ = [x, y, xy, 1]`:
 //! - normal force: `f_N ≈ φ·n`;
-//! - structure: `s ≈ ψ·[a, b, c] − g f_T` for `[a, b, c, g]`; if that makes `g < 0` (no
-//!   physical meaning: the strand would push the contact along its own friction force),
-//!   `s ≈ ψ·[a, b, c]` with `g = 0`.
+//! - structure: `s ≈ ψ·d − (g₀ + g₁ x) f_T` for the drive `d` and the compliance; if that makes
+//!   `g < 0` anywhere on the range (no physical meaning: the strand would push the contact
+//!   along its own friction force), with `g₁ = 0`, and if still negative with `g = 0`.
 //!
 //! Each system is solved after Jacobi scaling (columns to unit diagonal) with a relative ridge
 //! of [`RIDGE`], which only matters for a contact whose tangential force is (nearly) a linear
@@ -17,7 +17,7 @@
 //! for which every `g` reproduces its stick response (the slip range is then `Δd / (1 + g k)`
 //! with `Δd` fitted for that `g`).
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 
 use super::{force_features, ContactLaw, FORCE_FEATURES};
 
@@ -46,17 +46,31 @@ impl ForceSums {
     }
 }
 
-/// Sums of one contact's structure equation.
+/// Load features of the drive: `ψ = [x, y, x y, 1]`.
+pub const DRIVE_FEATURES: usize = 4;
+
+/// The drive features at scaled loads (x, y).
+#[inline]
+pub fn drive_features(x: f64, y: f64) -> [f64; DRIVE_FEATURES] {
+    [x, y, x * y, 1.0]
+}
+
+/// Unknowns of the structure equation: the drive's four coefficients and the compliance
+/// `g = g₀ + g₁ x`.
+const DRIVE_UNKNOWNS: usize = DRIVE_FEATURES + 2;
+
+/// Sums of one contact's structure equation `s = ψ·d − (g₀ + g₁ x) f_T`, with the force columns
+/// `u = [−f_T, −x f_T]`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct DriveSums {
-    /// Σ ψ (−f_T).
-    psi_f: [f64; 3],
-    /// Σ f_T².
-    ff: f64,
+    /// Σ ψ_i u_j.
+    psi_u: [[f64; 2]; DRIVE_FEATURES],
+    /// Σ u_i u_j (00, 01, 11).
+    uu: [f64; 3],
     /// Σ ψ s.
-    psi_s: [f64; 3],
-    /// Σ (−f_T) s.
-    fs: f64,
+    psi_s: [f64; DRIVE_FEATURES],
+    /// Σ u s.
+    us: [f64; 2],
     /// Σ s².
     ss: f64,
     /// Σ s.
@@ -95,7 +109,7 @@ pub struct ContactFit {
 #[derive(Clone, Debug)]
 pub struct FitAccumulator {
     force_gram: ForceGram,
-    drive_gram: SMatrix<f64, 3, 3>,
+    drive_gram: SMatrix<f64, DRIVE_FEATURES, DRIVE_FEATURES>,
     samples: usize,
     normal: Vec<ForceSums>,
     drive: Vec<DriveSums>,
@@ -125,10 +139,10 @@ impl FitAccumulator {
     /// and are ignored beyond the shorter length.
     pub fn add(&mut self, x: f64, y: f64, contacts: &[(f64, f64, f64)], elements: &[f64]) {
         let phi = force_features(x, y);
-        let psi = [x, y, 1.0];
+        let psi = drive_features(x, y);
         let phi_v = ForceVec::from_column_slice(&phi);
         self.force_gram += phi_v * phi_v.transpose();
-        let psi_v = SVector::<f64, 3>::from_column_slice(&psi);
+        let psi_v = SVector::<f64, DRIVE_FEATURES>::from_column_slice(&psi);
         self.drive_gram += psi_v * psi_v.transpose();
         self.samples += 1;
         for ((&(s, f_n, f_t), n), d) in contacts
@@ -137,13 +151,17 @@ impl FitAccumulator {
             .zip(&mut self.drive)
         {
             n.add(&phi, f_n);
-            let f = -f_t;
-            for k in 0..3 {
-                d.psi_f[k] += psi[k] * f;
+            let u = [-f_t, -x * f_t];
+            for k in 0..DRIVE_FEATURES {
+                d.psi_u[k][0] += psi[k] * u[0];
+                d.psi_u[k][1] += psi[k] * u[1];
                 d.psi_s[k] += psi[k] * s;
             }
-            d.ff += f * f;
-            d.fs += f * s;
+            d.uu[0] += u[0] * u[0];
+            d.uu[1] += u[0] * u[1];
+            d.uu[2] += u[1] * u[1];
+            d.us[0] += u[0] * s;
+            d.us[1] += u[1] * s;
             d.ss += s * s;
             d.s_sum += s;
         }
@@ -161,12 +179,12 @@ impl FitAccumulator {
             .zip(&self.drive)
             .map(|(ns, ds)| {
                 let normal = self.force_fit(&normal_solver, ns);
-                let (drive, g, slip_residual_ss, clamped) = self.drive_fit(ds);
+                let (drive, compliance, slip_residual_ss, clamped) = self.drive_fit(ds);
                 ContactFit {
                     law: ContactLaw {
                         normal: normal.coefficients,
                         drive,
-                        compliance_m_per_n: g,
+                        compliance,
                     },
                     slip_residual_ss,
                     slip_spread_ss: (ds.ss - ds.s_sum * ds.s_sum / n).max(0.0),
@@ -202,30 +220,86 @@ impl FitAccumulator {
         }
     }
 
-    /// `[a, b, c]`, `g`, Σ residual², whether g was clamped.
-    fn drive_fit(&self, d: &DriveSums) -> ([f64; 3], f64, f64, bool) {
-        let mut m = SMatrix::<f64, 4, 4>::zeros();
-        m.fixed_view_mut::<3, 3>(0, 0).copy_from(&self.drive_gram);
-        for k in 0..3 {
-            m[(k, 3)] = d.psi_f[k];
-            m[(3, k)] = d.psi_f[k];
+    /// The drive, the compliance `[g₀, g₁]`, Σ residual², whether the compliance was refitted
+    /// (the free fit makes `g < 0` somewhere on the range, x ∈ [−1, 1]: first `g₁ = 0`, then
+    /// `g = 0`).
+    fn drive_fit(&self, d: &DriveSums) -> ([f64; DRIVE_FEATURES], [f64; 2], f64, bool) {
+        let n = DRIVE_UNKNOWNS;
+        let mut m = DMatrix::<f64>::zeros(n, n);
+        let mut rhs = DVector::<f64>::zeros(n);
+        for i in 0..DRIVE_FEATURES {
+            for j in 0..DRIVE_FEATURES {
+                m[(i, j)] = self.drive_gram[(i, j)];
+            }
+            for j in 0..2 {
+                m[(i, DRIVE_FEATURES + j)] = d.psi_u[i][j];
+                m[(DRIVE_FEATURES + j, i)] = d.psi_u[i][j];
+            }
+            rhs[i] = d.psi_s[i];
         }
-        m[(3, 3)] = d.ff;
-        let rhs = SVector::<f64, 4>::new(d.psi_s[0], d.psi_s[1], d.psi_s[2], d.fs);
-        let residual = |beta: &SVector<f64, 4>| {
-            (d.ss - 2.0 * beta.dot(&rhs) + (beta.transpose() * m * beta)[0]).max(0.0)
+        let (a, b) = (DRIVE_FEATURES, DRIVE_FEATURES + 1);
+        m[(a, a)] = d.uu[0];
+        m[(a, b)] = d.uu[1];
+        m[(b, a)] = d.uu[1];
+        m[(b, b)] = d.uu[2];
+        rhs[a] = d.us[0];
+        rhs[b] = d.us[1];
+        let residual = |beta: &DVector<f64>| {
+            (d.ss - 2.0 * beta.dot(&rhs) + (beta.transpose() * &m * beta)[0]).max(0.0)
         };
-        if d.ff > 0.0 {
-            let beta = ScaledSolver::new(&m).solve(&rhs);
-            if beta[3] >= 0.0 && beta.iter().all(|v| v.is_finite()) {
-                return ([beta[0], beta[1], beta[2]], beta[3], residual(&beta), false);
+        let all: Vec<usize> = (0..n).collect();
+        let constant_g: Vec<usize> = (0..=DRIVE_FEATURES).collect();
+        let no_g: Vec<usize> = (0..DRIVE_FEATURES).collect();
+        let has_force = d.uu[0] > 0.0;
+        let candidates: [&[usize]; 3] = [&all, &constant_g, &no_g];
+        for (k, idx) in candidates.iter().enumerate() {
+            if !has_force && k < 2 {
+                continue;
+            }
+            let beta = solve_subset(&m, &rhs, idx);
+            let (g0, g1) = (beta[a], beta[b]);
+            let admissible = beta.iter().all(|v| v.is_finite()) && g0 - g1.abs() >= 0.0;
+            if admissible || idx.len() == DRIVE_FEATURES {
+                let mut drive = [0.0; DRIVE_FEATURES];
+                drive.copy_from_slice(&beta.as_slice()[..DRIVE_FEATURES]);
+                return (drive, [g0, g1], residual(&beta), k > 0 && has_force);
             }
         }
-        let rhs3 = SVector::<f64, 3>::new(d.psi_s[0], d.psi_s[1], d.psi_s[2]);
-        let b3 = ScaledSolver::new(&self.drive_gram).solve(&rhs3);
-        let beta = SVector::<f64, 4>::new(b3[0], b3[1], b3[2], 0.0);
-        ([b3[0], b3[1], b3[2]], 0.0, residual(&beta), d.ff > 0.0)
+        ([0.0; DRIVE_FEATURES], [0.0; 2], d.ss, false)
     }
+}
+
+/// The least-squares solution of `m β = rhs` restricted to the unknowns `idx` (the others 0),
+/// Jacobi-scaled with the relative ridge [`RIDGE`].
+fn solve_subset(m: &DMatrix<f64>, rhs: &DVector<f64>, idx: &[usize]) -> DVector<f64> {
+    let k = idx.len();
+    let scale: Vec<f64> = idx
+        .iter()
+        .map(|&i| {
+            let d = m[(i, i)];
+            if d > 0.0 && d.is_finite() {
+                1.0 / d.sqrt()
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let mut a = DMatrix::<f64>::from_fn(k, k, |p, q| scale[p] * m[(idx[p], idx[q])] * scale[q]);
+    for p in 0..k {
+        a[(p, p)] += RIDGE;
+    }
+    let r = DVector::<f64>::from_fn(k, |p, _| scale[p] * rhs[idx[p]]);
+    let z = a
+        .clone()
+        .cholesky()
+        .map(|c| c.solve(&r))
+        .or_else(|| a.lu().solve(&r))
+        .unwrap_or_else(|| DVector::zeros(k));
+    let mut beta = DVector::<f64>::zeros(m.nrows());
+    for (p, &i) in idx.iter().enumerate() {
+        beta[i] = scale[p] * z[p];
+    }
+    beta
 }
 
 /// Jacobi-scaled, ridge-regularised solver of a symmetric positive semi-definite system.
@@ -287,22 +361,26 @@ mod tests {
 
     #[test]
     fn the_structure_equation_is_recovered_with_its_compliance() {
-        // s = a x + b y + c − g f_T with f_T independent of the loads: all four identifiable
-        let (a, b, c, g) = (2e-6, -5e-6, 1e-7, 3e-8);
+        // s = a x + b y + e x y + c − (g₀ + g₁ x) f_T with f_T independent of the loads: all six
+        // identifiable
+        let (a, b, e, c, g0, g1) = (2e-6, -5e-6, 0.7e-6, 1e-7, 3e-8, -1e-8);
         let mut acc = FitAccumulator::new(1, 0);
-        for i in 0..60 {
+        for i in 0..80 {
             let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.53).cos());
             let f_t = 40.0 * (i as f64 * 1.7).sin();
-            let s = a * x + b * y + c - g * f_t;
+            let s = a * x + b * y + e * x * y + c - (g0 + g1 * x) * f_t;
             acc.add(x, y, &[(s, 100.0, f_t)], &[]);
         }
         let fit = acc.contact_fits()[0];
         let rel = |p: f64, q: f64| (p - q).abs() / q.abs();
         assert!(rel(fit.law.drive[0], a) < 1e-6);
         assert!(rel(fit.law.drive[1], b) < 1e-6);
-        assert!(rel(fit.law.drive[2], c) < 1e-5);
-        assert!(rel(fit.law.compliance_m_per_n, g) < 1e-6);
+        assert!(rel(fit.law.drive[2], e) < 1e-5);
+        assert!(rel(fit.law.drive[3], c) < 1e-5);
+        assert!(rel(fit.law.compliance[0], g0) < 1e-6);
+        assert!(rel(fit.law.compliance[1], g1) < 1e-5);
         assert!(!fit.compliance_clamped);
+        assert!(fit.slip_residual_ss < 1e-8 * fit.slip_spread_ss);
     }
 
     #[test]
@@ -316,7 +394,7 @@ mod tests {
             acc.add(x, y, &[(s, 100.0, f_t)], &[]);
         }
         let fit = acc.contact_fits()[0];
-        assert_eq!(fit.law.compliance_m_per_n, 0.0);
+        assert_eq!(fit.law.compliance, [0.0, 0.0]);
         assert!(fit.compliance_clamped);
         assert!(fit.slip_residual_ss > 0.0);
     }

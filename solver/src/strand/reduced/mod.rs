@@ -9,9 +9,10 @@
 //! slider) that obeys the FE model's own tangential law, loaded through the rest of the strand,
 //! which is reduced to a linear drive and a compliance:
 //!
-//! - structure: `s + g f_T = d(ε, κ)`, with `d = a x + b y + c` linear in the scaled loads
-//!   `x = (ε − ε₀)/ε_h`, `y = (κ − κ₀)/κ_h` ([`LoadScaling`]) and `g ≥ 0` the compliance through
-//!   which the strand around the contact answers its tangential force;
+//! - structure: `s + g f_T = d(ε, κ)`, with the drive `d = a x + b y + e x y + c` in the scaled
+//!   loads `x = (ε − ε₀)/ε_h`, `y = (κ − κ₀)/κ_h` ([`LoadScaling`]) and `g = g₀ + g₁ x ≥ 0` the
+//!   compliance through which the strand around the contact answers its tangential force (the
+//!   tension sets how hard the neighbouring contacts hold);
 //! - contact (the elastic-slip law of [`crate::contact::laws`], seed Sec. 2.1): the slip
 //!   `s = s_e + s_p`, elastic part `s_e` with `f_T = (μ f_N / γ_e) s_e`, `|s_e| ≤ γ_e`, and an
 //!   irreversible part `s_p` that moves only while the contact slides;
@@ -28,9 +29,9 @@
 //! [`calibrate`] drives the FE model through a designed load history ([`design`]: curvature,
 //! tension and combined cycles of decreasing amplitude at several tension levels over the
 //! requested [`LoadRange`]), and fits per contact, by linear least squares on every sample
-//! ([`fit`]): `f_N` on the six quadratic load features, and `(a, b, c, g)` on
-//! `s = a x + b y + c − g f_T` (the structure equation with the FE's `s` and `f_T`; `g` is
-//! refitted at zero if the fit makes it negative). Wire axial forces of the monitor channels are
+//! ([`fit`]): `f_N` on the six quadratic load features, and `(a, b, e, c, g₀, g₁)` on the
+//! structure equation with the FE's `s` and `f_T` (the compliance refitted constant, then zero,
+//! if the fit makes it negative on the range). Wire axial forces of the monitor channels are
 //! fitted like `f_N`. The calibration then replays the designed history through the reduced
 //! model and reports, per layer interface, its in-sample error against the FE run
 //! ([`CalibrationReport`]).
@@ -47,7 +48,7 @@
 //!
 //! What it leaves out, by construction: the interaction of contacts beyond the compliance `g`
 //! (the slip of one contact changes the load of its neighbours only through the fitted drive),
-//! a drive that depends on the load level, and the FE's initialisation at a small tension. Its error against
+//! and the FE's initialisation at a small tension. Its error against
 //! the FE model is measured on held-out histories (docs/reduced-strand.md), not assumed.
 //!
 //! Units: m, N, 1/m.
@@ -67,7 +68,7 @@ pub use calibrate::{calibrate, CalibrationOptions};
 pub use run::run_reduced;
 
 /// Version of the stored calibration; a file of another version is refused.
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
 
 /// Slack of the calibrated range, as a fraction of each channel's range: a sample this far
 /// outside is still accepted (round-off of the tension-to-strain conversion).
@@ -281,10 +282,11 @@ fn dot<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
 pub struct ContactLaw {
     /// Coefficients of `f_N` on [`force_features`] (N).
     pub normal: [f64; FORCE_FEATURES],
-    /// Drive `d = a x + b y + c`: `[a, b, c]` (m).
-    pub drive: [f64; 3],
-    /// Compliance `g ≥ 0` of the strand at the contact (m/N).
-    pub compliance_m_per_n: f64,
+    /// Drive `d = a x + b y + e x y + c`: `[a, b, e, c]` (m).
+    pub drive: [f64; fit::DRIVE_FEATURES],
+    /// Compliance of the strand at the contact, `g = g₀ + g₁ x ≥ 0` on the range: `[g₀, g₁]`
+    /// (m/N).
+    pub compliance: [f64; 2],
 }
 
 impl ContactLaw {
@@ -297,7 +299,13 @@ impl ContactLaw {
     /// Drive `d` at scaled loads (x, y) (m).
     #[inline]
     pub fn drive_m(&self, x: f64, y: f64) -> f64 {
-        self.drive[0] * x + self.drive[1] * y + self.drive[2]
+        dot(&self.drive, &fit::drive_features(x, y))
+    }
+
+    /// Compliance `g` at scaled tension x (m/N, ≥ 0).
+    #[inline]
+    pub fn compliance_m_per_n(&self, x: f64) -> f64 {
+        (self.compliance[0] + self.compliance[1] * x).max(0.0)
     }
 }
 
@@ -438,9 +446,12 @@ impl ReducedStrand {
             return Err(invalid("elastic_slip_m", ge, "must be finite and > 0"));
         }
         for (c, law) in self.laws.iter().enumerate() {
-            let finite = law.normal.iter().chain(&law.drive).all(|v| v.is_finite())
-                && law.compliance_m_per_n.is_finite()
-                && law.compliance_m_per_n >= 0.0;
+            let finite = law
+                .normal
+                .iter()
+                .chain(&law.drive)
+                .chain(&law.compliance)
+                .all(|v| v.is_finite());
             if !finite {
                 return Err(ReducedError::Calibration {
                     reason: format!("contact {c}: a fitted coefficient is not finite or g < 0"),

@@ -75,7 +75,7 @@ fn run_contact(
         let (slip, tangential) = state.step(
             law.drive_m(x, y),
             normal,
-            law.compliance_m_per_n,
+            law.compliance_m_per_n(x),
             stick_per_m,
             reduced.elastic_slip_m,
         );
