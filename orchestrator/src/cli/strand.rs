@@ -16,6 +16,7 @@ use moorfret_campaign::fatigue::FatigueSpec;
 use moorfret_solver::fretting::{
     sea_state_damage_inputs, ContactRecord, SeaStateInputs, TensionHistory,
 };
+use moorfret_solver::strand::history::stiffness::straight_strand_stiffness;
 use moorfret_solver::strand::history::HistoryOptions;
 use moorfret_solver::strand::profile::Strand;
 use moorfret_solver::strand::reduced::compare::{compare_records, relative_difference};
@@ -214,7 +215,8 @@ struct RunOutput {
     records: Vec<ContactRecord>,
     strain: Vec<f64>,
     dt_s: f64,
-    ea_n: f64,
+    /// EA of a tension history's conversion (none for a strain history).
+    ea_n: Option<f64>,
 }
 
 fn read_run(dir: &Path) -> anyhow::Result<RunOutput> {
@@ -230,13 +232,7 @@ fn read_run(dir: &Path) -> anyhow::Result<RunOutput> {
     .with_context(|| format!("reading {}", path.display()))?;
     let ea_n = summary
         .pointer("/axial_stiffness/ea_n")
-        .and_then(serde_json::Value::as_f64)
-        .ok_or_else(|| {
-            anyhow!(
-                "{}: no axial_stiffness.ea_n (a run on a tension history is needed)",
-                path.display()
-            )
-        })?;
+        .and_then(serde_json::Value::as_f64);
     let path = dir.join("monitors.csv");
     let mut reader =
         csv::Reader::from_path(&path).with_context(|| format!("reading {}", path.display()))?;
@@ -268,8 +264,13 @@ fn damage_inputs(
     strand: &Strand,
     run_in_samples: usize,
 ) -> anyhow::Result<SeaStateInputs> {
-    let config = FatigueSpec::default().fretting_config(strand, run.ea_n);
-    let tension: Vec<f64> = run.strain.iter().map(|e| e * run.ea_n).collect();
+    // the wire stress of the damage inputs is T / A with A = EA / E, i.e. E ε whatever EA is:
+    // a strain history takes the straight-strand EA
+    let ea_n = run
+        .ea_n
+        .unwrap_or_else(|| straight_strand_stiffness(strand).simple_n);
+    let config = FatigueSpec::default().fretting_config(strand, ea_n);
+    let tension: Vec<f64> = run.strain.iter().map(|e| e * ea_n).collect();
     let history = TensionHistory {
         tension_n: &tension,
         dt_s: run.dt_s,
