@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use super::compare::compare_records;
-use super::design::{design_history, DesignParams};
+use super::design::{design_history_weighted, DesignParams};
 use super::fit::FitAccumulator;
 use super::{
     CalibrationReport, InterfaceFit, LoadRange, LoadScaling, ReducedError, ReducedStrand,
@@ -44,6 +44,8 @@ impl Default for CalibrationOptions {
 /// Feeds every sample of the FE run to the fit, and passes progress on.
 struct Learner<'a> {
     scaling: LoadScaling,
+    /// Least-squares weight of every designed sample, by index (= its time in s).
+    weights: Vec<f64>,
     fit: FitAccumulator,
     buffer: Vec<(f64, f64, f64)>,
     inner: &'a mut dyn HistoryObserver,
@@ -64,7 +66,12 @@ impl HistoryObserver for Learner<'_> {
                 .iter()
                 .map(|c| (c.slip_m, c.normal_force_n, c.tangential_force_n)),
         );
-        self.fit.add(x, y, &self.buffer, elements);
+        let w = self
+            .weights
+            .get(sample.time_s as usize)
+            .copied()
+            .unwrap_or(1.0);
+        self.fit.add(x, y, w, &self.buffer, elements);
     }
 
     fn should_stop(&mut self) -> bool {
@@ -100,11 +107,14 @@ pub fn calibrate(
         checkpoint_interval_segments: 0,
         ..options.history
     };
-    let design = design_history(&range, &options.design, &history);
+    let weighted = design_history_weighted(&range, &options.design, &history);
+    let weights: Vec<f64> = weighted.iter().map(|(_, w)| *w).collect();
+    let design: Vec<LoadSample> = weighted.into_iter().map(|(s, _)| s).collect();
     let scaling = LoadScaling::of(&range);
     let sites = contact_sites(model);
     let mut learner = Learner {
         scaling,
+        weights,
         fit: FitAccumulator::new(model.contacts.len(), 0),
         buffer: Vec::with_capacity(model.contacts.len()),
         inner: observer,
@@ -143,7 +153,8 @@ pub fn calibrate(
         e.normal_rms_n += f.normal_spread_ss;
         e.compliance_clamped += usize::from(f.compliance_clamped);
     }
-    let n = learner.fit.samples().max(1) as f64;
+    // weighted root mean squares (the weights of the design, `design::design_history_weighted`)
+    let n = learner.fit.weight().max(f64::MIN_POSITIVE);
     let fits_report = per_interface
         .into_values()
         .map(|mut e| {

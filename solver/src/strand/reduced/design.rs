@@ -54,43 +54,49 @@ pub fn design_strain_floor(range: &LoadRange) -> f64 {
 }
 
 /// The vertices of the path in scaled coordinates (module docs).
-pub fn design_vertices(params: &DesignParams) -> Vec<(f64, f64)> {
+pub fn design_vertices(params: &DesignParams) -> Vec<(f64, f64, f64)> {
     let levels = params.tension_levels.max(2);
     // start (and so initialise the FE model) at the middle tension and the smallest
     // curvature: the FE initialisation bends the strand at a tenth of the first tension, which
     // at the range's middle curvature costs minutes on the six-layer strand
-    let mut v = vec![(0.0, -1.0)];
+    let mut v = vec![(0.0, -1.0, 1.0)];
     for j in 0..levels {
         // midpoints of `levels` equal bins: the extremes of the range are reached by the
         // largest cycles and the corners, not held (at the smallest tension of a campaign,
         // a near-slack instant, the strand barely carries its contacts and the FE crawls)
         let xj = -1.0 + (2 * j + 1) as f64 / levels as f64;
-        v.push((xj, 0.0));
+        v.push((xj, 0.0, 1.0));
         for &a in &params.amplitudes {
             for _ in 0..params.cycles.max(1) {
-                v.push((xj, a));
-                v.push((xj, -a));
+                v.push((xj, a, a));
+                v.push((xj, -a, a));
             }
         }
-        v.push((xj, 0.0));
+        v.push((xj, 0.0, 1.0));
         for &a in &params.amplitudes {
             for _ in 0..params.cycles.max(1) {
-                v.push(((xj + a).min(1.0), 0.0));
-                v.push(((xj - a).max(-1.0), 0.0));
+                v.push(((xj + a).min(1.0), 0.0, a));
+                v.push(((xj - a).max(-1.0), 0.0, a));
             }
         }
-        v.push((xj, 0.0));
+        v.push((xj, 0.0, 1.0));
         for &a in params.amplitudes.iter().take(2) {
             for sign in [1.0, -1.0] {
                 for _ in 0..params.cycles.max(1) {
-                    v.push(((xj + a).min(1.0), sign * a));
-                    v.push(((xj - a).max(-1.0), -sign * a));
+                    v.push(((xj + a).min(1.0), sign * a, a));
+                    v.push(((xj - a).max(-1.0), -sign * a, a));
                 }
             }
         }
-        v.push((xj, 0.0));
+        v.push((xj, 0.0, 1.0));
     }
-    v.extend([(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0)]);
+    v.extend([
+        (-1.0, -1.0, 1.0),
+        (1.0, -1.0, 1.0),
+        (1.0, 1.0, 1.0),
+        (-1.0, 1.0, 1.0),
+        (-1.0, -1.0, 1.0),
+    ]);
     v
 }
 
@@ -100,38 +106,57 @@ pub fn design_history(
     params: &DesignParams,
     options: &HistoryOptions,
 ) -> Vec<LoadSample> {
+    design_history_weighted(range, params, options)
+        .into_iter()
+        .map(|(s, _)| s)
+        .collect()
+}
+
+/// [`design_history`] with the least-squares weight of every sample: 1/A² for a sample on a
+/// stroke of a cycle of amplitude A, so that the small cycles, which most contacts of a mild
+/// sea state see in stick, weigh in the fit like the large sliding ones relative to their size.
+pub fn design_history_weighted(
+    range: &LoadRange,
+    params: &DesignParams,
+    options: &HistoryOptions,
+) -> Vec<(LoadSample, f64)> {
     let scaling = LoadScaling::of(range);
     let x_floor = scaling.scaled(design_strain_floor(range), 0.0).0;
-    let vertices: Vec<(f64, f64)> = design_vertices(params)
+    let vertices: Vec<(f64, f64, f64)> = design_vertices(params)
         .into_iter()
-        .map(|(x, y)| (x.max(x_floor), y))
+        .map(|(x, y, a)| (x.max(x_floor), y, a))
         .collect();
-    let mut out: Vec<LoadSample> = Vec::new();
-    let push = |strain: f64, curvature_per_m: f64, out: &mut Vec<LoadSample>| {
-        if let Some(last) = out.last() {
+    let mut out: Vec<(LoadSample, f64)> = Vec::new();
+    let push = |strain: f64, curvature_per_m: f64, weight: f64, out: &mut Vec<(LoadSample, f64)>| {
+        if let Some((last, _)) = out.last() {
             if last.strain == strain && last.curvature_per_m == curvature_per_m {
                 return;
             }
         }
-        out.push(LoadSample {
-            time_s: out.len() as f64,
-            strain,
-            curvature_per_m,
-        });
+        let time_s = out.len() as f64;
+        out.push((
+            LoadSample {
+                time_s,
+                strain,
+                curvature_per_m,
+            },
+            weight,
+        ));
     };
-    let Some(&(x0, y0)) = vertices.first() else {
+    let Some(&(x0, y0, _)) = vertices.first() else {
         return out;
     };
     let (e0, k0) = scaling.load(x0, y0);
-    push(e0, k0, &mut out);
+    push(e0, k0, 1.0, &mut out);
     let mut from = (e0, k0);
-    for &(x, y) in &vertices[1..] {
+    for &(x, y, a) in &vertices[1..] {
         let to = scaling.load(x, y);
         let (de, dk) = ((to.0 - from.0).abs(), (to.1 - from.1).abs());
         let n = ((de / options.max_substep_strain)
             .max(dk / options.max_substep_curvature_per_m)
             .ceil() as usize)
             .max(1);
+        let weight = 1.0 / (a * a);
         for k in 1..=n {
             let f = k as f64 / n as f64;
             let (e, c) = if k == n {
@@ -139,7 +164,7 @@ pub fn design_history(
             } else {
                 (from.0 + f * (to.0 - from.0), from.1 + f * (to.1 - from.1))
             };
-            push(e, c, &mut out);
+            push(e, c, weight, &mut out);
         }
         from = to;
     }

@@ -37,12 +37,12 @@ struct ForceSums {
 
 impl ForceSums {
     #[inline]
-    fn add(&mut self, phi: &[f64; FORCE_FEATURES], y: f64) {
+    fn add(&mut self, phi: &[f64; FORCE_FEATURES], y: f64, w: f64) {
         for (r, p) in self.rhs.iter_mut().zip(phi) {
-            *r += p * y;
+            *r += w * p * y;
         }
-        self.yy += y * y;
-        self.sum += y;
+        self.yy += w * y * y;
+        self.sum += w * y;
     }
 }
 
@@ -111,6 +111,8 @@ pub struct FitAccumulator {
     force_gram: ForceGram,
     drive_gram: SMatrix<f64, DRIVE_FEATURES, DRIVE_FEATURES>,
     samples: usize,
+    /// Σ w.
+    weight: f64,
     normal: Vec<ForceSums>,
     drive: Vec<DriveSums>,
     elements: Vec<ForceSums>,
@@ -123,6 +125,7 @@ impl FitAccumulator {
             force_gram: ForceGram::zeros(),
             drive_gram: SMatrix::zeros(),
             samples: 0,
+            weight: 0.0,
             normal: vec![ForceSums::default(); contacts],
             drive: vec![DriveSums::default(); contacts],
             elements: vec![ForceSums::default(); elements],
@@ -134,45 +137,59 @@ impl FitAccumulator {
         self.samples
     }
 
-    /// Adds one sample at scaled loads (x, y): every contact's (slip, f_N, f_T) and every
-    /// element channel's value. Slices shorter or longer than the sums are a caller's error
-    /// and are ignored beyond the shorter length.
-    pub fn add(&mut self, x: f64, y: f64, contacts: &[(f64, f64, f64)], elements: &[f64]) {
+    /// Sum of their weights.
+    pub fn weight(&self) -> f64 {
+        self.weight
+    }
+
+    /// Adds one sample at scaled loads (x, y) with least-squares weight `w` (> 0): every
+    /// contact's (slip, f_N, f_T) and every element channel's value. Slices shorter or longer
+    /// than the sums are a caller's error and are ignored beyond the shorter length.
+    pub fn add(
+        &mut self,
+        x: f64,
+        y: f64,
+        w: f64,
+        contacts: &[(f64, f64, f64)],
+        elements: &[f64],
+    ) {
         let phi = force_features(x, y);
         let psi = drive_features(x, y);
         let phi_v = ForceVec::from_column_slice(&phi);
-        self.force_gram += phi_v * phi_v.transpose();
+        self.force_gram += w * phi_v * phi_v.transpose();
         let psi_v = SVector::<f64, DRIVE_FEATURES>::from_column_slice(&psi);
-        self.drive_gram += psi_v * psi_v.transpose();
+        self.drive_gram += w * psi_v * psi_v.transpose();
         self.samples += 1;
+        self.weight += w;
         for ((&(s, f_n, f_t), n), d) in contacts
             .iter()
             .zip(&mut self.normal)
             .zip(&mut self.drive)
         {
-            n.add(&phi, f_n);
-            let u = [-f_t, -x * f_t];
+            n.add(&phi, f_n, w);
+            let (s, u) = (s, [-f_t, -x * f_t]);
+            let (ws, wu) = (w * s, [w * u[0], w * u[1]]);
             for k in 0..DRIVE_FEATURES {
-                d.psi_u[k][0] += psi[k] * u[0];
-                d.psi_u[k][1] += psi[k] * u[1];
-                d.psi_s[k] += psi[k] * s;
+                d.psi_u[k][0] += psi[k] * wu[0];
+                d.psi_u[k][1] += psi[k] * wu[1];
+                d.psi_s[k] += psi[k] * ws;
             }
-            d.uu[0] += u[0] * u[0];
-            d.uu[1] += u[0] * u[1];
-            d.uu[2] += u[1] * u[1];
-            d.us[0] += u[0] * s;
-            d.us[1] += u[1] * s;
-            d.ss += s * s;
-            d.s_sum += s;
+            d.uu[0] += wu[0] * u[0];
+            d.uu[1] += wu[0] * u[1];
+            d.uu[2] += wu[1] * u[1];
+            d.us[0] += wu[0] * s;
+            d.us[1] += wu[1] * s;
+            d.ss += ws * s;
+            d.s_sum += ws;
         }
         for (e, &v) in self.elements.iter_mut().zip(elements) {
-            e.add(&phi, v);
+            e.add(&phi, v, w);
         }
     }
 
     /// The fitted laws of every contact.
     pub fn contact_fits(&self) -> Vec<ContactFit> {
-        let n = self.samples.max(1) as f64;
+        let n = self.weight.max(f64::MIN_POSITIVE);
         let normal_solver = ScaledSolver::new(&self.force_gram);
         self.normal
             .iter()
@@ -208,7 +225,7 @@ impl FitAccumulator {
     fn force_fit(&self, solver: &ScaledSolver<FORCE_FEATURES>, s: &ForceSums) -> ForceFit {
         let rhs = ForceVec::from_column_slice(&s.rhs);
         let beta = solver.solve(&rhs);
-        let n = self.samples.max(1) as f64;
+        let n = self.weight.max(f64::MIN_POSITIVE);
         let residual_ss =
             (s.yy - 2.0 * beta.dot(&rhs) + (beta.transpose() * self.force_gram * beta)[0]).max(0.0);
         let mut coefficients = [0.0; FORCE_FEATURES];
@@ -347,7 +364,7 @@ mod tests {
         for i in 0..40 {
             let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.91).cos());
             let f: f64 = force_features(x, y).iter().zip(&truth).map(|(a, b)| a * b).sum();
-            acc.add(x, y, &[(0.0, f, 0.0)], &[f]);
+            acc.add(x, y, 1.0, &[(0.0, f, 0.0)], &[f]);
         }
         let fits = acc.contact_fits();
         for (a, b) in fits[0].law.normal.iter().zip(&truth) {
@@ -369,7 +386,7 @@ mod tests {
             let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.53).cos());
             let f_t = 40.0 * (i as f64 * 1.7).sin();
             let s = a * x + b * y + e * x * y + c - (g0 + g1 * x) * f_t;
-            acc.add(x, y, &[(s, 100.0, f_t)], &[]);
+            acc.add(x, y, 1.0, &[(s, 100.0, f_t)], &[]);
         }
         let fit = acc.contact_fits()[0];
         let rel = |p: f64, q: f64| (p - q).abs() / q.abs();
@@ -391,7 +408,7 @@ mod tests {
             let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.53).cos());
             let f_t = 40.0 * (i as f64 * 1.7).sin();
             let s = 1e-6 * x + 4e-8 * f_t;
-            acc.add(x, y, &[(s, 100.0, f_t)], &[]);
+            acc.add(x, y, 1.0, &[(s, 100.0, f_t)], &[]);
         }
         let fit = acc.contact_fits()[0];
         assert_eq!(fit.law.compliance, [0.0, 0.0]);

@@ -28,9 +28,9 @@
 //!
 //! [`calibrate`] drives the FE model through a designed load history ([`design`]: curvature,
 //! tension and combined cycles of decreasing amplitude at several tension levels over the
-//! requested [`LoadRange`]), and fits per contact, by linear least squares on every sample
-//! ([`fit`]): `f_N` on the six quadratic load features, and `(a, b, e, c, g₀, g₁)` on the
-//! structure equation with the FE's `s` and `f_T` (the compliance refitted constant, then zero,
+//! requested [`LoadRange`]), and fits per contact, by linear least squares on every sample,
+//! weighted by the inverse square of its cycle's amplitude ([`design`], [`fit`]): `f_N` on the
+//! six quadratic load features, and `(a, b, e, c, g₀, g₁)` on the structure equation with the FE's `s` and `f_T` (the compliance refitted constant, then zero,
 //! if the fit makes it negative on the range). Wire axial forces of the monitor channels are
 //! fitted like `f_N`. The calibration then replays the designed history through the reduced
 //! model and reports, per layer interface, its in-sample error against the FE run
@@ -354,7 +354,7 @@ pub struct InterfaceFit {
     /// Contacts.
     pub contacts: usize,
     /// Root mean square of the slip residual of the least-squares fit over the interface's
-    /// contacts and samples (m).
+    /// contacts and samples, weighted as the fit (m).
     pub slip_rms_residual_m: f64,
     /// Root mean square of the slip about each contact's mean (m), the scale of the residual.
     pub slip_rms_m: f64,
