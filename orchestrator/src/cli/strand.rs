@@ -52,10 +52,10 @@ pub(crate) struct CalibrateArgs {
     #[arg(long)]
     load: Vec<PathBuf>,
     /// Axial strain range to cover, lowest and highest.
-    #[arg(long, num_args = 2, value_names = ["LOW", "HIGH"])]
+    #[arg(long, num_args = 2, value_names = ["LOW", "HIGH"], allow_negative_numbers = true)]
     strain_range: Option<Vec<f64>>,
-    /// Curvature range to cover (1/m), lowest and highest.
-    #[arg(long, num_args = 2, value_names = ["LOW", "HIGH"])]
+    /// Curvature range to cover (1/m), lowest and highest (negative values allowed).
+    #[arg(long, num_args = 2, value_names = ["LOW", "HIGH"], allow_negative_numbers = true)]
     curvature_range: Option<Vec<f64>>,
     /// Margin on each side of the range, as a fraction of it.
     #[arg(long, default_value_t = 0.05)]
