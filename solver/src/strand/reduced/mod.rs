@@ -67,8 +67,10 @@ use super::history::{HistoryError, LoadSample};
 pub use calibrate::{calibrate, CalibrationOptions};
 pub use run::run_reduced;
 
-/// Version of the stored calibration; a file of another version is refused.
-pub const FORMAT_VERSION: u32 = 2;
+/// Version of the stored calibration and of the fit that made it; a file of another version is
+/// refused. Part of the cache key of a calibration, so every change to the model, the design or
+/// the fit bumps it.
+pub const FORMAT_VERSION: u32 = 3;
 
 /// Slack of the calibrated range, as a fraction of each channel's range: a sample this far
 /// outside is still accepted (round-off of the tension-to-strain conversion).
