@@ -499,7 +499,10 @@ fn a_reduced_run_writes_the_fe_files_calibrates_once_and_refuses_a_load_out_of_r
         .unwrap();
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(text.contains("per interface") && text.contains("per contact class"), "{text}");
+    assert!(
+        text.contains("per interface") && text.contains("per contact class"),
+        "{text}"
+    );
 
     // a calibration written to a file covers its range only (the load's curvature reaches
     // −0.008 … 0.016 1/m)
@@ -509,14 +512,26 @@ fn a_reduced_run_writes_the_fe_files_calibrates_once_and_refuses_a_load_out_of_r
         .args(["strand", "calibrate"])
         .arg(profile())
         .args(reg)
-        .args(["--strain-range", "8e-4", "1.2e-3", "--curvature-range", "-0.005", "0.01"])
+        .args([
+            "--strain-range",
+            "8e-4",
+            "1.2e-3",
+            "--curvature-range",
+            "-0.005",
+            "0.01",
+        ])
         .arg("--out")
         .arg(&cal)
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let mut args = reg.to_vec();
-    args.extend(["--fidelity", "reduced", "--calibration", cal.to_str().unwrap()]);
+    args.extend([
+        "--fidelity",
+        "reduced",
+        "--calibration",
+        cal.to_str().unwrap(),
+    ]);
     let o = run(&load, &dir.path().join("outside"), &args);
     assert!(!o.status.success());
     let e = String::from_utf8_lossy(&o.stderr);

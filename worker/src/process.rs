@@ -12,8 +12,7 @@ use anyhow::Context;
 use tokio::sync::watch;
 
 use moorfret_store::{
-    ArtifactStore, Clock, JobKind, QueuePolicy, Store, StoreLocation, StoreOptions,
-    WallTimeBudget,
+    ArtifactStore, Clock, JobKind, QueuePolicy, Store, StoreLocation, StoreOptions, WallTimeBudget,
 };
 
 use crate::serve::{self, WorkerConfig};

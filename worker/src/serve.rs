@@ -103,7 +103,10 @@ async fn work_remains(
             let jobs = retry
                 .run("list jobs", || store.jobs_of_campaign(campaign.id))
                 .await?;
-            if jobs.iter().any(|j| kinds.contains(&j.kind) && open(&j.state)) {
+            if jobs
+                .iter()
+                .any(|j| kinds.contains(&j.kind) && open(&j.state))
+            {
                 return Ok(true);
             }
             continue;

@@ -22,9 +22,7 @@ use moorfret_solver::strand::profile::Strand;
 use moorfret_solver::strand::reduced::compare::{compare_records, relative_difference};
 use moorfret_solver::strand::reduced::LoadRange;
 
-use super::run::strand_history::{
-    read_load, samples_of, LazyModel, Observer, StiffnessArgs,
-};
+use super::run::strand_history::{read_load, samples_of, LazyModel, Observer, StiffnessArgs};
 use super::run::strand_model::{load_strand, ModelArgs};
 use super::run::strand_reduced::{
     calibration_for, range_of, widened, write_calibration, CalibrationRequest,
@@ -242,7 +240,13 @@ fn read_run(dir: &Path) -> anyhow::Result<RunOutput> {
         let num = |k: usize| -> anyhow::Result<f64> {
             rec.get(k)
                 .and_then(|v| v.parse::<f64>().ok())
-                .ok_or_else(|| anyhow!("{}: line {}, column {k}: not a number", path.display(), i + 2))
+                .ok_or_else(|| {
+                    anyhow!(
+                        "{}: line {}, column {k}: not a number",
+                        path.display(),
+                        i + 2
+                    )
+                })
         };
         time.push(num(0)?);
         strain.push(num(1)?);
@@ -326,9 +330,8 @@ fn compare(args: &CompareArgs) -> anyhow::Result<()> {
         let Some(cb) = db.classes.iter().find(|c| c.class == ca.class) else {
             continue;
         };
-        let total = |r: &moorfret_solver::fretting::RegimeCounts| {
-            r.stick + r.partial_slip + r.gross_slip
-        };
+        let total =
+            |r: &moorfret_solver::fretting::RegimeCounts| r.stick + r.partial_slip + r.gross_slip;
         let row = serde_json::json!({
             "interface": ca.class.interface,
             "position": ca.class.position.as_str(),

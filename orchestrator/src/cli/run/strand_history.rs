@@ -57,10 +57,10 @@ use super::strand_reduced::{
     cache_root, calibration_for, range_of, widened, CalibrationRequest, CalibrationSource,
     Fidelity, ReducedArgs,
 };
+use moorfret_orchestrator::plot::{strand_history_svgs, LoadPlot};
 use moorfret_solver::strand::profile::Strand;
 use moorfret_solver::strand::reduced::design::design_strain_floor;
 use moorfret_solver::strand::reduced::run_reduced;
-use moorfret_orchestrator::plot::{strand_history_svgs, LoadPlot};
 
 /// Options of a history run (`--load`).
 #[derive(Debug, Args)]
@@ -136,7 +136,9 @@ impl<'a> LazyModel<'a> {
         if self.model.is_none() {
             self.model = Some(StrandModel::new(self.strand, self.params)?);
         }
-        self.model.as_ref().ok_or_else(|| anyhow!("strand model not built"))
+        self.model
+            .as_ref()
+            .ok_or_else(|| anyhow!("strand model not built"))
     }
 
     /// The model if it is built.

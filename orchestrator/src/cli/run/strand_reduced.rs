@@ -279,11 +279,7 @@ pub(crate) fn calibration_for(
         },
         None => false,
     };
-    let s = source(
-        "calibrated",
-        file.as_deref().filter(|_| written),
-        &reduced,
-    );
+    let s = source("calibrated", file.as_deref().filter(|_| written), &reduced);
     Ok((reduced, s))
 }
 

@@ -123,7 +123,12 @@ pub fn calibrate(
     let channels = crate::strand::history::monitors::default_channels(model, &sites);
     let elements = channels
         .iter()
-        .filter(|c| matches!(c.target, crate::strand::history::monitors::MonitorTarget::Element(_)))
+        .filter(|c| {
+            matches!(
+                c.target,
+                crate::strand::history::monitors::MonitorTarget::Element(_)
+            )
+        })
         .count();
     learner.fit = FitAccumulator::new(model.contacts.len(), elements);
     let fe = run_history(model, &design, &history, &mut learner)?;
@@ -194,11 +199,7 @@ pub fn calibrate(
         },
     };
     let replay = super::run_reduced(&reduced, &design, history.slip_gate_m)?;
-    reduced.calibration.replay = compare_records(
-        &fe.contacts,
-        &replay.contacts,
-        options.min_slip_range_m,
-        0,
-    );
+    reduced.calibration.replay =
+        compare_records(&fe.contacts, &replay.contacts, options.min_slip_range_m, 0);
     Ok(reduced)
 }

@@ -38,7 +38,11 @@ pub fn interface_statistics(
             interface: r.interface,
             ..InterfaceStatistics::default()
         });
-        for k in r.cycles.iter().filter(|k| k.slip.start_index >= from_sample) {
+        for k in r
+            .cycles
+            .iter()
+            .filter(|k| k.slip.start_index >= from_sample)
+        {
             e.max_slip_range_m = e.max_slip_range_m.max(k.slip.range);
             if k.slip.range >= min_range_m {
                 e.accumulated_slip_m += k.slip.count * k.slip.range;
@@ -160,7 +164,14 @@ mod tests {
     #[test]
     fn statistics_count_cycles_above_the_threshold_after_the_run_in() {
         let recs = vec![
-            record(0, vec![cycle(2e-6, 1.0, 5), cycle(0.5e-6, 1.0, 6), cycle(3e-6, 0.5, 7)]),
+            record(
+                0,
+                vec![
+                    cycle(2e-6, 1.0, 5),
+                    cycle(0.5e-6, 1.0, 6),
+                    cycle(3e-6, 0.5, 7),
+                ],
+            ),
             record(0, vec![cycle(9e-6, 1.0, 0)]),
             record(1, vec![cycle(1e-6, 1.0, 3)]),
         ];

@@ -127,22 +127,23 @@ pub fn design_history_weighted(
         .map(|(x, y, a)| (x.max(x_floor), y, a))
         .collect();
     let mut out: Vec<(LoadSample, f64)> = Vec::new();
-    let push = |strain: f64, curvature_per_m: f64, weight: f64, out: &mut Vec<(LoadSample, f64)>| {
-        if let Some((last, _)) = out.last() {
-            if last.strain == strain && last.curvature_per_m == curvature_per_m {
-                return;
+    let push =
+        |strain: f64, curvature_per_m: f64, weight: f64, out: &mut Vec<(LoadSample, f64)>| {
+            if let Some((last, _)) = out.last() {
+                if last.strain == strain && last.curvature_per_m == curvature_per_m {
+                    return;
+                }
             }
-        }
-        let time_s = out.len() as f64;
-        out.push((
-            LoadSample {
-                time_s,
-                strain,
-                curvature_per_m,
-            },
-            weight,
-        ));
-    };
+            let time_s = out.len() as f64;
+            out.push((
+                LoadSample {
+                    time_s,
+                    strain,
+                    curvature_per_m,
+                },
+                weight,
+            ));
+        };
     let Some(&(x0, y0, _)) = vertices.first() else {
         return out;
     };
@@ -191,7 +192,10 @@ mod tests {
             .zip(&range.strain)
             .chain(got.curvature_per_m.iter().zip(&range.curvature_per_m))
         {
-            assert!((a - b).abs() <= 1e-12 * b.abs().max(1e-3), "{got:?} vs {range:?}");
+            assert!(
+                (a - b).abs() <= 1e-12 * b.abs().max(1e-3),
+                "{got:?} vs {range:?}"
+            );
         }
         for w in h.windows(2) {
             assert!(w[1].time_s > w[0].time_s);

@@ -145,14 +145,7 @@ impl FitAccumulator {
     /// Adds one sample at scaled loads (x, y) with least-squares weight `w` (> 0): every
     /// contact's (slip, f_N, f_T) and every element channel's value. Slices shorter or longer
     /// than the sums are a caller's error and are ignored beyond the shorter length.
-    pub fn add(
-        &mut self,
-        x: f64,
-        y: f64,
-        w: f64,
-        contacts: &[(f64, f64, f64)],
-        elements: &[f64],
-    ) {
+    pub fn add(&mut self, x: f64, y: f64, w: f64, contacts: &[(f64, f64, f64)], elements: &[f64]) {
         let phi = force_features(x, y);
         let psi = drive_features(x, y);
         let phi_v = ForceVec::from_column_slice(&phi);
@@ -161,18 +154,14 @@ impl FitAccumulator {
         self.drive_gram += w * psi_v * psi_v.transpose();
         self.samples += 1;
         self.weight += w;
-        for ((&(s, f_n, f_t), n), d) in contacts
-            .iter()
-            .zip(&mut self.normal)
-            .zip(&mut self.drive)
-        {
+        for ((&(s, f_n, f_t), n), d) in contacts.iter().zip(&mut self.normal).zip(&mut self.drive) {
             n.add(&phi, f_n, w);
             let (s, u) = (s, [-f_t, -x * f_t]);
             let (ws, wu) = (w * s, [w * u[0], w * u[1]]);
-            for k in 0..DRIVE_FEATURES {
-                d.psi_u[k][0] += psi[k] * wu[0];
-                d.psi_u[k][1] += psi[k] * wu[1];
-                d.psi_s[k] += psi[k] * ws;
+            for ((pu, ps), p) in d.psi_u.iter_mut().zip(&mut d.psi_s).zip(&psi) {
+                pu[0] += p * wu[0];
+                pu[1] += p * wu[1];
+                *ps += p * ws;
             }
             d.uu[0] += wu[0] * u[0];
             d.uu[1] += wu[0] * u[1];
@@ -363,7 +352,11 @@ mod tests {
         let mut acc = FitAccumulator::new(1, 1);
         for i in 0..40 {
             let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.91).cos());
-            let f: f64 = force_features(x, y).iter().zip(&truth).map(|(a, b)| a * b).sum();
+            let f: f64 = force_features(x, y)
+                .iter()
+                .zip(&truth)
+                .map(|(a, b)| a * b)
+                .sum();
             acc.add(x, y, 1.0, &[(0.0, f, 0.0)], &[f]);
         }
         let fits = acc.contact_fits();

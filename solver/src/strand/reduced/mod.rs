@@ -189,10 +189,18 @@ impl LoadRange {
             ("range.curvature_per_m", self.curvature_per_m),
         ] {
             if !(lo.is_finite() && hi.is_finite()) {
-                return Err(invalid(field, if lo.is_finite() { hi } else { lo }, "not finite"));
+                return Err(invalid(
+                    field,
+                    if lo.is_finite() { hi } else { lo },
+                    "not finite",
+                ));
             }
             if hi <= lo {
-                return Err(invalid(field, hi - lo, "the upper bound must exceed the lower"));
+                return Err(invalid(
+                    field,
+                    hi - lo,
+                    "the upper bound must exceed the lower",
+                ));
             }
         }
         if self.strain[0] < 0.0 {
@@ -441,7 +449,11 @@ impl ReducedStrand {
         let range = self.range.validated()?;
         let mu = self.friction_coefficient;
         if !(mu.is_finite() && mu >= 0.0) {
-            return Err(invalid("friction_coefficient", mu, "must be finite and ≥ 0"));
+            return Err(invalid(
+                "friction_coefficient",
+                mu,
+                "must be finite and ≥ 0",
+            ));
         }
         let ge = self.elastic_slip_m;
         if !(ge.is_finite() && ge > 0.0) {

@@ -59,13 +59,12 @@ fn run_contact(
     let law = &reduced.laws[c];
     let site = &reduced.sites[c];
     let stick_per_m = reduced.friction_coefficient / reduced.elastic_slip_m;
-    let mut acc = ContactCycleAccumulator::new(slip_gate_m).map_err(|e| {
-        ReducedError::InvalidSetting {
+    let mut acc =
+        ContactCycleAccumulator::new(slip_gate_m).map_err(|e| ReducedError::InvalidSetting {
             field: "slip_gate_m",
             value: slip_gate_m,
             reason: e.to_string(),
-        }
-    })?;
+        })?;
     let mut cycles: Vec<SlipCycle> = Vec::new();
     let mut series = Vec::with_capacity(if keep_series { loads.len() } else { 0 });
     let mut max_normal = 0.0_f64;
@@ -145,7 +144,17 @@ pub fn run_reduced(
     };
     let results: Vec<(ContactRecord, Vec<ContactSample>)> = (0..reduced.laws.len())
         .into_par_iter()
-        .map(|c| run_contact(reduced, straight_y, c, &loads, &features, slip_gate_m, monitored[c]))
+        .map(|c| {
+            run_contact(
+                reduced,
+                straight_y,
+                c,
+                &loads,
+                &features,
+                slip_gate_m,
+                monitored[c],
+            )
+        })
         .collect::<Result<_, _>>()?;
     let mut monitors = MonitorSeries {
         time_s: samples.iter().map(|s| s.time_s).collect(),
@@ -168,7 +177,11 @@ pub fn run_reduced(
                     .collect()
             }
             MonitorTarget::Element(_) => {
-                let fit = reduced.element_fits.get(element).copied().unwrap_or_default();
+                let fit = reduced
+                    .element_fits
+                    .get(element)
+                    .copied()
+                    .unwrap_or_default();
                 element += 1;
                 features
                     .iter()

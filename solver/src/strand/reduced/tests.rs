@@ -19,7 +19,7 @@ const BENCHMARK: &str = include_str!(concat!(
 fn a_jenkins_element_follows_its_closed_form_loops() {
     let (mu_over_ge, ge, g, n) = (0.12 / 1e-5, 1e-5, 2e-8, 500.0);
     let k = mu_over_ge * n; // 6e6 N/m
-    // stick: slip range 2D / (1 + g k)
+                            // stick: slip range 2D / (1 + g k)
     let d = 0.5 * ge;
     let mut st = JenkinsState::unloaded(0.0);
     let mut lo = f64::INFINITY;
@@ -47,7 +47,11 @@ fn a_jenkins_element_follows_its_closed_form_loops() {
         assert!(f.abs() <= 0.12 * n * (1.0 + 1e-12));
     }
     let gross = 2.0 * d - 2.0 * g * 0.12 * n;
-    assert!(((hi - lo) - gross).abs() < 1e-9 * gross, "{} vs {gross}", hi - lo);
+    assert!(
+        ((hi - lo) - gross).abs() < 1e-9 * gross,
+        "{} vs {gross}",
+        hi - lo
+    );
 }
 
 fn model() -> StrandModel {
@@ -124,7 +128,11 @@ fn a_load_outside_the_calibrated_range_is_refused_with_the_range() {
     h[3].strain = 2e-3;
     assert!(matches!(
         run_reduced(&reduced, &h, 1e-8),
-        Err(ReducedError::OutOfRange { index: 3, field: "strain", .. })
+        Err(ReducedError::OutOfRange {
+            index: 3,
+            field: "strain",
+            ..
+        })
     ));
     let message = run_reduced(&reduced, &h, 1e-8).unwrap_err().to_string();
     assert!(message.contains("calibrated range"), "{message}");
@@ -162,7 +170,10 @@ fn reduced_matches_fe_on_a_held_out_history_of_the_benchmark_strand() {
         );
     }
     for c in &cmp {
-        assert!(c.reference.max_slip_range_m > 1e-6, "the history makes slip cycles");
+        assert!(
+            c.reference.max_slip_range_m > 1e-6,
+            "the history makes slip cycles"
+        );
         assert!(c.worst() <= 0.10, "interface {}: {:?}", c.interface, c);
     }
 }
