@@ -19,7 +19,9 @@ use moorfret_solver::fretting::{
 use moorfret_solver::strand::history::stiffness::straight_strand_stiffness;
 use moorfret_solver::strand::history::HistoryOptions;
 use moorfret_solver::strand::profile::Strand;
-use moorfret_solver::strand::reduced::compare::{compare_records, relative_difference};
+use moorfret_solver::strand::reduced::compare::{
+    compare_records, relative_difference, InterfaceComparison,
+};
 use moorfret_solver::strand::reduced::LoadRange;
 
 use super::run::strand_history::{read_load, samples_of, LazyModel, Observer, StiffnessArgs};
@@ -305,21 +307,9 @@ fn compare(args: &CompareArgs) -> anyhow::Result<()> {
         "per interface, cycles of at least {:.2e} m after {} s (compared / reference − 1):",
         args.min_slip_range_m, args.run_in_s
     );
-    println!("interface  max slip range (ref → cmp)        accumulated slip (ref → cmp)       cycles (ref → cmp)");
+    println!("{}", InterfaceComparison::HEADER);
     for c in &interfaces {
-        println!(
-            "{:>9}  {:.3e} → {:.3e} m {:>+6.1}%   {:.3e} → {:.3e} m {:>+6.1}%   {:>9.1} → {:<9.1} {:>+6.1}%",
-            c.interface,
-            c.reference.max_slip_range_m,
-            c.compared.max_slip_range_m,
-            100.0 * c.max_slip_range_error,
-            c.reference.accumulated_slip_m,
-            c.compared.accumulated_slip_m,
-            100.0 * c.accumulated_slip_error,
-            c.reference.cycles,
-            c.compared.cycles,
-            100.0 * c.cycles_error
-        );
+        println!("{c}");
     }
     let da = damage_inputs(&a, &strand, run_in)?;
     let db = damage_inputs(&b, &strand, run_in)?;

@@ -80,6 +80,33 @@ impl InterfaceComparison {
     }
 }
 
+impl InterfaceComparison {
+    /// Header of the [`std::fmt::Display`] rows.
+    pub const HEADER: &'static str = "interface  max slip range (ref → cmp)        accumulated \
+         slip (ref → cmp)       cycles (ref → cmp)";
+}
+
+/// One table row: the three figures in both runs and their relative differences.
+impl std::fmt::Display for InterfaceComparison {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{:>9}  {:.3e} → {:.3e} m {:>+6.1}%   {:.3e} → {:.3e} m {:>+6.1}%   {:>9.1} → {:<9.1} \
+             {:>+6.1}%",
+            self.interface,
+            self.reference.max_slip_range_m,
+            self.compared.max_slip_range_m,
+            100.0 * self.max_slip_range_error,
+            self.reference.accumulated_slip_m,
+            self.compared.accumulated_slip_m,
+            100.0 * self.accumulated_slip_error,
+            self.reference.cycles,
+            self.compared.cycles,
+            100.0 * self.cycles_error
+        )
+    }
+}
+
 /// `b / a − 1`, 0 if both are 0, +∞ if only `a` is.
 pub fn relative_difference(a: f64, b: f64) -> f64 {
     if a == 0.0 {

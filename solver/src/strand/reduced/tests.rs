@@ -4,7 +4,7 @@
 
 use std::f64::consts::PI;
 
-use super::compare::compare_records;
+use super::compare::{compare_records, InterfaceComparison};
 use super::*;
 use crate::strand::history::{run_history, NoObserver};
 use crate::strand::model::{EndKind, StrandModel, StrandModelParameters};
@@ -153,21 +153,9 @@ fn reduced_matches_fe_on_a_held_out_history_of_the_benchmark_strand() {
     let red = run_reduced(&reduced, &held_out, options.history.slip_gate_m).expect("reduced run");
     assert_eq!(red.contacts.len(), fe.contacts.len());
     let cmp = compare_records(&fe.contacts, &red.contacts, 1e-6, 0);
+    eprintln!("{}", InterfaceComparison::HEADER);
     for c in &cmp {
-        eprintln!(
-            "interface {}: max slip range FE {:.3e} reduced {:.3e} ({:+.1} %), accumulated \
-             {:.3e} / {:.3e} ({:+.1} %), cycles {} / {} ({:+.1} %)",
-            c.interface,
-            c.reference.max_slip_range_m,
-            c.compared.max_slip_range_m,
-            100.0 * c.max_slip_range_error,
-            c.reference.accumulated_slip_m,
-            c.compared.accumulated_slip_m,
-            100.0 * c.accumulated_slip_error,
-            c.reference.cycles,
-            c.compared.cycles,
-            100.0 * c.cycles_error
-        );
+        eprintln!("{c}");
     }
     for c in &cmp {
         assert!(
