@@ -381,9 +381,8 @@ struct InterfacePeaks {
 
 #[derive(Debug, Serialize)]
 struct Summary<'a> {
-    profile: String,
-    regularisation: String,
-    ends: String,
+    #[serde(flatten)]
+    model: ModelDescription,
     #[serde(flatten)]
     sizes: Option<ModelSizes>,
     /// "fe" or "reduced".
@@ -402,6 +401,27 @@ struct Summary<'a> {
     history: &'a HistoryStats,
     peaks_by_interface: BTreeMap<String, InterfacePeaks>,
     wall_time_s: f64,
+}
+
+/// The strand model of a run as its summary names it: profile file, regularisation, ends.
+#[derive(Debug, Serialize)]
+struct ModelDescription {
+    profile: String,
+    regularisation: String,
+    ends: String,
+}
+
+impl ModelDescription {
+    fn of(args: &ModelArgs) -> Self {
+        Self {
+            profile: args.profile.display().to_string(),
+            regularisation: match &args.contact_regularisation {
+                Some(v) => format!("normal penalty {} N/m, elastic slip {} m", v[0], v[1]),
+                None => args.regularisation.clone(),
+            },
+            ends: format!("{:?}", args.ends.end_kind()),
+        }
+    }
 }
 
 /// Readable name of an interface: "layer2_on_layer1", "layer1_on_core".
@@ -814,12 +834,7 @@ pub(super) fn execute(
 
     write_outputs(out, &result, &table)?;
     let summary = Summary {
-        profile: args.profile.display().to_string(),
-        regularisation: match &args.contact_regularisation {
-            Some(v) => format!("normal penalty {} N/m, elastic slip {} m", v[0], v[1]),
-            None => args.regularisation.clone(),
-        },
-        ends: format!("{:?}", args.ends.end_kind()),
+        model: ModelDescription::of(args),
         sizes: Some(ModelSizes::of(model)),
         fidelity: fidelity.as_str(),
         calibration: None,
@@ -917,14 +932,8 @@ impl ReducedRun<'_> {
         std::fs::create_dir_all(self.out)
             .with_context(|| format!("creating {}", self.out.display()))?;
         write_outputs(self.out, &result, self.table)?;
-        let args = self.args;
         let summary = Summary {
-            profile: args.profile.display().to_string(),
-            regularisation: match &args.contact_regularisation {
-                Some(v) => format!("normal penalty {} N/m, elastic slip {} m", v[0], v[1]),
-                None => args.regularisation.clone(),
-            },
-            ends: format!("{:?}", args.ends.end_kind()),
+            model: ModelDescription::of(self.args),
             sizes: None,
             fidelity: Fidelity::Reduced.as_str(),
             calibration: Some(source),
