@@ -28,7 +28,7 @@ use moorfret_solver::floater::FloaterSpec;
 use moorfret_solver::global::case::{FloaterSource, GammaSpec};
 use moorfret_solver::global::results::SeriesSummary;
 use moorfret_solver::global::{run, CaseSpec, FloaterInput, GlobalModel, RunParams};
-use moorfret_solver::waves::{IrregularSea, Jonswap, RealisationParams, ScatterTable};
+use moorfret_solver::waves::{IrregularSea, Jonswap, ScatterTable};
 
 struct Options {
     case_path: String,
@@ -178,18 +178,7 @@ fn run_cell(case: &CaseSpec, floater: &FloaterInput, v: Variant) -> CellOutcome 
         if let Some(w) = v.cut_off_rad_s {
             let s = &case.sea_state;
             let spectrum = Jonswap::new(s.hs_m, s.tp_s, case.peak_enhancement()?)?;
-            model.sea = IrregularSea::new(
-                &spectrum,
-                &RealisationParams {
-                    duration_s: case.timing.transient_s + case.timing.duration_s,
-                    seed: s.seed,
-                    heading_rad: s.heading_deg.to_radians(),
-                    depth_m: case.site.water_depth_m,
-                    water_density_kg_m3: case.site.water_density_kg_m3,
-                    cut_off_rad_s: Some(w),
-                    ..RealisationParams::default()
-                },
-            )?;
+            model.sea = IrregularSea::new(&spectrum, &case.realisation_params(Some(w)))?;
         }
         let cut_off = model.wave_cut_off.to_string();
         run(&model, &params, |_, _| {}).map(|r| (r, cut_off))

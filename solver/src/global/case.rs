@@ -25,6 +25,7 @@ use crate::mooring::spec::{
     Environment, LineEnds, LineSpec, LineTypeSpec, SeabedSpec, SegmentSpec,
 };
 use crate::waves::spectrum::PeakEnhancement;
+use crate::waves::RealisationParams;
 
 /// A whole global-stage case.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -404,6 +405,21 @@ impl CaseSpec {
         LineSpec {
             line_types: self.mooring.line_types.clone(),
             segments: self.mooring.segments.clone(),
+        }
+    }
+
+    /// The settings of the sea's realisation over the whole run (transient and record), with
+    /// the components above `cut_off_rad_s` dropped.
+    pub fn realisation_params(&self, cut_off_rad_s: Option<f64>) -> RealisationParams {
+        let s = &self.sea_state;
+        RealisationParams {
+            duration_s: self.timing.transient_s + self.timing.duration_s,
+            seed: s.seed,
+            heading_rad: s.heading_deg.to_radians(),
+            depth_m: self.site.water_depth_m,
+            water_density_kg_m3: self.site.water_density_kg_m3,
+            cut_off_rad_s,
+            ..RealisationParams::default()
         }
     }
 

@@ -31,7 +31,7 @@ use crate::mooring::spec::{Environment, LineEnds, LineSpec};
 use crate::mooring::statics::{solve_statics, StaticParams, StaticSolution, StaticStart};
 use crate::mooring::workspace::LineWorkspace;
 use crate::mooring::LineModel;
-use crate::waves::{IrregularSea, Jonswap, RealisationParams, RotorTable, StillWater, TableParams};
+use crate::waves::{IrregularSea, Jonswap, RotorTable, StillWater, TableParams};
 
 /// The parsed content of the case's floater file.
 #[derive(Debug, Clone)]
@@ -138,18 +138,7 @@ impl GlobalModel {
             matches!(floater, FloaterModel::RigidBody(_)).then_some(&table),
             case.site.water_depth_m,
         );
-        let sea = IrregularSea::new(
-            &spectrum,
-            &RealisationParams {
-                duration_s: case.timing.transient_s + case.timing.duration_s,
-                seed: s.seed,
-                heading_rad: s.heading_deg.to_radians(),
-                depth_m: case.site.water_depth_m,
-                water_density_kg_m3: case.site.water_density_kg_m3,
-                cut_off_rad_s: Some(cut_off),
-                ..RealisationParams::default()
-            },
-        )?;
+        let sea = IrregularSea::new(&spectrum, &case.realisation_params(Some(cut_off)))?;
         let wave_cut_off = WaveCutOff::of(
             &sea,
             cut_off,
