@@ -5,6 +5,8 @@
 //!
 //! - [`spec`]: the campaign file (serde, units in names) and its checks;
 //! - [`fatigue`]: the fatigue settings (run-in, T-N curves, fretting damage law);
+//! - [`fidelity`]: the strand model of the strand jobs (FE, reduced, auto) and the `auto`
+//!   selection of the sea states that also run FE;
 //! - [`resolve`]: read and hash every referenced file, parse and check them; nothing is
 //!   written anywhere for a bad campaign;
 //! - [`payload`]: the stored campaign inputs and the per-job payloads workers run from, cache
@@ -13,12 +15,13 @@
 
 pub mod error;
 pub mod fatigue;
+pub mod fidelity;
 pub mod payload;
 pub mod resolve;
 pub mod spec;
 
 pub use error::CampaignError;
-pub use payload::{CampaignInputs, GlobalPayload, StrandPayload};
+pub use payload::{CalibratePayload, CampaignInputs, GlobalPayload, StrandPayload};
 pub use resolve::{resolve, ResolvedCampaign};
 pub use spec::CampaignSpec;
 

@@ -71,6 +71,25 @@ pub struct StrandPayload {
     pub hot_spot_index: usize,
     /// Cache key of the global job whose hot-spot series this job loads.
     pub global_cache_key: String,
+    /// A `strand_reduced` job: cache key of the calibration job of its hot spot.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub calibration_cache_key: Option<String>,
+    /// An FE job of an `auto` campaign: it runs only if the campaign's reduced results select
+    /// its sea state (`crate::fidelity::select_fe_sea_states`), else it ends at once with no
+    /// results.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub if_selected: bool,
+}
+
+/// Input of a `calibrate` job: the reduced strand response of one hot spot over the load range
+/// of the campaign's global jobs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CalibratePayload {
+    /// Hot spot index in the campaign.
+    pub hot_spot_index: usize,
+    /// Cache keys of the global jobs whose hot-spot series set the load range.
+    pub global_cache_keys: Vec<String>,
 }
 
 impl CampaignInputs {

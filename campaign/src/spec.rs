@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::CampaignError;
 use crate::fatigue::FatigueSpec;
+use crate::fidelity::{AutoFe, StrandFidelity};
 
 /// A whole campaign.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -164,6 +165,28 @@ pub struct StrandSpec {
     /// Threads of a strand job's element kernels and solves (`run strand --threads`).
     #[serde(default = "one_thread", skip_serializing_if = "is_one")]
     pub threads: usize,
+    /// Strand model of the strand jobs: `fe` (default), `reduced` or `auto`
+    /// ([`crate::fidelity`]).
+    #[serde(default, skip_serializing_if = "StrandFidelity::is_fe")]
+    pub fidelity: StrandFidelity,
+    /// How `auto` picks the sea states that also run FE.
+    #[serde(default, skip_serializing_if = "AutoFe::is_default")]
+    pub auto_fe: AutoFe,
+    /// Margin of the reduced response's calibration range beyond the load range of the
+    /// campaign's global results, on each side, as a fraction of that range.
+    #[serde(
+        default = "default_calibration_margin",
+        skip_serializing_if = "is_default_calibration_margin"
+    )]
+    pub calibration_margin: f64,
+}
+
+fn default_calibration_margin() -> f64 {
+    0.05
+}
+
+fn is_default_calibration_margin(m: &f64) -> bool {
+    *m == default_calibration_margin()
 }
 
 /// End conditions of the helical wires of the strand model.
@@ -361,6 +384,14 @@ impl CampaignSpec {
             } => invalid(format!("strand.{field}"), value, &reason),
             e => invalid("strand", "history settings", &e.to_string()),
         })?;
+        st.auto_fe.validate()?;
+        if !(st.calibration_margin.is_finite() && (0.0..=1.0).contains(&st.calibration_margin)) {
+            return Err(invalid(
+                "strand.calibration_margin",
+                st.calibration_margin,
+                "must be in [0, 1]",
+            ));
+        }
         if !(1..=MAX_STRAND_THREADS).contains(&st.threads) {
             return Err(invalid(
                 "strand.threads",

@@ -17,7 +17,10 @@
 
 use moorfret_solver::waves::scatter::ScatterTable;
 
-use moorfret_campaign::payload::{cache_key, CampaignInputs, GlobalPayload, StrandPayload};
+use moorfret_campaign::fidelity::StrandFidelity;
+use moorfret_campaign::payload::{
+    cache_key, CalibratePayload, CampaignInputs, GlobalPayload, StrandPayload,
+};
 use moorfret_campaign::spec::ScatterReading;
 use moorfret_campaign::ResolvedCampaign;
 use moorfret_store::{CampaignId, JobId, NewCampaign, Store, StoreError};
@@ -27,6 +30,11 @@ use moorfret_store::{JobKind, NewSeaState, PlannedJob, SeaStateId};
 const GLOBAL_STEP_COST_S: f64 = 0.03;
 /// Cost of one strand load sample per wire (s).
 const STRAND_SAMPLE_WIRE_COST_S: f64 = 5e-3;
+/// Cost of a calibration of the reduced strand response, as a fraction of an FE strand job's
+/// (six-layer strand: 9.4 min against 12-17 min, docs/reduced-strand.md).
+const CALIBRATION_COST_FRACTION: f64 = 0.7;
+/// Cost of a reduced strand job, as a fraction of an FE strand job's (≈ 2 s against 12-17 min).
+const REDUCED_COST_FRACTION: f64 = 3e-3;
 
 /// Occurrence fraction of the year of a cell value.
 pub fn occurrence_fraction(value: f64, reading: ScatterReading) -> f64 {
@@ -90,6 +98,13 @@ pub fn strand_cost_s(inputs: &CampaignInputs) -> f64 {
 }
 
 /// The jobs of a campaign; `ids` are the stored ids of `sea_states`, in order.
+///
+/// `strand.fidelity = fe`: per (sea state, seed) a global job and one FE strand job per hot
+/// spot. `reduced`: every global job, then per hot spot a calibration job depending on all of
+/// them, then one reduced strand job per (sea state, seed, hot spot) depending on its global
+/// job and its hot spot's calibration. `auto`: as `reduced`, plus one FE strand job per
+/// (sea state, seed, hot spot) depending on every reduced job of its hot spot, which runs only
+/// if the reduced results select its sea state (`moorfret_campaign::fidelity`).
 pub fn jobs(
     inputs: &CampaignInputs,
     inputs_sha256: &str,
@@ -98,9 +113,12 @@ pub fn jobs(
 ) -> Vec<PlannedJob> {
     let hot_spots = inputs.spec.hot_spots.len();
     let seeds: usize = sea_states.iter().map(|s| s.seeds.len()).sum();
-    let mut out = Vec::with_capacity(seeds * (1 + hot_spots));
+    let mut out = Vec::with_capacity(seeds * (1 + 2 * hot_spots) + hot_spots);
     let (global_cost, strand_cost) = (global_cost_s(inputs), strand_cost_s(inputs));
     let max_attempts = inputs.spec.jobs.max_attempts;
+    let fidelity = inputs.spec.strand.fidelity;
+    // (index in `out`, sea state id, payload, cache key) of every global job
+    let mut globals = Vec::with_capacity(seeds);
     for (sea_state, &id) in sea_states.iter().zip(ids) {
         for (seed_index, &seed) in sea_state.seeds.iter().enumerate() {
             let global = GlobalPayload {
@@ -113,6 +131,7 @@ pub fn jobs(
             let global_json = serde_json::to_value(&global).unwrap_or_default();
             let global_key = cache_key("global", inputs_sha256, &global_json.to_string());
             let global_index = out.len();
+            globals.push((global_index, id, global.clone(), global_key.clone()));
             out.push(PlannedJob {
                 sea_state: Some(id),
                 priority: 0,
@@ -121,26 +140,126 @@ pub fn jobs(
                 cache_key: Some(global_key.clone()),
                 ..PlannedJob::new(JobKind::Global, global_json)
             });
+            if fidelity.uses_reduced() {
+                continue;
+            }
             for hot_spot_index in 0..hot_spots {
                 let strand = StrandPayload {
                     global: global.clone(),
                     hot_spot_index,
                     global_cache_key: global_key.clone(),
+                    calibration_cache_key: None,
+                    if_selected: false,
                 };
-                let json = serde_json::to_value(&strand).unwrap_or_default();
-                out.push(PlannedJob {
-                    sea_state: Some(id),
-                    priority: 1,
-                    expected_cost_s: strand_cost,
+                out.push(strand_job(
+                    JobKind::Strand,
+                    &strand,
+                    inputs_sha256,
+                    strand_cost,
                     max_attempts,
-                    cache_key: Some(cache_key("strand", inputs_sha256, &json.to_string())),
-                    depends_on: vec![global_index],
-                    ..PlannedJob::new(JobKind::Strand, json)
-                });
+                    Some(id),
+                    vec![global_index],
+                ));
             }
         }
     }
+    if !fidelity.uses_reduced() {
+        return out;
+    }
+    let global_keys: Vec<String> = globals.iter().map(|g| g.3.clone()).collect();
+    let global_indices: Vec<usize> = globals.iter().map(|g| g.0).collect();
+    let mut calibrations = Vec::with_capacity(hot_spots);
+    for hot_spot_index in 0..hot_spots {
+        let payload = CalibratePayload {
+            hot_spot_index,
+            global_cache_keys: global_keys.clone(),
+        };
+        let json = serde_json::to_value(&payload).unwrap_or_default();
+        let key = cache_key("calibrate", inputs_sha256, &json.to_string());
+        calibrations.push((out.len(), key.clone()));
+        out.push(PlannedJob {
+            sea_state: None,
+            priority: 2,
+            expected_cost_s: CALIBRATION_COST_FRACTION * strand_cost,
+            max_attempts,
+            cache_key: Some(key),
+            depends_on: global_indices.clone(),
+            ..PlannedJob::new(JobKind::Calibrate, json)
+        });
+    }
+    let mut reduced_of_hot_spot = vec![Vec::with_capacity(globals.len()); hot_spots];
+    for (global_index, id, global, global_key) in &globals {
+        for (hot_spot_index, (calibration_index, calibration_key)) in
+            calibrations.iter().enumerate()
+        {
+            let strand = StrandPayload {
+                global: global.clone(),
+                hot_spot_index,
+                global_cache_key: global_key.clone(),
+                calibration_cache_key: Some(calibration_key.clone()),
+                if_selected: false,
+            };
+            reduced_of_hot_spot[hot_spot_index].push(out.len());
+            out.push(strand_job(
+                JobKind::StrandReduced,
+                &strand,
+                inputs_sha256,
+                REDUCED_COST_FRACTION * strand_cost,
+                max_attempts,
+                Some(*id),
+                vec![*global_index, *calibration_index],
+            ));
+        }
+    }
+    if fidelity != StrandFidelity::Auto {
+        return out;
+    }
+    for (global_index, id, global, global_key) in &globals {
+        for (hot_spot_index, reduced) in reduced_of_hot_spot.iter().enumerate() {
+            let strand = StrandPayload {
+                global: global.clone(),
+                hot_spot_index,
+                global_cache_key: global_key.clone(),
+                calibration_cache_key: None,
+                if_selected: true,
+            };
+            let mut depends_on = Vec::with_capacity(1 + reduced.len());
+            depends_on.push(*global_index);
+            depends_on.extend(reduced);
+            out.push(strand_job(
+                JobKind::Strand,
+                &strand,
+                inputs_sha256,
+                strand_cost,
+                max_attempts,
+                Some(*id),
+                depends_on,
+            ));
+        }
+    }
     out
+}
+
+/// A strand job (FE or reduced) of `payload`.
+fn strand_job(
+    kind: JobKind,
+    payload: &StrandPayload,
+    inputs_sha256: &str,
+    expected_cost_s: f64,
+    max_attempts: i64,
+    sea_state: Option<SeaStateId>,
+    depends_on: Vec<usize>,
+) -> PlannedJob {
+    let json = serde_json::to_value(payload).unwrap_or_default();
+    PlannedJob {
+        sea_state,
+        priority: 1,
+        expected_cost_s,
+        max_attempts,
+        cache_key: Some(cache_key(kind.as_str(), inputs_sha256, &json.to_string())),
+        depends_on,
+        ..PlannedJob::new(kind, json)
+    }
 }
 
 /// Stores `resolved` with its sea states and jobs in one transaction; returns the campaign and

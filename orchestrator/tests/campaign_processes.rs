@@ -693,3 +693,165 @@ fn assert_same_results(got: &CampaignResults, want: &CampaignResults) {
     }
     assert_eq!(got.queries, want.queries);
 }
+
+/// The `auto` strand fidelity end to end on a reduced copy of the paper campaign's layout: two
+/// short sea states of the demo campaign (the 1+6+1 strand), planned as two global jobs, one
+/// calibration, two reduced strand jobs and two FE strand jobs of which the rule runs one
+/// (`auto_fe.sea_states = 1`). The driver and its workers are killed with SIGKILL once the
+/// calibration is done, and `campaign resume` finishes: every job done exactly once, the FE
+/// result counted for the selected sea state and the reduced one for the other, the pair
+/// compared, the diagram's occurrence covered.
+#[test]
+fn auto_fidelity_campaign_survives_a_killed_driver() {
+    let _serial = serial();
+    use std::os::unix::process::CommandExt;
+    let dir = tempfile::tempdir().unwrap();
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns");
+    for sub in ["data", "benchmarks"] {
+        std::fs::create_dir(dir.path().join(sub)).unwrap();
+    }
+    for name in [
+        "demo.json",
+        "paper_case.json",
+        "data/oc4_semi_floater.json",
+        "benchmarks/strand_1_6_1.json",
+    ] {
+        std::fs::copy(src.join(name), dir.path().join(name)).unwrap();
+    }
+    std::fs::write(
+        dir.path().join("data/demo_scatter.tsv"),
+        "lower\tupper\t11\ttotal\n2\t2,5\t1,354\t1,354\n3\t3,5\t0,5\t0,5\n",
+    )
+    .unwrap();
+    let file = dir.path().join("demo.json");
+    let mut spec: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    spec["name"] = serde_json::json!("auto");
+    spec["simulation"]["transient_s"] = serde_json::json!(10.0);
+    spec["simulation"]["wave_ramp_s"] = serde_json::json!(8.0);
+    spec["simulation"]["duration_s"] = serde_json::json!(10.0);
+    spec["strand"]["fidelity"] = serde_json::json!("auto");
+    spec["strand"]["auto_fe"] = serde_json::json!({ "sea_states": 1 });
+    std::fs::write(&file, spec.to_string()).unwrap();
+    let db = dir.path().join("auto.sqlite").to_string_lossy().into_owned();
+    let file = file.to_string_lossy().into_owned();
+    let mut driver = moorfret(&[
+        "campaign",
+        "launch",
+        &file,
+        "--db",
+        &db,
+        "--workers",
+        "2",
+        "--lease-ms",
+        STRAND_LEASE_MS,
+    ])
+    .stderr(Stdio::null())
+    .process_group(0)
+    .spawn()
+    .unwrap();
+    // the campaign exists once the driver has planned it
+    let deadline = Instant::now() + Duration::from_secs(60);
+    let id = loop {
+        let found = Path::new(&db).exists()
+            && rt().block_on(async {
+                let store = Store::open(&db, StoreOptions::default()).await.ok()?;
+                let id = store.campaign_by_name("auto").await.ok().flatten();
+                store.close().await;
+                id
+            })
+            .is_some();
+        if found {
+            break rt().block_on(async {
+                let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+                let id = store.campaign_by_name("auto").await.unwrap().unwrap();
+                store.close().await;
+                id
+            });
+        }
+        assert!(Instant::now() < deadline, "the campaign was not planned");
+        std::thread::sleep(Duration::from_millis(200));
+    };
+    wait_until(
+        &db,
+        "the globals and the calibration done",
+        |s| s.iter().filter(|&&x| x == JobState::Done).count() >= 3,
+        id,
+        None,
+    );
+    let group = format!("-{}", driver.id());
+    assert!(Command::new("kill")
+        .args(["-KILL", "--", &group])
+        .status()
+        .unwrap()
+        .success());
+    driver.wait().unwrap();
+    let out = moorfret(&[
+        "campaign",
+        "resume",
+        "auto",
+        "--db",
+        &db,
+        "--workers",
+        "2",
+        "--lease-ms",
+        STRAND_LEASE_MS,
+    ])
+    .output()
+    .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_each_done_once(&db, id);
+    rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let jobs = store.jobs_of_campaign(id).await.unwrap();
+        let count = |k: JobKind| jobs.iter().filter(|j| j.kind == k).count();
+        assert_eq!(count(JobKind::Global), 2);
+        assert_eq!(count(JobKind::Calibrate), 1);
+        assert_eq!(count(JobKind::StrandReduced), 2);
+        assert_eq!(count(JobKind::Strand), 2);
+        // one FE job ran (the selected sea state), the other ended without results
+        let mut selected = Vec::new();
+        for job in jobs.iter().filter(|j| j.kind == JobKind::Strand) {
+            let results = store.results_of(job.id).await.unwrap();
+            let chosen = results.result["selected"].as_bool().unwrap();
+            assert_eq!(results.class_damage_inputs.is_empty(), !chosen);
+            if chosen {
+                assert_eq!(results.result["fidelity"], "fe");
+                selected.push(results.result["seed_index"].clone());
+            }
+        }
+        assert_eq!(selected.len(), 1, "exactly one sea state runs FE");
+        for job in jobs.iter().filter(|j| j.kind == JobKind::StrandReduced) {
+            let results = store.results_of(job.id).await.unwrap();
+            assert_eq!(results.result["fidelity"], "reduced");
+            assert!(!results.class_damage_inputs.is_empty());
+        }
+        // counted: FE for one sea state, reduced for the other; the FE one is compared
+        let rows = store.sea_state_class_damage(id).await.unwrap();
+        let fidelity = |s: i64| {
+            let mut f: Vec<&str> = rows
+                .iter()
+                .filter(|r| r.sea_state_index == s)
+                .map(|r| r.fidelity.as_str())
+                .collect();
+            f.dedup();
+            f
+        };
+        let (a, b) = (fidelity(0), fidelity(1));
+        assert!(
+            (a == ["fe"] && b == ["reduced"]) || (a == ["reduced"] && b == ["fe"]),
+            "{a:?} {b:?}"
+        );
+        let fe_sea_state = if a == ["fe"] { 0 } else { 1 };
+        let compared = store.fidelity_comparison(id).await.unwrap();
+        assert!(!compared.is_empty());
+        assert!(compared.iter().all(|c| c.sea_state_index == fe_sea_state));
+        let progress = store.progress(id).await.unwrap();
+        assert!((progress.occurrence_covered - 0.01854).abs() < 1e-12);
+        store.close().await;
+    });
+}

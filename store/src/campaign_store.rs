@@ -24,10 +24,10 @@ use super::model::{
 };
 use super::policy::QueuePolicy;
 use super::results::{
-    ClassDamageInput, ContactRow, LifetimeClassDamage, SeaStateClassDamage, SeaStateDamage,
-    SeaStateStatus,
+    ClassDamageInput, ContactRow, FidelityComparison, LifetimeClassDamage, SeaStateClassDamage,
+    SeaStateDamage, SeaStateStatus,
 };
-use super::types::{AttemptId, AttemptOutcome, CampaignId, JobId, SeaStateId, WorkerId};
+use super::types::{AttemptId, AttemptOutcome, CampaignId, JobId, JobKind, SeaStateId, WorkerId};
 use super::{postgres, sqlite};
 
 /// How to open a store.
@@ -389,6 +389,24 @@ impl Store {
         campaign: CampaignId,
     ) -> Result<Vec<(i64, f64, ClassDamageInput)>, StoreError> {
         dispatch!(self, q => q.class_rows_of_campaign(campaign).await)
+    }
+
+    /// Class rows of the done jobs of one kind of a campaign (every row, counted or not),
+    /// with their sea state index and occurrence.
+    pub async fn class_rows_of_kind(
+        &self,
+        campaign: CampaignId,
+        kind: JobKind,
+    ) -> Result<Vec<(i64, f64, ClassDamageInput)>, StoreError> {
+        dispatch!(self, q => q.class_rows_of_kind(campaign, kind).await)
+    }
+
+    /// Rows of the `fidelity_comparison` view of a campaign.
+    pub async fn fidelity_comparison(
+        &self,
+        campaign: CampaignId,
+    ) -> Result<Vec<FidelityComparison>, StoreError> {
+        dispatch!(self, q => q.fidelity_comparison(campaign).await)
     }
 }
 

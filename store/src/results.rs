@@ -184,6 +184,46 @@ pub struct SeaStateClassDamage {
     pub peak_pressure_max_pa: f64,
     /// Largest slip amplitude (m).
     pub slip_amplitude_max_m: f64,
+    /// The strand model of the counted results: `fe`, `reduced`, or `mixed` (seeds of both).
+    pub fidelity: String,
+}
+
+/// A row of the `fidelity_comparison` view: the reduced and the FE result of one contact class
+/// where both ran for the same sea state, seed and hot spot.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FidelityComparison {
+    /// Index of the sea state in the campaign.
+    pub sea_state_index: i64,
+    /// Significant wave height (m).
+    pub hs_m: f64,
+    /// Peak period (s).
+    pub tp_s: f64,
+    /// Fraction of the year.
+    pub occurrence_fraction: f64,
+    /// Seed index within the sea state.
+    pub seed_index: i64,
+    /// Hot spot index.
+    pub hot_spot_index: i64,
+    /// Layer interface.
+    pub layer_interface: i64,
+    /// Angular position class.
+    pub angular_position: AngularPosition,
+    /// Fretting damage rate of the class's most damaged contact, reduced response (1/s).
+    pub reduced_damage_rate_max_per_s: f64,
+    /// The same from the FE model (1/s).
+    pub fe_damage_rate_max_per_s: f64,
+    /// Mean fretting damage rate over the class's contacts, reduced response (1/s).
+    pub reduced_damage_rate_mean_per_s: f64,
+    /// The same from the FE model (1/s).
+    pub fe_damage_rate_mean_per_s: f64,
+    /// Largest slip amplitude, reduced response (m).
+    pub reduced_slip_amplitude_max_m: f64,
+    /// The same from the FE model (m).
+    pub fe_slip_amplitude_max_m: f64,
+    /// Partial- and gross-slip cycles per hour, reduced response.
+    pub reduced_slip_cycles_per_hour: f64,
+    /// The same from the FE model.
+    pub fe_slip_cycles_per_hour: f64,
 }
 
 /// A row of the `lifetime_class_damage` view.
@@ -228,6 +268,8 @@ pub struct SeaStateDamage {
     pub effective_duration_s: f64,
     /// Seed-mean damage rate (1/s).
     pub damage_rate_per_s: f64,
+    /// The strand model of the counted results: `fe`, `reduced`, or `mixed` (seeds of both).
+    pub fidelity: String,
 }
 
 /// A sea state of a campaign with the state of its jobs.

@@ -149,6 +149,11 @@ text_enum!(
         Global => "global",
         /// Detailed strand model for one (sea state, seed, hot spot) on its global load history.
         Strand => "strand",
+        /// The reduced strand response of one hot spot calibrated on its FE model over the
+        /// load range of every global job of the campaign.
+        Calibrate => "calibrate",
+        /// The reduced strand response for one (sea state, seed, hot spot).
+        StrandReduced => "strand_reduced",
         /// Queue exercise only (sleep, succeed, fail); never reaches users' results.
         Test => "test",
     }

@@ -6,8 +6,8 @@ use serde_json::json;
 use tokio::runtime::Handle;
 
 use crate::failure::permanent;
-use crate::{global_stage, strand_stage};
-use moorfret_campaign::{CampaignInputs, GlobalPayload, StrandPayload};
+use crate::{global_stage, reduced_stage, strand_stage};
+use moorfret_campaign::{CalibratePayload, CampaignInputs, GlobalPayload, StrandPayload};
 use moorfret_store::{
     ArtifactStore, FailureClass, JobFailure, JobKind, JobResults, Lease, RetryPolicy, Store,
     TestPayload,
@@ -44,6 +44,29 @@ pub fn execute(
         JobKind::Strand => {
             let payload: StrandPayload = decode(lease)?;
             strand_stage::run_strand(need_inputs()?, &payload, lease, store, retry, artifacts, rt)
+        }
+        JobKind::Calibrate => {
+            let payload: CalibratePayload = decode(lease)?;
+            reduced_stage::run_calibrate(
+                need_inputs()?,
+                &payload,
+                lease,
+                store,
+                retry,
+                artifacts,
+                rt,
+            )
+        }
+        JobKind::StrandReduced => {
+            let payload: StrandPayload = decode(lease)?;
+            reduced_stage::run_strand_reduced(
+                need_inputs()?,
+                &payload,
+                store,
+                retry,
+                artifacts,
+                rt,
+            )
         }
     }
 }

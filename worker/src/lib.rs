@@ -7,7 +7,9 @@
 //! - [`execute`]: one claimed job to its stage;
 //! - [`global_stage`]: floater + lines through one sea state, hot-spot series as artifacts;
 //! - [`strand_stage`]: the strand model through a hot-spot series, with checkpoints, per-contact
-//!   statistics and per-sea-state damage inputs;
+//!   statistics and per-sea-state damage inputs (the FE model);
+//! - [`reduced_stage`]: the reduced strand response of `reduced` and `auto` campaigns: its
+//!   calibration per hot spot, and the strand jobs run through it;
 //! - [`series`]: the hot-spot series format the global stage writes and the strand stage reads;
 //! - [`failure`]: failure reports of the stages;
 //! - [`args`]: the command-line arguments of a worker process;
@@ -19,6 +21,7 @@ pub mod execute;
 pub mod failure;
 pub mod global_stage;
 pub mod process;
+pub mod reduced_stage;
 pub mod series;
 pub mod serve;
 pub mod strand_stage;

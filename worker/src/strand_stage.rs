@@ -30,7 +30,9 @@ use moorfret_solver::fretting::{
 };
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
 use moorfret_solver::strand::history::stiffness::{samples_from_tension, SlackTension};
-use moorfret_solver::strand::history::{run_history_from, HistoryObserver};
+use moorfret_solver::strand::history::{
+    run_history_from, HistoryObserver, HistoryResult, LoadSample,
+};
 use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::Strand;
 use serde_json::json;
@@ -39,11 +41,12 @@ use tokio::runtime::Handle;
 use crate::failure::{permanent, transient};
 use crate::global_stage::series_role;
 use crate::series::HotSpotSeries;
+use moorfret_campaign::fidelity::{select_fe_sea_states, FeSelection, ReducedClassDamage};
 use moorfret_campaign::resolve::hot_spot_line_type;
 use moorfret_campaign::{CampaignInputs, StrandPayload};
 use moorfret_store::{
-    damage_rows, ArtifactStore, ContactStatistics, FailureClass, JobFailure, JobResults, Lease,
-    RetryPolicy, Store,
+    damage_rows, ArtifactStore, ContactStatistics, FailureClass, JobFailure, JobKind, JobResults,
+    Lease, RetryPolicy, Store,
 };
 
 /// Loads the hot-spot series of the strand job's global job. The store reads are retried
@@ -55,21 +58,40 @@ pub fn upstream_series(
     artifacts: &ArtifactStore,
     rt: &Handle,
 ) -> Result<HotSpotSeries, JobFailure> {
+    series_of(
+        &payload.global_cache_key,
+        payload.hot_spot_index,
+        store,
+        retry,
+        artifacts,
+        rt,
+    )
+}
+
+/// Loads the series of hot spot `hot_spot_index` of the done global job of `global_cache_key`.
+pub fn series_of(
+    global_cache_key: &str,
+    hot_spot_index: usize,
+    store: &Store,
+    retry: &RetryPolicy,
+    artifacts: &ArtifactStore,
+    rt: &Handle,
+) -> Result<HotSpotSeries, JobFailure> {
     let source = rt
         .block_on(retry.run("look up upstream job", || {
-            store.lookup_cache(&payload.global_cache_key)
+            store.lookup_cache(global_cache_key)
         }))
         .map_err(|e| transient(FailureClass::Store, e))?
         .ok_or_else(|| {
             transient(
                 FailureClass::UpstreamMissing,
-                "no done global job carries this strand job's upstream cache key",
+                "no done global job carries this job's upstream cache key",
             )
         })?;
     let results = rt
         .block_on(retry.run("read upstream results", || store.results_of(source)))
         .map_err(|e| transient(FailureClass::Store, e))?;
-    let role = series_role(payload.hot_spot_index);
+    let role = series_role(hot_spot_index);
     let artifact = results
         .artifacts
         .iter()
@@ -161,7 +183,7 @@ fn read_checkpoint(artifacts: &ArtifactStore, pointer: &Path) -> Option<HistoryC
 }
 
 /// The model parameters of the campaign's strand settings.
-fn model_parameters(inputs: &CampaignInputs) -> StrandModelParameters {
+pub(crate) fn model_parameters(inputs: &CampaignInputs) -> StrandModelParameters {
     let st = &inputs.spec.strand;
     StrandModelParameters::penalty_contact(
         st.normal_penalty_n_per_m,
@@ -186,20 +208,27 @@ fn contact_row(hot_spot_index: usize, index: usize, c: &ContactRecord) -> Contac
     }
 }
 
-/// Runs one strand job.
-pub fn run_strand(
+/// The strand load of a strand job: its global job's hot-spot series and the strand samples.
+pub(crate) struct StrandLoad {
+    /// The hot-spot series of the global job.
+    pub series: HotSpotSeries,
+    /// The strand load samples (every `stride`-th series sample).
+    pub samples: Vec<LoadSample>,
+    /// Samples with T < 0, loaded as ε = 0.
+    pub slack_samples: usize,
+    /// Series samples per load sample.
+    pub stride: usize,
+}
+
+/// The strand load of `series` under the campaign's settings (module docs).
+pub(crate) fn strand_load(
     inputs: &CampaignInputs,
-    payload: &StrandPayload,
-    lease: &Lease,
-    store: &Store,
-    retry: &RetryPolicy,
-    artifacts: &ArtifactStore,
-    rt: &Handle,
-) -> Result<JobResults, JobFailure> {
-    let series = upstream_series(payload, store, retry, artifacts, rt)?;
+    hot_spot_index: usize,
+    series: HotSpotSeries,
+) -> Result<StrandLoad, JobFailure> {
     let ea = inputs
         .hot_spot_axial_stiffness_n
-        .get(payload.hot_spot_index)
+        .get(hot_spot_index)
         .copied()
         .ok_or_else(|| permanent(FailureClass::BadPayload, "hot spot index out of range"))?;
     let stride = (inputs.spec.strand.load_interval_s / inputs.spec.simulation.output_interval_s)
@@ -213,10 +242,55 @@ pub fn run_strand(
         SlackTension::AsZero,
     )
     .map_err(|e| permanent(FailureClass::StrandHistory, e))?;
-    let strand = inputs
+    Ok(StrandLoad {
+        series,
+        samples,
+        slack_samples,
+        stride,
+    })
+}
+
+/// The campaign's strand, validated.
+pub(crate) fn campaign_strand(inputs: &CampaignInputs) -> Result<Strand, JobFailure> {
+    inputs
         .profile
         .validate()
-        .map_err(|e| permanent(FailureClass::InvalidStrand, e))?;
+        .map_err(|e| permanent(FailureClass::InvalidStrand, e))
+}
+
+/// Runs one FE strand job. An FE job of an `auto` campaign (`if_selected`) first asks the
+/// campaign's reduced results whether its sea state is selected, and ends at once, with no
+/// result rows, if it is not.
+pub fn run_strand(
+    inputs: &CampaignInputs,
+    payload: &StrandPayload,
+    lease: &Lease,
+    store: &Store,
+    retry: &RetryPolicy,
+    artifacts: &ArtifactStore,
+    rt: &Handle,
+) -> Result<JobResults, JobFailure> {
+    let selection = if payload.if_selected {
+        let selection = fe_selection(inputs, payload, lease, store, retry, rt)?;
+        if !selection.contains(payload.global.sea_state_index as i64) {
+            return Ok(JobResults {
+                result: json!({
+                    "fidelity": "fe",
+                    "selected": false,
+                    "hot_spot_index": payload.hot_spot_index,
+                    "seed_index": payload.global.seed_index,
+                    "selection": selection,
+                }),
+                ..JobResults::default()
+            });
+        }
+        Some(selection)
+    } else {
+        None
+    };
+    let series = upstream_series(payload, store, retry, artifacts, rt)?;
+    let load = strand_load(inputs, payload.hot_spot_index, series)?;
+    let strand = campaign_strand(inputs)?;
     let model = StrandModel::new(&strand, &model_parameters(inputs))
         .map_err(|e| permanent(FailureClass::InvalidStrand, e))?;
     let options = inputs.spec.strand.history_options();
@@ -237,8 +311,9 @@ pub fn run_strand(
             segments = cp.kept_samples.len().saturating_sub(1),
             "strand job resumes from its checkpoint");
     }
+    let samples = &load.samples;
     let mut resumed = resume.is_some();
-    let result = match run_history_from(&model, &samples, &options, resume.as_ref(), &mut writer) {
+    let result = match run_history_from(&model, samples, &options, resume.as_ref(), &mut writer) {
         Ok(r) => r,
         // A checkpoint from another build or input is not used: start over.
         Err(moorfret_solver::strand::history::HistoryError::Checkpoint { reason })
@@ -246,11 +321,60 @@ pub fn run_strand(
         {
             tracing::warn!(job = %lease.job, %reason, "checkpoint refused; starting over");
             resumed = false;
-            run_history_from(&model, &samples, &options, None, &mut writer)
+            run_history_from(&model, samples, &options, None, &mut writer)
                 .map_err(|e| permanent(FailureClass::StrandHistory, e))?
         }
         Err(e) => return Err(permanent(FailureClass::StrandHistory, e)),
     };
+    let mut results = strand_results(inputs, payload, &strand, &load, &result, artifacts)?;
+    results.result["fidelity"] = json!("fe");
+    results.result["resumed_from_checkpoint"] = json!(resumed);
+    if let Some(selection) = selection {
+        results.result["selected"] = json!(true);
+        results.result["selection"] = json!(selection);
+    }
+    Ok(results)
+}
+
+/// The FE selection of an `auto` campaign for the job's hot spot, from the reduced results of
+/// every sea state (all done: the job depends on them).
+fn fe_selection(
+    inputs: &CampaignInputs,
+    payload: &StrandPayload,
+    lease: &Lease,
+    store: &Store,
+    retry: &RetryPolicy,
+    rt: &Handle,
+) -> Result<FeSelection, JobFailure> {
+    let rows = rt
+        .block_on(retry.run("read reduced results", || {
+            store.class_rows_of_kind(lease.campaign, JobKind::StrandReduced)
+        }))
+        .map_err(|e| transient(FailureClass::Store, e))?;
+    let rows: Vec<ReducedClassDamage> = rows
+        .iter()
+        .filter(|(_, _, c)| c.hot_spot_index == payload.hot_spot_index as i64)
+        .map(|(sea_state_index, occurrence_fraction, c)| ReducedClassDamage {
+            sea_state_index: *sea_state_index,
+            occurrence_fraction: *occurrence_fraction,
+            seed_index: c.seed_index,
+            class: (c.layer_interface, c.angular_position.as_str()),
+            damage_rate_per_s: c.fretting_damage_rate_max_per_s,
+        })
+        .collect();
+    Ok(select_fe_sea_states(&rows, &inputs.spec.strand.auto_fe))
+}
+
+/// The results of a strand run, FE or reduced: the contact records artifact, one statistics
+/// row per contact, the damage inputs, and the job result (without its `fidelity`).
+pub(crate) fn strand_results(
+    inputs: &CampaignInputs,
+    payload: &StrandPayload,
+    strand: &Strand,
+    load: &StrandLoad,
+    result: &HistoryResult,
+    artifacts: &ArtifactStore,
+) -> Result<JobResults, JobFailure> {
     let records = serde_json::to_vec(&result.contacts)
         .map_err(|e| permanent(FailureClass::SerialiseResults, e))?;
     let artifact = artifacts
@@ -262,7 +386,14 @@ pub fn run_strand(
         .enumerate()
         .map(|(i, c)| contact_row(payload.hot_spot_index, i, c))
         .collect();
-    let damage = damage_inputs(inputs, payload, &strand, &series, stride, &result.contacts)?;
+    let damage = damage_inputs(
+        inputs,
+        payload,
+        strand,
+        &load.series,
+        load.stride,
+        &result.contacts,
+    )?;
     let (damage_inputs, class_damage_inputs) = damage_rows(
         payload.hot_spot_index as i64,
         payload.global.seed_index as i64,
@@ -274,19 +405,19 @@ pub fn run_strand(
         result: json!({
             "hot_spot_index": payload.hot_spot_index,
             "seed_index": payload.global.seed_index,
-            "samples": samples.len(),
-            "slack_samples": slack_samples,
+            "samples": load.samples.len(),
+            "slack_samples": load.slack_samples,
             "contacts": result.contacts.len(),
             "contact_records_sha256": artifact.sha256,
             "effective_duration_s": damage.effective_duration_s,
             "run_in_samples": damage.run_in_samples,
-            "resumed_from_checkpoint": resumed,
             "work": {
                 "kept_samples": s.kept_samples,
                 "substeps": s.substeps,
                 "newton_steps": s.newton_steps,
                 "cutbacks": s.cutbacks,
                 "iterations": s.iterations,
+                "wall_time_s": s.total_time_s,
             },
         }),
         contacts,

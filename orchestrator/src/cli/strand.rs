@@ -27,7 +27,7 @@ use moorfret_solver::strand::reduced::LoadRange;
 use super::run::strand_history::{read_load, samples_of, LazyModel, Observer, StiffnessArgs};
 use super::run::strand_model::{load_strand, ModelArgs};
 use super::run::strand_reduced::{
-    calibration_for, range_of, widened, write_calibration, CalibrationRequest,
+    calibration_for, range_of, write_calibration, CalibrationRequest,
 };
 
 /// The reduced strand response on its own.
@@ -156,7 +156,7 @@ fn calibrate(args: &CalibrateArgs) -> anyhow::Result<()> {
              --curvature-range"
         ),
     };
-    let range = widened(range, args.margin);
+    let range = range.widened(args.margin);
     let request = CalibrationRequest {
         strand: &strand,
         params: &params,

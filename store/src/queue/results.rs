@@ -4,10 +4,10 @@ use super::Db;
 use super::{json_text, parse_json, Queue, Result, Tx};
 use crate::error::StoreError;
 use crate::results::{
-    parse_position, ClassDamageInput, ContactRow, LifetimeClassDamage, SeaStateClassDamage,
-    SeaStateDamage, SeaStateStatus,
+    parse_position, ClassDamageInput, ContactRow, FidelityComparison, LifetimeClassDamage,
+    SeaStateClassDamage, SeaStateDamage, SeaStateStatus,
 };
-use crate::types::{CampaignId, JobId};
+use crate::types::{CampaignId, JobId, JobKind};
 use sqlx::Row;
 
 pub(super) const CLASS_COLUMNS: &str =
@@ -159,6 +159,7 @@ impl Queue {
                     ruiz_f2_max: get(row, "ruiz_f2_max", OP)?,
                     peak_pressure_max_pa: get(row, "peak_pressure_max_pa", OP)?,
                     slip_amplitude_max_m: get(row, "slip_amplitude_max_m", OP)?,
+                    fidelity: get(row, "fidelity", OP)?,
                 })
             })
             .collect()
@@ -219,6 +220,7 @@ impl Queue {
                     damage_seed_mean: get(row, "damage_seed_mean", OP)?,
                     effective_duration_s: get(row, "effective_duration_s", OP)?,
                     damage_rate_per_s: get(row, "damage_rate_per_s", OP)?,
+                    fidelity: get(row, "fidelity", OP)?,
                 })
             })
             .collect()
@@ -293,6 +295,35 @@ impl Queue {
         &self,
         campaign: CampaignId,
     ) -> Result<Vec<(i64, f64, ClassDamageInput)>> {
+        self.class_rows(
+            "counted_class_damage_inputs c JOIN jobs j ON j.id = c.job_id",
+            campaign,
+            None,
+        )
+        .await
+    }
+
+    pub(crate) async fn class_rows_of_kind(
+        &self,
+        campaign: CampaignId,
+        kind: JobKind,
+    ) -> Result<Vec<(i64, f64, ClassDamageInput)>> {
+        self.class_rows(
+            "class_damage_inputs c JOIN jobs j ON j.id = c.job_id AND j.state = 'done'",
+            campaign,
+            Some(kind),
+        )
+        .await
+    }
+
+    /// Class rows with their sea state's index and occurrence, from `from` (which names the
+    /// rows `c` and their job `j`), of one job kind or of all.
+    async fn class_rows(
+        &self,
+        from: &str,
+        campaign: CampaignId,
+        kind: Option<JobKind>,
+    ) -> Result<Vec<(i64, f64, ClassDamageInput)>> {
         const OP: &str = "read class damage inputs";
         let columns = CLASS_COLUMNS
             .split(", ")
@@ -301,13 +332,17 @@ impl Queue {
             .join(", ");
         let sql = format!(
             "SELECT s.sea_state_index, s.occurrence_fraction, {columns} \
-             FROM class_damage_inputs c \
-             JOIN jobs j ON j.id = c.job_id AND j.state = 'done' AND j.kind <> 'test' \
+             FROM {from} \
              JOIN sea_states s ON s.id = j.sea_state_id \
-             WHERE j.campaign_id = $1 ORDER BY s.sea_state_index, c.job_id"
+             WHERE j.campaign_id = $1{} \
+             ORDER BY s.sea_state_index, c.job_id, c.layer_interface, c.angular_position",
+            if kind.is_some() { " AND j.kind = $2" } else { "" }
         );
-        let rows = sqlx::query(&sql)
-            .bind(campaign.0)
+        let mut query = sqlx::query(&sql).bind(campaign.0);
+        if let Some(kind) = kind {
+            query = query.bind(kind.as_str());
+        }
+        let rows = query
             .fetch_all(&self.pool)
             .await
             .map_err(StoreError::db(OP))?;
@@ -318,6 +353,49 @@ impl Queue {
                     get(row, "occurrence_fraction", OP)?,
                     class_from_row(row, OP)?,
                 ))
+            })
+            .collect()
+    }
+
+    pub(crate) async fn fidelity_comparison(
+        &self,
+        campaign: CampaignId,
+    ) -> Result<Vec<FidelityComparison>> {
+        const OP: &str = "read fidelity_comparison";
+        let rows = sqlx::query(
+            "SELECT * FROM fidelity_comparison WHERE campaign_id = $1 \
+             ORDER BY sea_state_index, seed_index, hot_spot_index, layer_interface, \
+             angular_position",
+        )
+        .bind(campaign.0)
+        .fetch_all(&self.pool)
+        .await
+        .map_err(StoreError::db(OP))?;
+        rows.iter()
+            .map(|row| {
+                let position: String = get(row, "angular_position", OP)?;
+                Ok(FidelityComparison {
+                    sea_state_index: get(row, "sea_state_index", OP)?,
+                    hs_m: get(row, "hs_m", OP)?,
+                    tp_s: get(row, "tp_s", OP)?,
+                    occurrence_fraction: get(row, "occurrence_fraction", OP)?,
+                    seed_index: get(row, "seed_index", OP)?,
+                    hot_spot_index: get(row, "hot_spot_index", OP)?,
+                    layer_interface: get(row, "layer_interface", OP)?,
+                    angular_position: parse_position(&position)?,
+                    reduced_damage_rate_max_per_s: get(row, "reduced_damage_rate_max_per_s", OP)?,
+                    fe_damage_rate_max_per_s: get(row, "fe_damage_rate_max_per_s", OP)?,
+                    reduced_damage_rate_mean_per_s: get(
+                        row,
+                        "reduced_damage_rate_mean_per_s",
+                        OP,
+                    )?,
+                    fe_damage_rate_mean_per_s: get(row, "fe_damage_rate_mean_per_s", OP)?,
+                    reduced_slip_amplitude_max_m: get(row, "reduced_slip_amplitude_max_m", OP)?,
+                    fe_slip_amplitude_max_m: get(row, "fe_slip_amplitude_max_m", OP)?,
+                    reduced_slip_cycles_per_hour: get(row, "reduced_slip_cycles_per_hour", OP)?,
+                    fe_slip_cycles_per_hour: get(row, "fe_slip_cycles_per_hour", OP)?,
+                })
             })
             .collect()
     }

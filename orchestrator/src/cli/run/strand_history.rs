@@ -54,7 +54,7 @@ use sha2::{Digest, Sha256};
 
 use super::strand_model::{load_strand, ModelArgs, ModelSizes};
 use super::strand_reduced::{
-    cache_root, calibration_for, range_of, widened, CalibrationRequest, CalibrationSource,
+    cache_root, calibration_for, range_of, CalibrationRequest, CalibrationSource,
     Fidelity, ReducedArgs,
 };
 use moorfret_orchestrator::plot::{strand_history_svgs, LoadPlot};
@@ -919,7 +919,7 @@ impl ReducedRun<'_> {
         let (reduced, mut source) = calibration_for(
             &request,
             &range,
-            widened(range, margin),
+            range.widened(margin),
             &mut build,
             &mut observer,
         )?;

@@ -18,7 +18,7 @@ use moorfret_solver::strand::history::{HistoryObserver, HistoryOptions, LoadSamp
 use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::Strand;
 use moorfret_solver::strand::reduced::{
-    calibrate, CalibrationOptions, LoadRange, ReducedStrand, FORMAT_VERSION,
+    calibrate, model_key, CalibrationOptions, LoadRange, ReducedStrand,
 };
 use serde::Serialize;
 use sha2::{Digest, Sha256};
@@ -96,45 +96,6 @@ fn sha256_hex(text: &str) -> String {
         .collect()
 }
 
-/// The content address of a model's calibrations: what the FE model and its history run are.
-pub(crate) fn model_key(
-    strand: &Strand,
-    params: &StrandModelParameters,
-    options: &CalibrationOptions,
-) -> String {
-    let history = HistoryOptions {
-        threads: 1,
-        ..options.history
-    };
-    sha256_hex(&format!(
-        "moorfret {} reduced strand format {FORMAT_VERSION}; strand {strand:?}; model \
-         {params:?}; history {history:?}; design {:?}",
-        env!("CARGO_PKG_VERSION"),
-        options.design
-    ))
-}
-
-/// `range` widened by `margin` × its width on each side, strain kept ≥ 0.
-pub(crate) fn widened(range: LoadRange, margin: f64) -> LoadRange {
-    let w = |[lo, hi]: [f64; 2]| {
-        let d = margin * (hi - lo);
-        [lo - d, hi + d]
-    };
-    let mut r = LoadRange {
-        strain: w(range.strain),
-        curvature_per_m: w(range.curvature_per_m),
-    };
-    r.strain[0] = r.strain[0].max(0.0);
-    r
-}
-
-fn covers(outer: &LoadRange, inner: &LoadRange) -> bool {
-    outer.strain[0] <= inner.strain[0]
-        && outer.strain[1] >= inner.strain[1]
-        && outer.curvature_per_m[0] <= inner.curvature_per_m[0]
-        && outer.curvature_per_m[1] >= inner.curvature_per_m[1]
-}
-
 fn read_calibration(path: &Path) -> anyhow::Result<ReducedStrand> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("reading calibration {}", path.display()))?;
@@ -156,7 +117,7 @@ fn cached(dir: &Path, range: &LoadRange) -> Option<(PathBuf, ReducedStrand)> {
         let Ok(reduced) = read_calibration(&path) else {
             continue;
         };
-        if !covers(&reduced.range, range) {
+        if !reduced.range.covers(range) {
             continue;
         }
         let r = &reduced.range;
@@ -227,7 +188,7 @@ pub(crate) fn calibration_for(
                 key
             );
         }
-        if !covers(&reduced.range, range) {
+        if !reduced.range.covers(range) {
             bail!(
                 "calibration {} covers strain {:?} and curvature {:?} 1/m, not this load's \
                  strain {:?} and curvature {:?} 1/m; calibrate over a range that covers it",

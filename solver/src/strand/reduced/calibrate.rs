@@ -17,7 +17,8 @@ use crate::strand::history::monitors::contact_sites;
 use crate::strand::history::{
     run_history, HistoryObserver, HistoryOptions, HistoryProgress, LoadSample,
 };
-use crate::strand::model::StrandModel;
+use crate::strand::model::{StrandModel, StrandModelParameters};
+use crate::strand::profile::Strand;
 
 /// Settings of a calibration.
 #[derive(Clone, Debug, PartialEq)]
@@ -39,6 +40,30 @@ impl Default for CalibrationOptions {
             min_slip_range_m: 1e-6,
         }
     }
+}
+
+/// The content address of a model's calibrations: what the FE model and its history run are
+/// (threads excluded: results do not depend on them), the reduced format and the design.
+pub fn model_key(
+    strand: &Strand,
+    params: &StrandModelParameters,
+    options: &CalibrationOptions,
+) -> String {
+    use sha2::{Digest, Sha256};
+    let history = HistoryOptions {
+        threads: 1,
+        ..options.history
+    };
+    let text = format!(
+        "moorfret {} reduced strand format {FORMAT_VERSION}; strand {strand:?}; model \
+         {params:?}; history {history:?}; design {:?}",
+        env!("CARGO_PKG_VERSION"),
+        options.design
+    );
+    Sha256::digest(text.as_bytes())
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
 }
 
 /// Feeds every sample of the FE run to the fit, and passes progress on.

@@ -64,7 +64,7 @@ use serde::{Deserialize, Serialize};
 use super::history::monitors::{ContactSite, MonitorChannel};
 use super::history::{HistoryError, LoadSample};
 
-pub use calibrate::{calibrate, CalibrationOptions};
+pub use calibrate::{calibrate, model_key, CalibrationOptions};
 pub use run::run_reduced;
 
 /// Version of the stored calibration and of the fit that made it; a file of another version is
@@ -179,6 +179,28 @@ impl LoadRange {
                 self.curvature_per_m[1].max(other.curvature_per_m[1]),
             ],
         }
+    }
+
+    /// The range widened by `margin` × its width on each side, strain kept ≥ 0.
+    pub fn widened(self, margin: f64) -> Self {
+        let w = |[lo, hi]: [f64; 2]| {
+            let d = margin * (hi - lo);
+            [lo - d, hi + d]
+        };
+        let mut r = Self {
+            strain: w(self.strain),
+            curvature_per_m: w(self.curvature_per_m),
+        };
+        r.strain[0] = r.strain[0].max(0.0);
+        r
+    }
+
+    /// Whether `inner` lies within `self`.
+    pub fn covers(&self, inner: &Self) -> bool {
+        self.strain[0] <= inner.strain[0]
+            && self.strain[1] >= inner.strain[1]
+            && self.curvature_per_m[0] <= inner.curvature_per_m[0]
+            && self.curvature_per_m[1] >= inner.curvature_per_m[1]
     }
 
     /// Checks the bounds: finite, ordered, strain ≥ 0, and a strain range that is not empty

@@ -1,0 +1,207 @@
+//! The reduced strand stages of a `reduced` or `auto` campaign
+//! (`moorfret_campaign::fidelity`, `moorfret_solver::strand::reduced`).
+//!
+//! - `calibrate` (one job per hot spot, after every global job): the load range of the hot
+//!   spot over every global job of the campaign (ε = T / EA and κ, as the strand jobs load
+//!   them), widened by `strand.calibration_margin` on each side, and the reduced response
+//!   calibrated on the campaign's FE strand model over it. The calibration is stored as a
+//!   content-addressed artifact (`reduced_strand`); its job result holds the range, the
+//!   calibration's own report and its cost. The FE run of the calibration uses every core of
+//!   the machine: every reduced job of the hot spot waits for it.
+//! - `strand_reduced` (one job per sea state, seed and hot spot): the strand load of its global
+//!   job through the calibrated response; results as an FE strand job's (contact records,
+//!   contact rows, damage inputs), marked `"fidelity": "reduced"`.
+
+use std::time::Instant;
+
+use moorfret_solver::strand::history::{HistoryObserver, HistoryOptions, HistoryProgress};
+use moorfret_solver::strand::model::StrandModel;
+use moorfret_solver::strand::reduced::design::design_strain_floor;
+use moorfret_solver::strand::reduced::{
+    calibrate, model_key, run_reduced, CalibrationOptions, LoadRange, ReducedStrand,
+};
+use serde_json::json;
+use tokio::runtime::Handle;
+
+use crate::failure::{permanent, transient};
+use crate::strand_stage::{
+    campaign_strand, model_parameters, series_of, strand_load, strand_results, upstream_series,
+};
+use moorfret_campaign::{CalibratePayload, CampaignInputs, StrandPayload};
+use moorfret_store::{
+    ArtifactStore, FailureClass, JobFailure, JobResults, Lease, RetryPolicy, Store,
+};
+
+/// Artifact role of a calibration.
+const CALIBRATION_ROLE: &str = "reduced_strand";
+
+/// Logs the progress of the calibration's FE run about once a minute.
+struct ProgressLog {
+    job: String,
+    last: Instant,
+}
+
+impl HistoryObserver for ProgressLog {
+    fn progress(&mut self, p: &HistoryProgress) {
+        if self.last.elapsed().as_secs_f64() >= 60.0 {
+            self.last = Instant::now();
+            tracing::info!(job = %self.job, segment = p.segment, segments = p.segments,
+                "calibrating the reduced strand response");
+        }
+    }
+}
+
+/// The calibration settings of a campaign: the solver's, with the campaign's history run
+/// settings and every core of the machine.
+fn calibration_options(inputs: &CampaignInputs) -> CalibrationOptions {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let history = inputs.spec.strand.history_options();
+    CalibrationOptions {
+        history: HistoryOptions {
+            threads: history.threads.max(cores),
+            ..HistoryOptions::default()
+        },
+        ..CalibrationOptions::default()
+    }
+}
+
+/// Runs one calibration job (module docs).
+pub fn run_calibrate(
+    inputs: &CampaignInputs,
+    payload: &CalibratePayload,
+    lease: &Lease,
+    store: &Store,
+    retry: &RetryPolicy,
+    artifacts: &ArtifactStore,
+    rt: &Handle,
+) -> Result<JobResults, JobFailure> {
+    let mut loads: Option<LoadRange> = None;
+    for key in &payload.global_cache_keys {
+        let series = series_of(key, payload.hot_spot_index, store, retry, artifacts, rt)?;
+        let load = strand_load(inputs, payload.hot_spot_index, series)?;
+        if let Some(r) = LoadRange::of(&load.samples) {
+            loads = Some(loads.map_or(r, |l| l.union(r)));
+        }
+    }
+    let loads = loads.ok_or_else(|| {
+        permanent(
+            FailureClass::StrandHistory,
+            "the campaign's global jobs gave no strand load samples",
+        )
+    })?;
+    let range = loads.widened(inputs.spec.strand.calibration_margin);
+    let strand = campaign_strand(inputs)?;
+    let params = model_parameters(inputs);
+    let model = StrandModel::new(&strand, &params)
+        .map_err(|e| permanent(FailureClass::InvalidStrand, e))?;
+    let options = calibration_options(inputs);
+    tracing::info!(job = %lease.job, strain = ?range.strain, curvature_per_m = ?range.curvature_per_m,
+        threads = options.history.threads, "calibrating the reduced strand response");
+    let mut log = ProgressLog {
+        job: lease.job.to_string(),
+        last: Instant::now(),
+    };
+    let mut reduced = calibrate(&model, range, &options, &mut log)
+        .map_err(|e| permanent(FailureClass::StrandHistory, e))?;
+    reduced.model_key = model_key(&strand, &params, &options);
+    let bytes =
+        serde_json::to_vec(&reduced).map_err(|e| permanent(FailureClass::SerialiseResults, e))?;
+    let artifact = artifacts
+        .put(CALIBRATION_ROLE, &bytes)
+        .map_err(|e| transient(FailureClass::ArtifactIo, e))?;
+    let c = &reduced.calibration;
+    Ok(JobResults {
+        result: json!({
+            "hot_spot_index": payload.hot_spot_index,
+            "global_jobs": payload.global_cache_keys.len(),
+            "load_range": loads,
+            "calibrated_range": reduced.range,
+            "design_strain_floor": design_strain_floor(&reduced.range),
+            "model_key": reduced.model_key,
+            "calibration_sha256": artifact.sha256,
+            "design_samples": c.design_samples,
+            "fe_substeps": c.fe_substeps,
+            "fe_iterations": c.fe_iterations,
+            "fe_wall_time_s": c.fe_wall_time_s,
+            "threads": options.history.threads,
+            "fits": c.fits,
+            "replay": c.replay,
+        }),
+        artifacts: vec![artifact],
+        ..JobResults::default()
+    })
+}
+
+/// The calibration of a reduced job's hot spot, from its calibration job's artifact.
+fn calibration_of(
+    key: &str,
+    store: &Store,
+    retry: &RetryPolicy,
+    artifacts: &ArtifactStore,
+    rt: &Handle,
+) -> Result<ReducedStrand, JobFailure> {
+    let source = rt
+        .block_on(retry.run("look up calibration job", || store.lookup_cache(key)))
+        .map_err(|e| transient(FailureClass::Store, e))?
+        .ok_or_else(|| {
+            transient(
+                FailureClass::UpstreamMissing,
+                "no done calibration job carries this job's calibration cache key",
+            )
+        })?;
+    let results = rt
+        .block_on(retry.run("read calibration results", || store.results_of(source)))
+        .map_err(|e| transient(FailureClass::Store, e))?;
+    let artifact = results
+        .artifacts
+        .iter()
+        .find(|a| a.role == CALIBRATION_ROLE)
+        .ok_or_else(|| {
+            permanent(
+                FailureClass::UpstreamMissing,
+                format!("job {source} has no {CALIBRATION_ROLE}"),
+            )
+        })?;
+    let bytes = artifacts
+        .get(&artifact.sha256)
+        .map_err(|e| transient(FailureClass::ArtifactIo, e))?;
+    let reduced: ReducedStrand =
+        serde_json::from_slice(&bytes).map_err(|e| permanent(FailureClass::BadArtifact, e))?;
+    reduced
+        .validated()
+        .map_err(|e| permanent(FailureClass::BadArtifact, e))
+}
+
+/// Runs one reduced strand job (module docs).
+pub fn run_strand_reduced(
+    inputs: &CampaignInputs,
+    payload: &StrandPayload,
+    store: &Store,
+    retry: &RetryPolicy,
+    artifacts: &ArtifactStore,
+    rt: &Handle,
+) -> Result<JobResults, JobFailure> {
+    let key = payload.calibration_cache_key.as_deref().ok_or_else(|| {
+        permanent(
+            FailureClass::BadPayload,
+            "a strand_reduced job needs calibration_cache_key",
+        )
+    })?;
+    let reduced = calibration_of(key, store, retry, artifacts, rt)?;
+    let series = upstream_series(payload, store, retry, artifacts, rt)?;
+    let load = strand_load(inputs, payload.hot_spot_index, series)?;
+    let strand = campaign_strand(inputs)?;
+    let options = inputs.spec.strand.history_options();
+    let result = run_reduced(&reduced, &load.samples, options.slip_gate_m)
+        .map_err(|e| permanent(FailureClass::StrandHistory, e))?;
+    let floor = design_strain_floor(&reduced.range);
+    let below = load.samples.iter().filter(|s| s.strain < floor).count();
+    let mut results = strand_results(inputs, payload, &strand, &load, &result, artifacts)?;
+    results.result["fidelity"] = json!("reduced");
+    results.result["calibration"] = json!({
+        "model_key": reduced.model_key,
+        "range": reduced.range,
+    });
+    results.result["samples_below_design_strain"] = json!(below);
+    Ok(results)
+}
