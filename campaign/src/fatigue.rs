@@ -19,13 +19,18 @@
 //!   type's hydrodynamic diameter, taken as the rope's nominal diameter: an assumption, since
 //!   a volume-equivalent diameter is somewhat smaller than the nominal one (the nominal stress
 //!   range, hence the DNV damage, is then on the high side).
-//! - Run-in: `run_in_s` of simulated time at the start of the strand history is left out of
-//!   every statistic (the seed's Fig. 22 shows a mean-slip drift over about the first 100 s).
+//! - Run-in: the start of each strand history is left out of every statistic (the seed's
+//!   Fig. 22 shows a mean-slip drift over about the first 100 s). Each strand job detects where
+//!   the mean slip of every slip monitor stops drifting ([`RunInDetection`],
+//!   `moorfret_solver::fretting::detect_set_run_in`) and stores it; the statistics leave out
+//!   that run-in, or `run_in_s` when given (a fixed override). A history that never
+//!   stabilises keeps every sample (transient slips are the larger ones, so this errs on the
+//!   safe side) and says so in its job result.
 
 use moorfret_solver::fatigue::{rope_nominal_area_m2, ApiComponent, DnvComponent, TnCurve};
 use moorfret_solver::fretting::{
     BinEdges, CrossedCylinders, DamageInputsConfig, ElasticMaterial, ForceMeasure, FrettingParams,
-    FrettingSnLaw, NamedTnCurve, RegimeCriterion,
+    FrettingSnLaw, NamedTnCurve, RegimeCriterion, RunInParams,
 };
 use moorfret_solver::mooring::spec::LineTypeSpec;
 use moorfret_solver::strand::profile::Strand;
@@ -53,8 +58,52 @@ pub struct FatigueSpec {
     /// T-N curves on the hot-spot tension; the defaults of the module doc when absent.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tn_curves: Option<Vec<NamedTnCurve>>,
-    /// Simulated time at the start of each strand history left out of the statistics (s).
-    pub run_in_s: f64,
+    /// Simulated time at the start of each strand history left out of the statistics (s): a
+    /// fixed override of the detected run-in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub run_in_s: Option<f64>,
+    /// How the run-in is detected.
+    #[serde(skip_serializing_if = "RunInDetection::is_default")]
+    pub run_in_detection: RunInDetection,
+}
+
+/// Settings of the run-in detection (`moorfret_solver::fretting::runin`): window means of
+/// every slip monitor against the mean of the final `reference_fraction` of the history.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RunInDetection {
+    /// Window length (s): several wave periods.
+    pub window_s: f64,
+    /// Fraction of the history, at its end, taken as the stabilised reference (0, 1).
+    pub reference_fraction: f64,
+    /// Band half-width around the reference mean, in reference standard deviations.
+    pub tolerance_sigma: f64,
+}
+
+impl Default for RunInDetection {
+    fn default() -> Self {
+        Self {
+            window_s: 50.0,
+            reference_fraction: 0.25,
+            tolerance_sigma: 0.25,
+        }
+    }
+}
+
+impl RunInDetection {
+    /// Whether `self` is the default.
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// The solver's parameters for strand load samples `load_interval_s` apart.
+    pub fn params(&self, load_interval_s: f64) -> RunInParams {
+        RunInParams {
+            window_samples: ((self.window_s / load_interval_s).round() as usize).max(1),
+            reference_fraction: self.reference_fraction,
+            tolerance_sigma: self.tolerance_sigma,
+        }
+    }
 }
 
 impl Default for FatigueSpec {
@@ -72,7 +121,8 @@ impl Default for FatigueSpec {
             force_measure: fretting.force_measure,
             sn_law: fretting.sn_law,
             tn_curves: None,
-            run_in_s: 0.0,
+            run_in_s: None,
+            run_in_detection: RunInDetection::default(),
         }
     }
 }
@@ -109,7 +159,29 @@ impl FatigueSpec {
             let value = format!("{:?} / {:?}", self.regime, self.sn_law);
             invalid("fatigue.regime / fatigue.sn_law", value, e.to_string())
         })?;
-        let (run_in, duration) = (self.run_in_s, duration_s);
+        let d = &self.run_in_detection;
+        if !(d.window_s.is_finite() && d.window_s >= load_interval_s) {
+            return Err(invalid(
+                "fatigue.run_in_detection.window_s",
+                d.window_s,
+                "must be finite and at least strand.load_interval_s",
+            ));
+        }
+        if !(d.reference_fraction > 0.0 && d.reference_fraction < 1.0) {
+            return Err(invalid(
+                "fatigue.run_in_detection.reference_fraction",
+                d.reference_fraction,
+                "must lie in (0, 1)",
+            ));
+        }
+        if !(d.tolerance_sigma.is_finite() && d.tolerance_sigma > 0.0) {
+            return Err(invalid(
+                "fatigue.run_in_detection.tolerance_sigma",
+                d.tolerance_sigma,
+                "must be finite and > 0",
+            ));
+        }
+        let (run_in, duration) = (self.run_in_s.unwrap_or(0.0), duration_s);
         if !(run_in.is_finite() && run_in >= 0.0) {
             return Err(invalid("fatigue.run_in_s", run_in, "must be >= 0"));
         }
@@ -146,9 +218,10 @@ impl FatigueSpec {
         Ok(())
     }
 
-    /// The run-in in strand load samples.
-    pub fn run_in_samples(&self, load_interval_s: f64) -> usize {
-        (self.run_in_s / load_interval_s).round() as usize
+    /// The fixed run-in in strand load samples, if `run_in_s` is given.
+    pub fn fixed_run_in_samples(&self, load_interval_s: f64) -> Option<usize> {
+        self.run_in_s
+            .map(|r| (r / load_interval_s).round() as usize)
     }
 
     /// The damage-input configuration of a hot spot on `line_type` with axial stiffness

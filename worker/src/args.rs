@@ -55,8 +55,9 @@ pub struct WorkerArgs {
     /// Part of `--wall-time-s` kept for storing the last job's results, s.
     #[arg(long, default_value_t = 30.0)]
     pub wall_time_reserve_s: f64,
-    /// Take only jobs of this kind (`global` or `strand`; repeatable; all kinds by default),
-    /// e.g. global jobs on small nodes and strand jobs on large ones.
+    /// Take only jobs of this kind (`global`, `strand`, `calibrate` or `strand_reduced`;
+    /// repeatable; all kinds by default), e.g. global jobs on small nodes and FE strand jobs on
+    /// large ones.
     #[arg(long = "kind", value_name = "KIND", value_parser = parse_kind)]
     pub kinds: Vec<JobKind>,
 }

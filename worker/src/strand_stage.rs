@@ -26,8 +26,9 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use moorfret_solver::fretting::{
-    sea_state_damage_inputs, ContactRecord, SeaStateInputs, TensionHistory,
+    detect_set_run_in, sea_state_damage_inputs, ContactRecord, SeaStateInputs, TensionHistory,
 };
+use moorfret_solver::strand::history::monitors::{MonitorChannel, MonitorQuantity};
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
 use moorfret_solver::strand::history::stiffness::{samples_from_tension, SlackTension};
 use moorfret_solver::strand::history::{
@@ -386,12 +387,13 @@ pub(crate) fn strand_results(
         .enumerate()
         .map(|(i, c)| contact_row(payload.hot_spot_index, i, c))
         .collect();
+    let (run_in_samples, run_in) = run_in(inputs, result);
     let damage = damage_inputs(
         inputs,
         payload,
         strand,
-        &load.series,
-        load.stride,
+        load,
+        run_in_samples,
         &result.contacts,
     )?;
     let (damage_inputs, class_damage_inputs) = damage_rows(
@@ -411,6 +413,7 @@ pub(crate) fn strand_results(
             "contact_records_sha256": artifact.sha256,
             "effective_duration_s": damage.effective_duration_s,
             "run_in_samples": damage.run_in_samples,
+            "run_in": run_in,
             "work": {
                 "kept_samples": s.kept_samples,
                 "substeps": s.substeps,
@@ -428,15 +431,66 @@ pub(crate) fn strand_results(
     })
 }
 
+/// The run-in of a strand run (module docs of `moorfret_campaign::fatigue`): the samples left
+/// out of the statistics, and what the detection found on the slip monitors.
+fn run_in(inputs: &CampaignInputs, result: &HistoryResult) -> (usize, serde_json::Value) {
+    let fatigue = &inputs.spec.fatigue;
+    let dt = inputs.spec.strand.load_interval_s;
+    let slips: Vec<&MonitorChannel> = result
+        .monitors
+        .channels
+        .iter()
+        .filter(|c| c.quantity == MonitorQuantity::Slip && !c.values.is_empty())
+        .collect();
+    let set: Vec<&[f64]> = slips.iter().map(|c| c.values.as_slice()).collect();
+    let fixed = fatigue.fixed_run_in_samples(dt);
+    let (detected, detection) =
+        match detect_set_run_in(&set, &fatigue.run_in_detection.params(dt)) {
+            Ok(r) => {
+                let governing = r.governing.and_then(|k| slips.get(k)).map(|c| {
+                    json!({ "layer_interface": c.layer, "group": format!("{:?}", c.group) })
+                });
+                let end_s = r.end_index.map(|e| e as f64 * dt);
+                (
+                    r.end_index,
+                    json!({
+                        "stabilised": r.end_index.is_some(),
+                        "end_s": end_s,
+                        "monitors": r.histories,
+                        "unstable_monitors": r.unstable,
+                        "governing_monitor": governing,
+                        "worst_drift_ratio": r.worst_drift_ratio,
+                    }),
+                )
+            }
+            // too short a history for the windows: nothing detected
+            Err(e) => (None, json!({ "stabilised": false, "error": e.to_string() })),
+        };
+    let (samples, source) = match (fixed, detected) {
+        (Some(f), _) => (f, "fixed"),
+        (None, Some(d)) => (d, "detected"),
+        (None, None) => (0, "not_stabilised"),
+    };
+    (
+        samples,
+        json!({
+            "source": source,
+            "excluded_s": samples as f64 * dt,
+            "detection": detection,
+        }),
+    )
+}
+
 /// The damage inputs of the run (`moorfret_solver::fretting::sea_state_damage_inputs`): the
 /// contact records with the hot-spot tension at the same samples as the strand load (every
-/// `stride`-th global output sample), configured by the campaign's fatigue settings.
+/// `stride`-th global output sample), the first `run_in_samples` left out, configured by the
+/// campaign's fatigue settings.
 fn damage_inputs(
     inputs: &CampaignInputs,
     payload: &StrandPayload,
     strand: &Strand,
-    series: &HotSpotSeries,
-    stride: usize,
+    load: &StrandLoad,
+    run_in_samples: usize,
     records: &[ContactRecord],
 ) -> Result<SeaStateInputs, JobFailure> {
     let spec = &inputs.spec;
@@ -453,12 +507,18 @@ fn damage_inputs(
         })?;
     let ea = inputs.hot_spot_axial_stiffness_n[payload.hot_spot_index];
     let config = spec.fatigue.damage_config(strand, line_type, ea);
-    let stride = stride.max(1);
-    let tension: Vec<f64> = series.tension_n.iter().step_by(stride).copied().collect();
+    let stride = load.stride.max(1);
+    let tension: Vec<f64> = load
+        .series
+        .tension_n
+        .iter()
+        .step_by(stride)
+        .copied()
+        .collect();
     let history = TensionHistory {
         tension_n: &tension,
         dt_s: stride as f64 * spec.simulation.output_interval_s,
-        run_in_samples: spec.fatigue.run_in_samples(spec.strand.load_interval_s),
+        run_in_samples,
     };
     sea_state_damage_inputs(records, &history, &config)
         .map_err(|e| permanent(FailureClass::DamageInputs, e))

@@ -7,7 +7,9 @@
 //!   other measure (T-N curves) from `sea_state_damage_inputs`;
 //! - `lifetime`: `lifetime_damage` (per hot spot and measure) and `lifetime_class_damage` (per
 //!   hot spot, contact class and fretting measure), annual damage with the covered occurrence;
-//! - `contacts`: the per-contact statistics rows of the done jobs.
+//! - `contacts`: the per-contact statistics rows of the done jobs;
+//! - `fidelity`: `fidelity_comparison`, the reduced against the FE strand result per sea state,
+//!   seed, hot spot and contact class where both ran, with their relative differences.
 //!
 //! Results come as a [`Table`] (named columns, JSON values) printed as an aligned text table,
 //! CSV or JSON (an array of objects).
@@ -36,6 +38,8 @@ pub enum QueryKind {
     Lifetime,
     /// Per-contact statistics.
     Contacts,
+    /// Reduced against FE strand results where both ran (`auto` fidelity).
+    Fidelity,
 }
 
 /// The id of campaign `name`, or an error naming it.
@@ -91,12 +95,14 @@ pub async fn run(
                     "ruiz_f2_max",
                     "peak_pressure_max_pa",
                     "slip_amplitude_max_m",
+                    "fidelity",
                 ],
                 &rows,
             )
         }
         QueryKind::SeaStates => sea_states(store, campaign).await,
         QueryKind::Lifetime => lifetime(store, campaign).await,
+        QueryKind::Fidelity => fidelity(store, campaign).await,
         QueryKind::Contacts => Table::from_rows(
             &[
                 "sea_state_index",
@@ -170,5 +176,71 @@ async fn lifetime(store: &Store, campaign: CampaignId) -> anyhow::Result<Table> 
     let mut table = Table::from_rows(&columns, &store.lifetime_damage(campaign).await?)?;
     let classes = Table::from_rows(&columns, &store.lifetime_class_damage(campaign).await?)?;
     table.rows.extend(classes.rows);
+    // life in years at the annual damage (Miner, failure at D = 1); empty without damage
+    let life: Vec<Value> = table
+        .rows
+        .iter()
+        .map(|r| match r[4].as_f64() {
+            Some(d) if d > 0.0 => Value::from(1.0 / d),
+            _ => Value::Null,
+        })
+        .collect();
+    table.push_column("life_years".into(), life);
+    Ok(table)
+}
+
+/// The `fidelity_comparison` rows with the relative difference (reduced − FE) / FE of each
+/// compared quantity (empty where the FE value is 0).
+async fn fidelity(store: &Store, campaign: CampaignId) -> anyhow::Result<Table> {
+    let rows = store.fidelity_comparison(campaign).await?;
+    let mut table = Table::from_rows(
+        &[
+            "sea_state_index",
+            "hs_m",
+            "tp_s",
+            "occurrence_fraction",
+            "seed_index",
+            "hot_spot_index",
+            "layer_interface",
+            "angular_position",
+            "fe_damage_rate_max_per_s",
+            "reduced_damage_rate_max_per_s",
+            "fe_damage_rate_mean_per_s",
+            "reduced_damage_rate_mean_per_s",
+            "fe_slip_amplitude_max_m",
+            "reduced_slip_amplitude_max_m",
+            "fe_slip_cycles_per_hour",
+            "reduced_slip_cycles_per_hour",
+        ],
+        &rows,
+    )?;
+    let relative = |f: fn(&moorfret_store::FidelityComparison) -> (f64, f64)| -> Vec<Value> {
+        rows.iter()
+            .map(|r| {
+                let (fe, reduced) = f(r);
+                if fe != 0.0 && fe.is_finite() && reduced.is_finite() {
+                    Value::from((reduced - fe) / fe)
+                } else {
+                    Value::Null
+                }
+            })
+            .collect()
+    };
+    table.push_column(
+        "damage_max_rel_diff".into(),
+        relative(|r| (r.fe_damage_rate_max_per_s, r.reduced_damage_rate_max_per_s)),
+    );
+    table.push_column(
+        "damage_mean_rel_diff".into(),
+        relative(|r| (r.fe_damage_rate_mean_per_s, r.reduced_damage_rate_mean_per_s)),
+    );
+    table.push_column(
+        "slip_amplitude_rel_diff".into(),
+        relative(|r| (r.fe_slip_amplitude_max_m, r.reduced_slip_amplitude_max_m)),
+    );
+    table.push_column(
+        "slip_cycles_rel_diff".into(),
+        relative(|r| (r.fe_slip_cycles_per_hour, r.reduced_slip_cycles_per_hour)),
+    );
     Ok(table)
 }

@@ -66,8 +66,73 @@ pub struct ReportData {
     pub series: Option<HotSpotSeries>,
     /// Lifetime table (`query lifetime`).
     pub lifetime: Table,
-    /// Damage inputs (`query damage-inputs`).
+    /// Damage inputs of the critical class (`query damage-inputs`), largest share first.
     pub damage_inputs: Table,
+    /// Per sea state index: the strand fidelity of its counted results (`fe`, `reduced`,
+    /// `mixed`).
+    pub fidelity: BTreeMap<i64, String>,
+    /// Reduced against FE where both ran (`query fidelity`).
+    pub comparison: Table,
+    /// Results of the calibration jobs (load range, cost, in-sample fit).
+    pub calibrations: Vec<serde_json::Value>,
+}
+
+/// Rows of the damage-inputs table in the report: the most damaging sea states of the
+/// critical class.
+const DAMAGE_INPUT_ROWS: usize = 25;
+
+/// The columns of `table` named in `names` (missing names are skipped), rows kept.
+pub(crate) fn select_columns(table: &Table, names: &[&str]) -> Table {
+    let picks: Vec<usize> = names
+        .iter()
+        .filter_map(|n| table.columns.iter().position(|c| c == n))
+        .collect();
+    Table {
+        columns: picks.iter().map(|&i| table.columns[i].clone()).collect(),
+        rows: table
+            .rows
+            .iter()
+            .map(|r| picks.iter().map(|&i| r[i].clone()).collect())
+            .collect(),
+    }
+}
+
+/// The rows of the damage-inputs table of `critical`, largest occurrence × damage rate first.
+fn critical_rows(table: Table, critical: Option<&CriticalClass>) -> Table {
+    let Some(c) = critical else {
+        return Table {
+            columns: table.columns,
+            rows: Vec::new(),
+        };
+    };
+    let col = |n: &str| table.columns.iter().position(|c| c == n);
+    let (Some(hs), Some(li), Some(ap), Some(occ), Some(rate)) = (
+        col("hot_spot_index"),
+        col("layer_interface"),
+        col("angular_position"),
+        col("occurrence_fraction"),
+        col("damage_rate_per_s"),
+    ) else {
+        return table;
+    };
+    let weight = |r: &Vec<serde_json::Value>| {
+        r[occ].as_f64().unwrap_or(0.0) * r[rate].as_f64().unwrap_or(0.0)
+    };
+    let mut rows: Vec<Vec<serde_json::Value>> = table
+        .rows
+        .into_iter()
+        .filter(|r| {
+            r[hs].as_i64() == Some(c.hot_spot_index)
+                && r[li].as_i64() == Some(c.layer_interface)
+                && r[ap].as_str() == Some(c.angular_position.as_str())
+        })
+        .collect();
+    rows.sort_by(|a, b| weight(b).total_cmp(&weight(a)));
+    rows.truncate(DAMAGE_INPUT_ROWS);
+    Table {
+        columns: table.columns,
+        rows,
+    }
 }
 
 fn shares(terms: impl Iterator<Item = (i64, f64)>) -> BTreeMap<i64, f64> {
@@ -142,6 +207,23 @@ pub async fn gather(
         tn_share = Some((measure, share));
     }
     let histograms = slip_histograms(store.class_rows_of_campaign(campaign).await?)?;
+    let damage_inputs = critical_rows(
+        query::run(store, name, query::QueryKind::DamageInputs, "fretting_max").await?,
+        critical.as_ref(),
+    );
+    let fidelity: BTreeMap<i64, String> = store
+        .sea_state_class_damage(campaign)
+        .await?
+        .into_iter()
+        .filter(|r| r.measure == "fretting_max")
+        .map(|r| (r.sea_state_index, r.fidelity))
+        .collect();
+    let mut calibrations = Vec::new();
+    for job in store.jobs_of_campaign(campaign).await? {
+        if job.kind == JobKind::Calibrate && job.state == JobState::Done {
+            calibrations.push(store.results_of(job.id).await?.result);
+        }
+    }
     let series = match artifacts {
         Some(a) => hot_spot_series(store, campaign, a, &fretting_share).await?,
         None => None,
@@ -155,8 +237,10 @@ pub async fn gather(
         histograms,
         series,
         lifetime: query::run(store, name, query::QueryKind::Lifetime, "").await?,
-        damage_inputs: query::run(store, name, query::QueryKind::DamageInputs, "fretting_max")
-            .await?,
+        damage_inputs,
+        fidelity,
+        comparison: query::run(store, name, query::QueryKind::Fidelity, "").await?,
+        calibrations,
     })
 }
 
@@ -219,11 +303,15 @@ async fn hot_spot_series(
     let mut best: Option<(f64, HotSpotSeries)> = None;
     jobs.sort_by_key(|j| j.id.0);
     for job in jobs {
-        let results = store.results_of(job.id).await?;
         let index = states
             .iter()
             .find(|s| Some(s.sea_state_id) == job.sea_state.map(|id| id.0))
             .map_or(-1, |s| s.sea_state_index);
+        let share = fretting_share.get(&index).copied().unwrap_or(0.0);
+        if best.as_ref().is_some_and(|(s, _)| share <= *s) {
+            continue;
+        }
+        let results = store.results_of(job.id).await?;
         // One artifact per hot spot (`hot_spot_<i>_series`) or one for all (`hotspots.csv`).
         let mut parts: Vec<(usize, &str)> = results
             .artifacts
@@ -257,10 +345,7 @@ async fn hot_spot_series(
         let Some(series) = series else {
             continue;
         };
-        let share = fretting_share.get(&index).copied().unwrap_or(0.0);
-        if best.as_ref().is_none_or(|(s, _)| share > *s) {
-            best = Some((share, series));
-        }
+        best = Some((share, series));
     }
     Ok(best.map(|(_, s)| s))
 }

@@ -2,7 +2,7 @@
 
 use std::fmt::Write;
 
-use super::data::ReportData;
+use super::data::{select_columns, ReportData};
 use super::plots;
 use crate::query::Table;
 
@@ -14,15 +14,26 @@ pub(crate) fn escape(text: &str) -> String {
         .replace('"', "&quot;")
 }
 
+/// A number to four significant figures: fixed notation from 0.001 to 10⁶, else scientific.
+fn number(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let magnitude = x.abs().log10().floor() as i32;
+    if (-3..6).contains(&magnitude) {
+        let decimals = (3 - magnitude).max(0) as usize;
+        format!("{x:.decimals$}")
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
 fn cell(value: &serde_json::Value) -> String {
     match value {
         serde_json::Value::Null => String::new(),
         serde_json::Value::String(s) => escape(s),
         serde_json::Value::Number(n) => match n.as_f64() {
-            Some(x) if n.is_f64() && x != 0.0 && !(1e-3..1e6).contains(&x.abs()) => {
-                format!("{x:.4e}")
-            }
-            Some(x) if n.is_f64() => format!("{x:.6}"),
+            Some(x) if n.is_f64() => number(x),
             _ => n.to_string(),
         },
         other => escape(&other.to_string()),
@@ -48,6 +59,67 @@ fn table_html(table: &Table) -> String {
     out + "</table>\n"
 }
 
+/// The strand fidelity of the results: how many sea states ran which model, the calibrations,
+/// and the reduced-versus-FE comparison where both ran.
+fn fidelity_section(data: &ReportData) -> String {
+    let mut body = String::from("<h2>Strand fidelity</h2>\n");
+    let count = |f: &str| data.fidelity.values().filter(|v| v.as_str() == f).count();
+    let _ = writeln!(
+        body,
+        "<p>Counted strand results: {} sea states from the FE model, {} from the reduced \
+         response, {} mixed.</p>",
+        count("fe"),
+        count("reduced"),
+        count("mixed")
+    );
+    for c in &data.calibrations {
+        let range = |k: &str, i: usize| c[k]["strain"][i].as_f64().unwrap_or(f64::NAN);
+        let curv = |i: usize| {
+            c["calibrated_range"]["curvature_per_m"][i]
+                .as_f64()
+                .unwrap_or(f64::NAN)
+        };
+        let _ = writeln!(
+            body,
+            "<p>Calibration of hot spot {}: strain {} to {}, curvature {} to {} 1/m (the load \
+             range of {} global jobs widened by the margin); FE run of {} designed samples in \
+             {} s.</p>",
+            c["hot_spot_index"],
+            number(range("calibrated_range", 0)),
+            number(range("calibrated_range", 1)),
+            number(curv(0)),
+            number(curv(1)),
+            c["global_jobs"],
+            c["design_samples"],
+            number(c["fe_wall_time_s"].as_f64().unwrap_or(f64::NAN)),
+        );
+    }
+    if data.comparison.rows.is_empty() {
+        body += "<p class=\"empty\">No sea state ran both fidelities.</p>\n";
+        return body;
+    }
+    body += "<p>Reduced against FE on the sea states that ran both (relative difference = \
+             (reduced − FE) / FE):</p>\n";
+    body += &table_html(&select_columns(
+        &data.comparison,
+        &[
+            "sea_state_index",
+            "hs_m",
+            "tp_s",
+            "layer_interface",
+            "angular_position",
+            "fe_damage_rate_max_per_s",
+            "reduced_damage_rate_max_per_s",
+            "damage_max_rel_diff",
+            "damage_mean_rel_diff",
+            "fe_slip_amplitude_max_m",
+            "slip_amplitude_rel_diff",
+            "slip_cycles_rel_diff",
+        ],
+    ));
+    body
+}
+
 /// The page of `data`.
 pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
     let name = escape(&data.name);
@@ -69,6 +141,11 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
         covered
     );
     body += "<h2>Scatter diagram: share of the annual damage per sea state</h2>\n";
+    if data.fidelity.values().any(|f| f != "fe") {
+        body += "<p>Every disc is a sea state; a thick blue ring marks the sea states whose \
+                 strand results come from the FE model, the others from the reduced strand \
+                 response.</p>\n";
+    }
     match &data.critical {
         Some(c) => {
             let _ = writeln!(
@@ -85,6 +162,7 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
                 &data.sea_states,
                 &data.fretting_share,
                 "share of annual fretting damage",
+                &data.fidelity,
             )?;
             body += "</div>\n";
         }
@@ -98,6 +176,7 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
                 &data.sea_states,
                 share,
                 &format!("share of annual T-N damage ({measure})"),
+                &data.fidelity,
             )?;
             body += "</div>\n";
         }
@@ -129,16 +208,52 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
         body += &plots::histogram_svg(h)?;
         body += "</div>\n";
     }
-    body += "<h2>Lifetime damage per year</h2>\n";
-    body += &table_html(&data.lifetime);
-    body += "<h2>Damage inputs per sea state and contact class (fretting_max)</h2>\n";
-    body += &table_html(&data.damage_inputs);
+    body += "<h2>Lifetime damage per year and life in years</h2>\n";
+    body += "<p>Annual damage: Σ over sea states of occurrence × seed-mean damage rate × one \
+             year, not renormalised by the covered occurrence; life = 1 / annual damage \
+             (Miner, failure at D = 1). Fretting measures apply the DNV spiral-rope S-N curve to \
+             the wire stress range of each slip cycle: an assumption of this tool, not a \
+             validated fretting law.</p>\n";
+    body += &table_html(&select_columns(
+        &data.lifetime,
+        &[
+            "hot_spot_index",
+            "layer_interface",
+            "angular_position",
+            "measure",
+            "annual_damage",
+            "life_years",
+            "occurrence_covered",
+            "sea_states",
+        ],
+    ));
+    body += &fidelity_section(data);
+    body += "<h2>Damage inputs of the critical contact class, most damaging sea states \
+             (fretting_max)</h2>\n";
+    body += &table_html(&select_columns(
+        &data.damage_inputs,
+        &[
+            "sea_state_index",
+            "hs_m",
+            "tp_s",
+            "occurrence_fraction",
+            "layer_interface",
+            "angular_position",
+            "fidelity",
+            "damage_rate_per_s",
+            "partial_slip_cycles_per_hour",
+            "gross_slip_cycles_per_hour",
+            "slip_amplitude_max_m",
+            "peak_pressure_max_pa",
+        ],
+    ));
     Ok(format!(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
          <title>moorfret report: {name}</title>\n<style>\n\
          body {{ font-family: sans-serif; margin: 1.5em; color: #222; }}\n\
          table {{ border-collapse: collapse; font-size: 12px; margin-bottom: 1.5em; }}\n\
          th, td {{ border: 1px solid #bbb; padding: 2px 6px; text-align: right; }}\n\
+         th {{ white-space: normal; max-width: 9em; }}\n\
          th {{ background: #eee; }}\n .fig {{ display: inline-block; margin: 4px; }}\n\
          .empty {{ color: #888; font-style: italic; }}\n</style>\n</head>\n<body>\n{body}\
          </body>\n</html>\n"

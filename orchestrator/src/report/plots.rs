@@ -16,12 +16,16 @@ pub(crate) fn share_colour(share: f64) -> RGBColor {
 }
 
 /// Scatter diagram (Tp, Hs) with every sea state as a disc coloured by its share of the
-/// total, scaled so the largest share is darkest, and labelled in percent.
+/// total, scaled so the largest share is darkest, and labelled in percent. When the strand
+/// results come from more than one fidelity, the sea states with FE results get a thick blue
+/// ring.
 pub(crate) fn scatter_svg(
     states: &[SeaStateStatus],
     share: &BTreeMap<i64, f64>,
     title: &str,
+    fidelity: &BTreeMap<i64, String>,
 ) -> anyhow::Result<String> {
+    let mark_fe = fidelity.values().any(|f| f != "fe");
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (640, 480)).into_drawing_area();
@@ -56,8 +60,15 @@ pub(crate) fn scatter_svg(
             chart
                 .draw_series([Circle::new((s.tp_s, s.hs_m), 9, colour.filled())])
                 .map_err(plot_err)?;
+            let fe = mark_fe
+                && fidelity.get(&s.sea_state_index).map(String::as_str) == Some("fe");
+            let ring = if fe {
+                RGBColor(20, 80, 220).stroke_width(4)
+            } else {
+                BLACK.stroke_width(1)
+            };
             chart
-                .draw_series([Circle::new((s.tp_s, s.hs_m), 9, BLACK.stroke_width(1))])
+                .draw_series([Circle::new((s.tp_s, s.hs_m), 9, ring)])
                 .map_err(plot_err)?;
             if let Some(v) = value.filter(|v| *v >= 0.005) {
                 chart
@@ -75,17 +86,34 @@ pub(crate) fn scatter_svg(
     Ok(svg)
 }
 
-/// Slip amplitude histogram (µm) in cycles per hour of the year.
+/// Slip amplitude histogram (µm) in cycles per hour of the year, on logarithmic axes: slips
+/// and cycle rates span decades. A first bin from 0 is drawn from a tenth of its upper edge.
 pub(crate) fn histogram_svg(h: &SlipHistogram) -> anyhow::Result<String> {
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (640, 360)).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
-        let edges_um: Vec<f64> = h.edges_m.iter().map(|e| e * 1e6).collect();
-        let x0 = edges_um.first().copied().unwrap_or(0.0);
-        let x1 = edges_um.last().copied().unwrap_or(1.0);
-        let top = h.cycles_per_hour.iter().copied().fold(0.0, f64::max);
-        let y1 = if top > 0.0 { 1.05 * top } else { 1.0 };
+        let bins: Vec<(f64, f64, f64)> = h
+            .edges_m
+            .windows(2)
+            .zip(&h.cycles_per_hour)
+            .filter(|(e, &c)| e[1] > 0.0 && c > 0.0)
+            .map(|(e, &c)| {
+                let hi = e[1] * 1e6;
+                let lo = if e[0] > 0.0 { e[0] * 1e6 } else { 0.1 * hi };
+                (lo, hi, c)
+            })
+            .collect();
+        let x0 = bins.iter().map(|b| b.0).fold(f64::INFINITY, f64::min);
+        let x1 = bins.iter().map(|b| b.1).fold(0.0, f64::max);
+        let (x0, x1) = if bins.is_empty() { (0.1, 1000.0) } else { (x0, x1) };
+        let top = bins.iter().map(|b| b.2).fold(0.0, f64::max);
+        let low = bins.iter().map(|b| b.2).fold(f64::INFINITY, f64::min);
+        let (y0, y1) = if bins.is_empty() {
+            (1e-3, 1.0)
+        } else {
+            (0.5 * low, 2.0 * top)
+        };
         let mut chart = ChartBuilder::on(&root)
             .caption(
                 format!(
@@ -97,20 +125,19 @@ pub(crate) fn histogram_svg(h: &SlipHistogram) -> anyhow::Result<String> {
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(70)
-            .build_cartesian_2d(x0..x1, 0.0..y1)
+            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
             .map_err(plot_err)?;
         chart
             .configure_mesh()
             .x_desc("slip amplitude (µm)")
             .y_desc("cycles per hour of the year")
+            .y_label_formatter(&|v| format!("{v:.0e}"))
             .draw()
             .map_err(plot_err)?;
         chart
-            .draw_series(
-                edges_um.windows(2).zip(&h.cycles_per_hour).map(|(e, &c)| {
-                    Rectangle::new([(e[0], 0.0), (e[1], c)], BLUE.mix(0.6).filled())
-                }),
-            )
+            .draw_series(bins.iter().map(|&(lo, hi, c)| {
+                Rectangle::new([(lo, y0), (hi, c)], BLUE.mix(0.6).filled())
+            }))
             .map_err(plot_err)?;
         root.present().map_err(plot_err)?;
     }

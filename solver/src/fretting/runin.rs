@@ -110,6 +110,55 @@ pub fn detect_run_in(history: &[f64], params: &RunInParams) -> Result<RunIn, Fre
     })
 }
 
+/// Run-in of a set of histories (the slip monitors of a strand): the latest end over them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SetRunIn {
+    /// First sample after the run-in of every history, `None` if one never stabilised.
+    pub end_index: Option<usize>,
+    /// Histories examined.
+    pub histories: usize,
+    /// Index (in the set) of the history whose run-in ends last, or of the first one that
+    /// never stabilised.
+    pub governing: Option<usize>,
+    /// Histories that never stabilised.
+    pub unstable: usize,
+    /// Largest `residual_drift / tolerance` over the set (≤ 1 when stabilised).
+    pub worst_drift_ratio: f64,
+}
+
+/// The run-in of every history of `set` ([`detect_run_in`] each): the set is stabilised once
+/// every history is, from the latest of their ends. A history that never moves (σ = 0, a
+/// contact that stays stuck) is stabilised from its last change.
+pub fn detect_set_run_in(set: &[&[f64]], params: &RunInParams) -> Result<SetRunIn, FrettingError> {
+    let (mut latest, mut governing, mut unstable, mut worst) = (0, None, 0, 0.0_f64);
+    for (k, history) in set.iter().enumerate() {
+        let r = detect_run_in(history, params)?;
+        if r.tolerance > 0.0 {
+            worst = worst.max(r.residual_drift / r.tolerance);
+        }
+        match r.end_index {
+            None => {
+                if unstable == 0 {
+                    governing = Some(k);
+                }
+                unstable += 1;
+            }
+            Some(end) if unstable == 0 && (governing.is_none() || end > latest) => {
+                latest = end;
+                governing = Some(k);
+            }
+            Some(_) => {}
+        }
+    }
+    Ok(SetRunIn {
+        end_index: (unstable == 0).then_some(latest),
+        histories: set.len(),
+        governing,
+        unstable,
+        worst_drift_ratio: worst,
+    })
+}
+
 fn mean(x: &[f64]) -> f64 {
     x.iter().sum::<f64>() / x.len() as f64
 }
@@ -159,6 +208,34 @@ mod tests {
         let r = detect_run_in(&ramp, &params).unwrap();
         assert_eq!(r.end_index, None);
         assert!(r.residual_drift > r.tolerance);
+    }
+
+    #[test]
+    fn a_set_ends_its_run_in_with_its_latest_history_and_never_if_one_never_does() {
+        let params = RunInParams {
+            window_samples: 120,
+            ..Default::default()
+        };
+        // drifts that die out at different times (τ = 10 s and 20 s) and a stuck contact
+        let early = drifting(10_000, 0.1, 10.0, 3e-6);
+        let late = drifting(10_000, 0.1, 20.0, 3e-6);
+        let stuck = vec![2e-7; 10_000];
+        let set = [early.as_slice(), late.as_slice(), stuck.as_slice()];
+        let r = detect_set_run_in(&set, &params).unwrap();
+        let late_end = detect_run_in(&late, &params).unwrap().end_index;
+        let early_end = detect_run_in(&early, &params).unwrap().end_index;
+        assert!(early_end < late_end, "{early_end:?} {late_end:?}");
+        assert_eq!(r.end_index, late_end);
+        assert_eq!(r.governing, Some(1));
+        assert_eq!((r.histories, r.unstable), (3, 0));
+        assert!(r.worst_drift_ratio <= 1.0);
+        // one endless drift: the set never stabilises, and that history is named
+        let ramp: Vec<f64> = (0..10_000).map(|i| 1e-9 * i as f64).collect();
+        let set = [early.as_slice(), ramp.as_slice(), late.as_slice()];
+        let r = detect_set_run_in(&set, &params).unwrap();
+        assert_eq!(r.end_index, None);
+        assert_eq!((r.governing, r.unstable), (Some(1), 1));
+        assert!(r.worst_drift_ratio > 1.0);
     }
 
     #[test]
