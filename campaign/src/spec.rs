@@ -431,6 +431,18 @@ mod tests {
             (serde_json::json!({"run_in_s": 29.5}), "fatigue.run_in_s"),
             (serde_json::json!({"run_in_s": -1.0}), "fatigue.run_in_s"),
             (
+                serde_json::json!({"run_in_detection": {"window_s": 0.1}}),
+                "fatigue.run_in_detection.window_s",
+            ),
+            (
+                serde_json::json!({"run_in_detection": {"reference_fraction": 1.0}}),
+                "fatigue.run_in_detection.reference_fraction",
+            ),
+            (
+                serde_json::json!({"run_in_detection": {"tolerance_sigma": 0.0}}),
+                "fatigue.run_in_detection.tolerance_sigma",
+            ),
+            (
                 serde_json::json!({"slip_amplitude_edges_m": [0.0, 2e-6, 1e-6]}),
                 "fatigue.slip_amplitude_edges_m",
             ),
@@ -451,5 +463,37 @@ mod tests {
                 other => panic!("{fatigue}: {other:?}"),
             }
         }
+    }
+
+    #[test]
+    fn bad_fidelity_settings_are_refused_naming_the_field() {
+        let with = |strand: serde_json::Value| {
+            let mut spec = serde_json::to_value(demo_spec(serde_json::json!({}))).unwrap();
+            for (k, v) in strand.as_object().unwrap() {
+                spec["strand"][k] = v.clone();
+            }
+            CampaignSpec::from_json_str(&spec.to_string())
+        };
+        let ok = with(serde_json::json!({"fidelity": "auto", "auto_fe": {"sea_states": 3}}));
+        let ok = ok.unwrap();
+        assert!(ok.validate().is_ok());
+        assert_eq!(ok.strand.auto_fe.damage_share, 1.0);
+        let cases = [
+            (serde_json::json!({"auto_fe": {"sea_states": 0}}), "strand.auto_fe.sea_states"),
+            (
+                serde_json::json!({"auto_fe": {"damage_share": 1.5}}),
+                "strand.auto_fe.damage_share",
+            ),
+            (serde_json::json!({"calibration_margin": -0.1}), "strand.calibration_margin"),
+        ];
+        for (strand, field) in cases {
+            match with(strand.clone()).unwrap().validate() {
+                Err(CampaignError::Invalid { field: f, .. }) => assert_eq!(f, field, "{strand}"),
+                other => panic!("{strand}: {other:?}"),
+            }
+        }
+        // an unknown fidelity is a parse error that names the value and the choices
+        let e = with(serde_json::json!({"fidelity": "fast"})).unwrap_err().to_string();
+        assert!(e.contains("fast") && e.contains("reduced"), "{e}");
     }
 }

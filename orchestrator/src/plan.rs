@@ -324,6 +324,66 @@ mod tests {
         assert!((f - 0.043758).abs() < 1e-15);
     }
 
+    /// The demo campaign's inputs with `fidelity`, and its planned jobs over its sea states.
+    fn planned(fidelity: StrandFidelity) -> Vec<PlannedJob> {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns/demo.json");
+        let mut resolved = moorfret_campaign::resolve(&path).unwrap();
+        resolved.inputs.spec.strand.fidelity = fidelity;
+        let inputs = &resolved.inputs;
+        let states = sea_states(&resolved.scatter, inputs.spec.scatter.reading, 2, 1);
+        let ids: Vec<SeaStateId> = (0..states.len() as i64).map(SeaStateId).collect();
+        jobs(inputs, &inputs.results_sha256(), &states, &ids)
+    }
+
+    #[test]
+    fn each_fidelity_plans_its_jobs_with_their_dependencies() {
+        // demo: three sea states, here two seeds each, one hot spot
+        let fe = planned(StrandFidelity::Fe);
+        let kinds = |jobs: &[PlannedJob], k: JobKind| jobs.iter().filter(|j| j.kind == k).count();
+        assert_eq!((kinds(&fe, JobKind::Global), kinds(&fe, JobKind::Strand)), (6, 6));
+        for (i, j) in fe.iter().enumerate() {
+            if j.kind == JobKind::Strand {
+                assert_eq!(j.depends_on, [i - 1]);
+            }
+        }
+        let auto = planned(StrandFidelity::Auto);
+        assert_eq!(kinds(&auto, JobKind::Global), 6);
+        assert_eq!(kinds(&auto, JobKind::Calibrate), 1);
+        assert_eq!(kinds(&auto, JobKind::StrandReduced), 6);
+        assert_eq!(kinds(&auto, JobKind::Strand), 6);
+        let globals: Vec<usize> = (0..auto.len())
+            .filter(|&i| auto[i].kind == JobKind::Global)
+            .collect();
+        let calibration = auto
+            .iter()
+            .position(|j| j.kind == JobKind::Calibrate)
+            .unwrap();
+        assert_eq!(auto[calibration].depends_on, globals);
+        assert_eq!(auto[calibration].sea_state, None);
+        let reduced: Vec<usize> = (0..auto.len())
+            .filter(|&i| auto[i].kind == JobKind::StrandReduced)
+            .collect();
+        for (k, &i) in reduced.iter().enumerate() {
+            assert_eq!(auto[i].depends_on, [globals[k], calibration]);
+            let p: StrandPayload = serde_json::from_value(auto[i].payload.clone()).unwrap();
+            assert!(p.calibration_cache_key.is_some() && !p.if_selected);
+        }
+        for j in auto.iter().filter(|j| j.kind == JobKind::Strand) {
+            let p: StrandPayload = serde_json::from_value(j.payload.clone()).unwrap();
+            assert!(p.if_selected && p.calibration_cache_key.is_none());
+            assert_eq!(j.depends_on.len(), 1 + reduced.len());
+            assert!(reduced.iter().all(|r| j.depends_on.contains(r)));
+        }
+        // every job has a cache key of its own; the FE plan's keys are not the auto plan's
+        let mut keys: Vec<&String> = auto.iter().filter_map(|j| j.cache_key.as_ref()).collect();
+        keys.sort();
+        keys.dedup();
+        assert_eq!(keys.len(), auto.len());
+        let reduced_only = planned(StrandFidelity::Reduced);
+        assert_eq!(kinds(&reduced_only, JobKind::Strand), 0);
+        assert_eq!(reduced_only.len(), 6 + 1 + 6);
+    }
+
     #[test]
     fn splitmix_matches_the_reference_sequence() {
         // First outputs for state 0 of the reference implementation (Vigna, splitmix64.c).

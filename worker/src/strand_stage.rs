@@ -466,9 +466,11 @@ fn run_in(inputs: &CampaignInputs, result: &HistoryResult) -> (usize, serde_json
             // too short a history for the windows: nothing detected
             Err(e) => (None, json!({ "stabilised": false, "error": e.to_string() })),
         };
+    let too_short = detection.get("error").is_some();
     let (samples, source) = match (fixed, detected) {
         (Some(f), _) => (f, "fixed"),
         (None, Some(d)) => (d, "detected"),
+        (None, None) if too_short => (0, "too_short_to_detect"),
         (None, None) => (0, "not_stabilised"),
     };
     (

@@ -19,7 +19,7 @@ pub(crate) struct QueryArgs {
     #[arg(long)]
     pub(crate) campaign: String,
     /// Store: SQLite file path or `postgres://…` URL.
-    #[arg(long, default_value = DEFAULT_DB)]
+    #[arg(long, default_value = DEFAULT_DB, env = "MOORFRET_DB")]
     pub(crate) db: String,
     /// Output format.
     #[arg(long, value_enum, default_value_t = OutputFormat::Table)]

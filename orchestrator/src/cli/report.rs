@@ -18,7 +18,7 @@ pub(crate) struct ReportArgs {
     #[arg(long)]
     pub(crate) out: PathBuf,
     /// Store: SQLite file path or `postgres://…` URL.
-    #[arg(long, default_value = DEFAULT_DB)]
+    #[arg(long, default_value = DEFAULT_DB, env = "MOORFRET_DB")]
     pub(crate) db: String,
     /// Artifact directory (default: next to an SQLite store; none for PostgreSQL).
     #[arg(long)]

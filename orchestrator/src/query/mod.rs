@@ -22,7 +22,7 @@ use serde_json::Value;
 use moorfret_campaign::fatigue::FRETTING_MEASURES;
 use moorfret_store::{CampaignId, Store};
 
-pub use table::{OutputFormat, Table};
+pub use table::{significant, OutputFormat, Table};
 
 /// SQLite file used when no `--db` is given, in the working directory.
 pub const DEFAULT_DB: &str = "moorfret.sqlite";

@@ -84,7 +84,7 @@ impl Table {
                 let cells: Vec<Vec<String>> = self
                     .rows
                     .iter()
-                    .map(|r| r.iter().map(cell).collect())
+                    .map(|r| r.iter().map(readable_cell).collect())
                     .collect();
                 let widths: Vec<usize> = (0..self.columns.len())
                     .map(|k| {
@@ -116,6 +116,29 @@ impl Table {
     }
 }
 
+/// A number to four significant figures: fixed notation from 0.001 to 10⁶, else scientific.
+pub fn significant(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let magnitude = x.abs().log10().floor() as i32;
+    if (-3..6).contains(&magnitude) {
+        let decimals = (3 - magnitude).max(0) as usize;
+        format!("{x:.decimals$}")
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
+/// Text of one value for reading: floating-point numbers to four significant figures
+/// ([`significant`]), the rest as [`cell`].
+fn readable_cell(value: &Value) -> String {
+    match value {
+        Value::Number(n) if n.is_f64() => n.as_f64().map_or_else(|| n.to_string(), significant),
+        other => cell(other),
+    }
+}
+
 /// Text of one value: numbers in full precision (shortest round-trip form), strings bare,
 /// null empty, objects as compact JSON.
 fn cell(value: &Value) -> String {
@@ -130,6 +153,17 @@ fn cell(value: &Value) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn readable_numbers_have_four_significant_figures() {
+        assert_eq!(significant(0.018730000000000004), "0.01873");
+        assert_eq!(significant(6.987354589123571e-9), "6.987e-9");
+        assert_eq!(significant(12345.678), "12346");
+        assert_eq!(significant(1.5e300), "1.500e300");
+        assert_eq!(significant(-2.0), "-2.000");
+        assert_eq!(significant(0.0), "0");
+        assert_eq!(readable_cell(&serde_json::json!(3)), "3");
+    }
 
     #[derive(Serialize)]
     struct Row {
@@ -158,7 +192,7 @@ mod tests {
         let text = t.render(OutputFormat::Table).unwrap();
         assert_eq!(
             text,
-            "        c   a       b  missing\nouter_arc   1  2.5e-7\n      x,y  10\n"
+            "        c   a         b  missing\nouter_arc   1  2.500e-7\n      x,y  10\n"
         );
         let json: Value = serde_json::from_str(&t.render(OutputFormat::Json).unwrap()).unwrap();
         assert_eq!(json[1]["a"], 10);

@@ -75,6 +75,9 @@ pub struct ReportData {
     pub comparison: Table,
     /// Results of the calibration jobs (load range, cost, in-sample fit).
     pub calibrations: Vec<serde_json::Value>,
+    /// Per sea state index: the run-in detected on its counted strand result (s), `None` when
+    /// the history never stabilised or was too short; the run-in left out of its statistics (s).
+    pub run_in: BTreeMap<i64, (Option<f64>, f64)>,
 }
 
 /// Rows of the damage-inputs table in the report: the most damaging sea states of the
@@ -219,9 +222,38 @@ pub async fn gather(
         .map(|r| (r.sea_state_index, r.fidelity))
         .collect();
     let mut calibrations = Vec::new();
+    let mut run_in = BTreeMap::new();
+    let index_of: BTreeMap<i64, i64> = sea_states
+        .iter()
+        .map(|s| (s.sea_state_id, s.sea_state_index))
+        .collect();
     for job in store.jobs_of_campaign(campaign).await? {
-        if job.kind == JobKind::Calibrate && job.state == JobState::Done {
+        if job.state != JobState::Done {
+            continue;
+        }
+        if job.kind == JobKind::Calibrate {
             calibrations.push(store.results_of(job.id).await?.result);
+            continue;
+        }
+        let Some(result) = job.result.as_ref() else {
+            continue;
+        };
+        let Some(r) = result.get("run_in") else {
+            continue;
+        };
+        let index = job
+            .sea_state
+            .and_then(|id| index_of.get(&id.0).copied())
+            .unwrap_or(-1);
+        // the FE result is the counted one where it ran
+        let fe = job.kind == JobKind::Strand;
+        if job.kind == JobKind::StrandReduced && run_in.contains_key(&index) {
+            continue;
+        }
+        if fe || job.kind == JobKind::StrandReduced {
+            let detected = r["detection"]["end_s"].as_f64();
+            let excluded = r["excluded_s"].as_f64().unwrap_or(0.0);
+            run_in.insert(index, (detected, excluded));
         }
     }
     let series = match artifacts {
@@ -241,6 +273,7 @@ pub async fn gather(
         fidelity,
         comparison: query::run(store, name, query::QueryKind::Fidelity, "").await?,
         calibrations,
+        run_in,
     })
 }
 

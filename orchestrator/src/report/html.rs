@@ -4,6 +4,7 @@ use std::fmt::Write;
 
 use super::data::{select_columns, ReportData};
 use super::plots;
+use crate::query::significant as number;
 use crate::query::Table;
 
 /// Escapes text for HTML.
@@ -12,20 +13,6 @@ pub(crate) fn escape(text: &str) -> String {
         .replace('<', "&lt;")
         .replace('>', "&gt;")
         .replace('"', "&quot;")
-}
-
-/// A number to four significant figures: fixed notation from 0.001 to 10⁶, else scientific.
-fn number(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return format!("{x}");
-    }
-    let magnitude = x.abs().log10().floor() as i32;
-    if (-3..6).contains(&magnitude) {
-        let decimals = (3 - magnitude).max(0) as usize;
-        format!("{x:.decimals$}")
-    } else {
-        format!("{x:.3e}")
-    }
 }
 
 fn cell(value: &serde_json::Value) -> String {
@@ -46,7 +33,8 @@ fn table_html(table: &Table) -> String {
     }
     let mut out = String::from("<table>\n<tr>");
     for c in &table.columns {
-        let _ = write!(out, "<th>{}</th>", escape(c));
+        // long snake_case names may break after their underscores
+        let _ = write!(out, "<th>{}</th>", escape(c).replace('_', "_<wbr>"));
     }
     out += "</tr>\n";
     for row in &table.rows {
@@ -57,6 +45,66 @@ fn table_html(table: &Table) -> String {
         out += "</tr>\n";
     }
     out + "</table>\n"
+}
+
+/// The run-in per sea state: where the slip monitors stopped drifting, on the scatter diagram.
+fn run_in_section(data: &ReportData) -> anyhow::Result<String> {
+    let mut body = String::from("<h2>Run-in per sea state</h2>\n");
+    if data.run_in.is_empty() {
+        body += "<p class=\"empty\">No strand results stored yet.</p>\n";
+        return Ok(body);
+    }
+    let mut detected: Vec<f64> = data.run_in.values().filter_map(|r| r.0).collect();
+    detected.sort_by(f64::total_cmp);
+    let unstable = data.run_in.len() - detected.len();
+    let excluded: Vec<f64> = data.run_in.values().map(|r| r.1).collect();
+    let _ = write!(
+        body,
+        "<p>Detected where the mean of every slip monitor stops drifting: in {} of {} sea \
+         states",
+        detected.len(),
+        data.run_in.len()
+    );
+    if let (Some(first), Some(last)) = (detected.first(), detected.last()) {
+        let median = detected[detected.len() / 2];
+        let _ = write!(
+            body,
+            " (from {} s to {} s, median {} s)",
+            number(*first),
+            number(*last),
+            number(median)
+        );
+    }
+    let _ = write!(
+        body,
+        "; {unstable} never stabilised or were too short to tell (grey)."
+    );
+    if excluded.windows(2).all(|w| w[0] == w[1]) {
+        let _ = write!(
+            body,
+            " The statistics leave out the first {} s of every history.",
+            number(excluded[0])
+        );
+    } else {
+        body += " The statistics leave out each history's detected run-in, and nothing where \
+                 none was detected.";
+    }
+    body += "</p>\n<div class=\"fig\">";
+    let values: std::collections::BTreeMap<i64, f64> = data
+        .run_in
+        .iter()
+        .filter_map(|(&k, r)| r.0.map(|v| (k, v)))
+        .collect();
+    let label = |v: f64| Some(format!("{v:.0}"));
+    body += &plots::value_map_svg(
+        &data.sea_states,
+        &values,
+        "detected run-in (s)",
+        &data.fidelity,
+        &label,
+    )?;
+    body += "</div>\n";
+    Ok(body)
 }
 
 /// The strand fidelity of the results: how many sea states ran which model, the calibrations,
@@ -151,11 +199,12 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
             let _ = writeln!(
                 body,
                 "<p>Fretting: critical contact class hot spot {}, layer interface {}, {} \
-                 (annual damage of its most damaged contact {:.4e}).</p>",
+                 (annual damage of its most damaged contact {}, life {} years).</p>",
                 c.hot_spot_index,
                 c.layer_interface,
                 c.angular_position.as_str(),
-                c.annual_damage
+                number(c.annual_damage),
+                number(1.0 / c.annual_damage)
             );
             body += "<div class=\"fig\">";
             body += &plots::scatter_svg(
@@ -199,6 +248,7 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
                      job) found.</p>\n"
         }
     }
+    body += &run_in_section(data)?;
     body += "<h2>Slip amplitude per layer interface</h2>\n";
     if data.histograms.is_empty() {
         body += "<p class=\"empty\">No cycle histograms stored yet.</p>\n";

@@ -25,6 +25,20 @@ pub(crate) fn scatter_svg(
     title: &str,
     fidelity: &BTreeMap<i64, String>,
 ) -> anyhow::Result<String> {
+    let label = |v: f64| (v >= 0.005).then(|| format!("{:.0}%", 100.0 * v));
+    value_map_svg(states, share, title, fidelity, &label)
+}
+
+/// Scatter diagram (Tp, Hs) with every sea state as a disc coloured by its value (the largest
+/// darkest; grey without a value) and labelled by `label`; FE sea states ringed as in
+/// [`scatter_svg`].
+pub(crate) fn value_map_svg(
+    states: &[SeaStateStatus],
+    share: &BTreeMap<i64, f64>,
+    title: &str,
+    fidelity: &BTreeMap<i64, String>,
+    label: &dyn Fn(f64) -> Option<String>,
+) -> anyhow::Result<String> {
     let mark_fe = fidelity.values().any(|f| f != "fe");
     let mut svg = String::new();
     {
@@ -70,11 +84,11 @@ pub(crate) fn scatter_svg(
             chart
                 .draw_series([Circle::new((s.tp_s, s.hs_m), 9, ring)])
                 .map_err(plot_err)?;
-            if let Some(v) = value.filter(|v| *v >= 0.005) {
+            if let Some(text) = value.and_then(label) {
                 chart
                     .draw_series([EmptyElement::at((s.tp_s, s.hs_m))
                         + Text::new(
-                            format!("{:.0}%", 100.0 * v),
+                            text,
                             (12, -6),
                             ("sans-serif", 12).into_font().color(&BLACK),
                         )])
@@ -131,6 +145,8 @@ pub(crate) fn histogram_svg(h: &SlipHistogram) -> anyhow::Result<String> {
             .configure_mesh()
             .x_desc("slip amplitude (µm)")
             .y_desc("cycles per hour of the year")
+            .x_labels(6)
+            .x_label_formatter(&|v| format!("{v}"))
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .draw()
             .map_err(plot_err)?;
