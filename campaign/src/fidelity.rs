@@ -89,8 +89,7 @@ impl AutoFe {
         if self.sea_states == 0 {
             return Err(invalid("sea_states", "0".into(), "must be >= 1"));
         }
-        if !(self.damage_share.is_finite() && self.damage_share > 0.0 && self.damage_share <= 1.0)
-        {
+        if !(self.damage_share.is_finite() && self.damage_share > 0.0 && self.damage_share <= 1.0) {
             return Err(invalid(
                 "damage_share",
                 self.damage_share.to_string(),
@@ -156,16 +155,22 @@ pub fn select_fe_sea_states(rows: &[ReducedClassDamage], rule: &AutoFe) -> FeSel
     let mut per_class: BTreeMap<(i64, &'static str), Vec<(i64, f64)>> = BTreeMap::new();
     for ((class, sea_state), (occurrence, sum, n)) in sums {
         let annual = occurrence * YEAR_S * sum / n as f64;
-        per_class.entry(class).or_default().push((sea_state, annual));
+        per_class
+            .entry(class)
+            .or_default()
+            .push((sea_state, annual));
     }
     let governing = per_class
         .iter()
         .map(|(class, cells)| (*class, cells.iter().map(|c| c.1).sum::<f64>()))
         .filter(|(_, total)| *total > 0.0)
-        .fold(None, |best: Option<((i64, &'static str), f64)>, c| match best {
-            Some(b) if b.1 >= c.1 => Some(b),
-            _ => Some(c),
-        });
+        .fold(
+            None,
+            |best: Option<((i64, &'static str), f64)>, c| match best {
+                Some(b) if b.1 >= c.1 => Some(b),
+                _ => Some(c),
+            },
+        );
     let Some((class, total)) = governing else {
         return FeSelection {
             class: None,
@@ -199,7 +204,13 @@ pub fn select_fe_sea_states(rows: &[ReducedClassDamage], rule: &AutoFe) -> FeSel
 mod tests {
     use super::*;
 
-    fn row(sea_state: i64, occurrence: f64, seed: i64, class: i64, rate: f64) -> ReducedClassDamage {
+    fn row(
+        sea_state: i64,
+        occurrence: f64,
+        seed: i64,
+        class: i64,
+        rate: f64,
+    ) -> ReducedClassDamage {
         ReducedClassDamage {
             sea_state_index: sea_state,
             occurrence_fraction: occurrence,
@@ -220,7 +231,13 @@ mod tests {
             row(0, 0.5, 0, 0, 1.0),
             row(2, 0.2, 0, 0, 0.0),
         ];
-        let all = select_fe_sea_states(&rows, &AutoFe { sea_states: 10, damage_share: 1.0 });
+        let all = select_fe_sea_states(
+            &rows,
+            &AutoFe {
+                sea_states: 10,
+                damage_share: 1.0,
+            },
+        );
         assert_eq!(all.class, Some((1, "outer_arc")));
         let year = 31_557_600.0;
         assert!((all.annual_damage - 2.5 * year).abs() < 1e-9 * year);
@@ -229,11 +246,29 @@ mod tests {
         assert!((all.sea_states[0].1 - 0.8).abs() < 1e-12);
         assert!((all.sea_states[1].1 - 0.12).abs() < 1e-12);
         // the share rule stops once 80 % is covered, the count rule after one
-        let share = select_fe_sea_states(&rows, &AutoFe { sea_states: 10, damage_share: 0.8 });
+        let share = select_fe_sea_states(
+            &rows,
+            &AutoFe {
+                sea_states: 10,
+                damage_share: 0.8,
+            },
+        );
         assert_eq!(share.sea_states.len(), 1);
-        let share = select_fe_sea_states(&rows, &AutoFe { sea_states: 10, damage_share: 0.85 });
+        let share = select_fe_sea_states(
+            &rows,
+            &AutoFe {
+                sea_states: 10,
+                damage_share: 0.85,
+            },
+        );
         assert_eq!(share.sea_states.len(), 2);
-        let count = select_fe_sea_states(&rows, &AutoFe { sea_states: 1, damage_share: 1.0 });
+        let count = select_fe_sea_states(
+            &rows,
+            &AutoFe {
+                sea_states: 1,
+                damage_share: 1.0,
+            },
+        );
         assert_eq!(count.sea_states.len(), 1);
         assert!(count.contains(0) && !count.contains(1));
     }
@@ -241,8 +276,18 @@ mod tests {
     #[test]
     fn seeds_are_averaged_and_ties_go_to_the_lower_index() {
         // sea state 3: seeds 2 and 0 → mean 1; sea state 1: one seed of 1 → a tie
-        let rows = [row(3, 0.1, 0, 0, 2.0), row(3, 0.1, 1, 0, 0.0), row(1, 0.1, 0, 0, 1.0)];
-        let s = select_fe_sea_states(&rows, &AutoFe { sea_states: 1, damage_share: 1.0 });
+        let rows = [
+            row(3, 0.1, 0, 0, 2.0),
+            row(3, 0.1, 1, 0, 0.0),
+            row(1, 0.1, 0, 0, 1.0),
+        ];
+        let s = select_fe_sea_states(
+            &rows,
+            &AutoFe {
+                sea_states: 1,
+                damage_share: 1.0,
+            },
+        );
         assert_eq!(s.sea_states.len(), 1);
         assert_eq!(s.sea_states[0].0, 1);
         assert!((s.sea_states[0].1 - 0.5).abs() < 1e-12);
@@ -250,20 +295,36 @@ mod tests {
 
     #[test]
     fn no_damage_chooses_nothing_and_bad_rates_count_as_zero() {
-        let rows = [row(0, 0.5, 0, 0, 0.0), row(1, 0.5, 0, 0, f64::NAN), row(2, 0.5, 0, 0, -1.0)];
+        let rows = [
+            row(0, 0.5, 0, 0, 0.0),
+            row(1, 0.5, 0, 0, f64::NAN),
+            row(2, 0.5, 0, 0, -1.0),
+        ];
         let s = select_fe_sea_states(&rows, &AutoFe::default());
         assert_eq!(s.class, None);
         assert!(s.sea_states.is_empty());
-        assert!(select_fe_sea_states(&[], &AutoFe::default()).sea_states.is_empty());
+        assert!(select_fe_sea_states(&[], &AutoFe::default())
+            .sea_states
+            .is_empty());
     }
 
     #[test]
     fn settings_are_checked_by_field() {
         assert!(AutoFe::default().validate().is_ok());
-        let e = AutoFe { sea_states: 0, damage_share: 1.0 }.validate().unwrap_err();
+        let e = AutoFe {
+            sea_states: 0,
+            damage_share: 1.0,
+        }
+        .validate()
+        .unwrap_err();
         assert!(e.to_string().contains("strand.auto_fe.sea_states"), "{e}");
         for share in [0.0, 1.5, f64::NAN] {
-            let e = AutoFe { sea_states: 1, damage_share: share }.validate().unwrap_err();
+            let e = AutoFe {
+                sea_states: 1,
+                damage_share: share,
+            }
+            .validate()
+            .unwrap_err();
             assert!(e.to_string().contains("strand.auto_fe.damage_share"), "{e}");
         }
     }

@@ -80,6 +80,47 @@ fn file_error(field: &str, path: &Path, message: impl ToString) -> CampaignError
     }
 }
 
+/// Checks a scatter diagram as occurrences of sea states: no negative cell, no cell above
+/// 100 % of the year, cells that sum to at most 100 % (within the table's rounding), no Tp column
+/// twice and no two Hs bins that overlap (either would plan the same sea state twice and count
+/// its occurrence twice). Messages name the row, column or value.
+pub fn check_scatter(table: &ScatterTable) -> Result<(), String> {
+    for c in table.cells() {
+        if !(0.0..=100.0).contains(&c.value) {
+            return Err(format!(
+                "cell Hs {}-{} m, Tp {} s is {}: an occurrence must be from 0 to 100 percent",
+                c.hs_lower_m, c.hs_upper_m, c.tp_s, c.value
+            ));
+        }
+    }
+    let sum = table.cell_sum();
+    if sum > 100.0 + table.rounding_tolerance() {
+        return Err(format!(
+            "the cells sum to {sum} percent: more than the whole year"
+        ));
+    }
+    for (j, tp) in table.tp_s.iter().enumerate() {
+        if let Some(k) = table.tp_s[..j].iter().position(|t| t == tp) {
+            return Err(format!(
+                "Tp = {tp} s heads columns {} and {} (period columns counted from 1)",
+                k + 1,
+                j + 1
+            ));
+        }
+    }
+    let mut bins: Vec<(f64, f64)> = table.hs_bins_m.clone();
+    bins.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for w in bins.windows(2) {
+        if w[1].0 < w[0].1 {
+            return Err(format!(
+                "Hs bins {}-{} m and {}-{} m overlap",
+                w[0].0, w[0].1, w[1].0, w[1].1
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Reads, hashes and checks the campaign file at `path` and everything it references.
 pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
     let base = path.parent().unwrap_or(Path::new(""));
@@ -104,6 +145,7 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
             "every cell is zero",
         ));
     }
+    check_scatter(&scatter).map_err(|m| file_error("scatter.path", &scatter_path, m))?;
 
     let (case_path, text, file) = read_file(base, "global.case_path", &spec.global.case_path)?;
     files.push(file);
@@ -159,6 +201,13 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
     let strand = profile
         .validate()
         .map_err(|e| file_error("strand.profile", &profiles_path, e))?;
+    if strand.layers.is_empty() {
+        return Err(file_error(
+            "strand.profile",
+            &profiles_path,
+            "the profile has no helical layer: a core alone has no inter-wire contact",
+        ));
+    }
     // The Hertz geometry of every layer interface must be valid for the fretting indicators.
     for (i, pair) in interface_geometry(&strand).iter().enumerate() {
         HertzModel::crossed_cylinders(pair).map_err(|e| CampaignError::Invalid {
@@ -247,5 +296,37 @@ impl ResolvedCampaign {
         });
         let text = value.to_string();
         (value, hex::encode(Sha256::digest(text.as_bytes())))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(text: &str) -> ScatterTable {
+        ScatterTable::parse(text).unwrap()
+    }
+
+    #[test]
+    fn scatter_diagrams_that_double_count_the_year_are_refused() {
+        let good = table("lower\tupper\t5\t7\n0\t1\t40\t10\n1\t2\t30\t20\n");
+        assert!(check_scatter(&good).is_ok());
+        let cases = [
+            (
+                "lower\tupper\t5\t7\n0\t1\t60\t10\n1\t2\t30\t20.1\n",
+                "sum to 120.1",
+            ),
+            ("lower\tupper\t5\t7\n0\t1\t101\t0\n", "is 101"),
+            ("lower\tupper\t5\t5\n0\t1\t1\t2\n", "heads columns 1 and 2"),
+            (
+                "lower\tupper\t5\t7\n0\t1\t1\t2\n0.5\t1.5\t1\t2\n",
+                "overlap",
+            ),
+            ("lower\tupper\t5\t7\n0\t1\t1\t2\n0\t1\t1\t2\n", "overlap"),
+        ];
+        for (text, expected) in cases {
+            let e = check_scatter(&table(text)).unwrap_err();
+            assert!(e.contains(expected), "{text:?}: {e}");
+        }
     }
 }

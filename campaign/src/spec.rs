@@ -245,6 +245,9 @@ fn is_one(n: &usize) -> bool {
     *n == 1
 }
 
+/// Most realisations per sea state (each one a global and a strand job per hot spot).
+pub const MAX_SEEDS_PER_SEA_STATE: u32 = 1000;
+
 /// Most threads a strand job or `run strand` uses.
 pub const MAX_STRAND_THREADS: usize = 256;
 
@@ -341,17 +344,32 @@ impl CampaignSpec {
         if let Some(ramp) = s.wave_ramp_s {
             non_negative("simulation.wave_ramp_s", ramp)?;
         }
-        if s.seeds_per_sea_state == 0 {
-            return Err(invalid("simulation.seeds_per_sea_state", 0, "must be >= 1"));
+        if !(1..=MAX_SEEDS_PER_SEA_STATE).contains(&s.seeds_per_sea_state) {
+            return Err(invalid(
+                "simulation.seeds_per_sea_state",
+                s.seeds_per_sea_state,
+                &format!("must be from 1 to {MAX_SEEDS_PER_SEA_STATE}"),
+            ));
         }
-        if s.global_threads == 0 {
-            return Err(invalid("simulation.global_threads", 0, "must be >= 1"));
+        if !(1..=MAX_STRAND_THREADS).contains(&s.global_threads) {
+            return Err(invalid(
+                "simulation.global_threads",
+                s.global_threads,
+                &format!("must be from 1 to {MAX_STRAND_THREADS}"),
+            ));
         }
         if self.hot_spots.is_empty() {
             return Err(invalid("hot_spots", "[]", "needs at least one hot spot"));
         }
         for (i, h) in self.hot_spots.iter().enumerate() {
             non_negative(&format!("hot_spots[{i}].arc_length_m"), h.arc_length_m)?;
+            if let Some(k) = self.hot_spots[..i].iter().position(|o| o == h) {
+                return Err(invalid(
+                    format!("hot_spots[{i}]"),
+                    format!("line {}, {} m", h.line, h.arc_length_m),
+                    &format!("repeats hot_spots[{k}]"),
+                ));
+            }
         }
         let st = &self.strand;
         if let Some(mu) = st.friction_coefficient {
@@ -466,6 +484,30 @@ mod tests {
     }
 
     #[test]
+    fn seeds_threads_and_repeated_hot_spots_are_bounded() {
+        let spec = demo_spec(serde_json::json!({}));
+        let field = |s: CampaignSpec| match s.validate() {
+            Err(CampaignError::Invalid { field, .. }) => field,
+            other => panic!("{other:?}"),
+        };
+        let mut s = spec.clone();
+        s.simulation.seeds_per_sea_state = u32::MAX;
+        assert_eq!(field(s), "simulation.seeds_per_sea_state");
+        let mut s = spec.clone();
+        s.simulation.global_threads = 100_000;
+        assert_eq!(field(s), "simulation.global_threads");
+        let mut s = spec.clone();
+        s.hot_spots.push(s.hot_spots[0].clone());
+        assert_eq!(field(s), "hot_spots[1]");
+        let mut s = spec;
+        s.hot_spots.push(HotSpotSpec {
+            line: 1,
+            arc_length_m: 80.0,
+        });
+        assert!(s.validate().is_ok());
+    }
+
+    #[test]
     fn bad_fidelity_settings_are_refused_naming_the_field() {
         let with = |strand: serde_json::Value| {
             let mut spec = serde_json::to_value(demo_spec(serde_json::json!({}))).unwrap();
@@ -479,12 +521,18 @@ mod tests {
         assert!(ok.validate().is_ok());
         assert_eq!(ok.strand.auto_fe.damage_share, 1.0);
         let cases = [
-            (serde_json::json!({"auto_fe": {"sea_states": 0}}), "strand.auto_fe.sea_states"),
+            (
+                serde_json::json!({"auto_fe": {"sea_states": 0}}),
+                "strand.auto_fe.sea_states",
+            ),
             (
                 serde_json::json!({"auto_fe": {"damage_share": 1.5}}),
                 "strand.auto_fe.damage_share",
             ),
-            (serde_json::json!({"calibration_margin": -0.1}), "strand.calibration_margin"),
+            (
+                serde_json::json!({"calibration_margin": -0.1}),
+                "strand.calibration_margin",
+            ),
         ];
         for (strand, field) in cases {
             match with(strand.clone()).unwrap().validate() {
@@ -493,7 +541,9 @@ mod tests {
             }
         }
         // an unknown fidelity is a parse error that names the value and the choices
-        let e = with(serde_json::json!({"fidelity": "fast"})).unwrap_err().to_string();
+        let e = with(serde_json::json!({"fidelity": "fast"}))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("fast") && e.contains("reduced"), "{e}");
     }
 }

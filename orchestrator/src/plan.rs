@@ -340,7 +340,10 @@ mod tests {
         // demo: three sea states, here two seeds each, one hot spot
         let fe = planned(StrandFidelity::Fe);
         let kinds = |jobs: &[PlannedJob], k: JobKind| jobs.iter().filter(|j| j.kind == k).count();
-        assert_eq!((kinds(&fe, JobKind::Global), kinds(&fe, JobKind::Strand)), (6, 6));
+        assert_eq!(
+            (kinds(&fe, JobKind::Global), kinds(&fe, JobKind::Strand)),
+            (6, 6)
+        );
         for (i, j) in fe.iter().enumerate() {
             if j.kind == JobKind::Strand {
                 assert_eq!(j.depends_on, [i - 1]);

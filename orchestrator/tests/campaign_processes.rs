@@ -733,7 +733,11 @@ fn auto_fidelity_campaign_survives_a_killed_driver() {
     spec["strand"]["fidelity"] = serde_json::json!("auto");
     spec["strand"]["auto_fe"] = serde_json::json!({ "sea_states": 1 });
     std::fs::write(&file, spec.to_string()).unwrap();
-    let db = dir.path().join("auto.sqlite").to_string_lossy().into_owned();
+    let db = dir
+        .path()
+        .join("auto.sqlite")
+        .to_string_lossy()
+        .into_owned();
     let file = file.to_string_lossy().into_owned();
     let mut driver = moorfret(&[
         "campaign",
@@ -754,13 +758,14 @@ fn auto_fidelity_campaign_survives_a_killed_driver() {
     let deadline = Instant::now() + Duration::from_secs(60);
     let id = loop {
         let found = Path::new(&db).exists()
-            && rt().block_on(async {
-                let store = Store::open(&db, StoreOptions::default()).await.ok()?;
-                let id = store.campaign_by_name("auto").await.ok().flatten();
-                store.close().await;
-                id
-            })
-            .is_some();
+            && rt()
+                .block_on(async {
+                    let store = Store::open(&db, StoreOptions::default()).await.ok()?;
+                    let id = store.campaign_by_name("auto").await.ok().flatten();
+                    store.close().await;
+                    id
+                })
+                .is_some();
         if found {
             break rt().block_on(async {
                 let store = Store::open(&db, StoreOptions::default()).await.unwrap();

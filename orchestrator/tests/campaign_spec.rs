@@ -140,6 +140,28 @@ fn out_of_range_value_is_named_by_its_path() {
 }
 
 #[test]
+fn profile_without_helical_layers_and_doubled_scatter_rows_are_refused() {
+    let dir = campaign_copy();
+    let db = existing_store(dir.path());
+    edit_json(&dir.path().join("benchmarks/strand_1_6_1.json"), |v| {
+        v["layers"] = serde_json::json!([]);
+    });
+    assert_refused(dir.path(), &db, &["strand.profile", "no helical layer"]);
+    let dir = campaign_copy();
+    let path = dir.path().join("data/demo_scatter.tsv");
+    let text = std::fs::read_to_string(&path).unwrap();
+    // the first data row twice: its sea states would be planned, and counted, twice
+    let mut lines: Vec<&str> = text.lines().collect();
+    let row = lines
+        .iter()
+        .position(|l| l.chars().next().is_some_and(|c| c.is_ascii_digit()))
+        .unwrap();
+    lines.insert(row + 1, lines[row]);
+    std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+    assert_refused(dir.path(), &db, &["scatter.path", "overlap"]);
+}
+
+#[test]
 fn missing_data_file_is_named_with_its_field() {
     let dir = campaign_copy();
     let db = existing_store(dir.path());

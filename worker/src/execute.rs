@@ -59,14 +59,7 @@ pub fn execute(
         }
         JobKind::StrandReduced => {
             let payload: StrandPayload = decode(lease)?;
-            reduced_stage::run_strand_reduced(
-                need_inputs()?,
-                &payload,
-                store,
-                retry,
-                artifacts,
-                rt,
-            )
+            reduced_stage::run_strand_reduced(need_inputs()?, &payload, store, retry, artifacts, rt)
         }
     }
 }

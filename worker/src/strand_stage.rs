@@ -28,8 +28,8 @@ use std::time::{Duration, Instant};
 use moorfret_solver::fretting::{
     detect_set_run_in, sea_state_damage_inputs, ContactRecord, SeaStateInputs, TensionHistory,
 };
-use moorfret_solver::strand::history::monitors::{MonitorChannel, MonitorQuantity};
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
+use moorfret_solver::strand::history::monitors::{MonitorChannel, MonitorQuantity};
 use moorfret_solver::strand::history::stiffness::{samples_from_tension, SlackTension};
 use moorfret_solver::strand::history::{
     run_history_from, HistoryObserver, HistoryResult, LoadSample,
@@ -355,13 +355,15 @@ fn fe_selection(
     let rows: Vec<ReducedClassDamage> = rows
         .iter()
         .filter(|(_, _, c)| c.hot_spot_index == payload.hot_spot_index as i64)
-        .map(|(sea_state_index, occurrence_fraction, c)| ReducedClassDamage {
-            sea_state_index: *sea_state_index,
-            occurrence_fraction: *occurrence_fraction,
-            seed_index: c.seed_index,
-            class: (c.layer_interface, c.angular_position.as_str()),
-            damage_rate_per_s: c.fretting_damage_rate_max_per_s,
-        })
+        .map(
+            |(sea_state_index, occurrence_fraction, c)| ReducedClassDamage {
+                sea_state_index: *sea_state_index,
+                occurrence_fraction: *occurrence_fraction,
+                seed_index: c.seed_index,
+                class: (c.layer_interface, c.angular_position.as_str()),
+                damage_rate_per_s: c.fretting_damage_rate_max_per_s,
+            },
+        )
         .collect();
     Ok(select_fe_sea_states(&rows, &inputs.spec.strand.auto_fe))
 }
@@ -420,7 +422,6 @@ pub(crate) fn strand_results(
                 "newton_steps": s.newton_steps,
                 "cutbacks": s.cutbacks,
                 "iterations": s.iterations,
-                "wall_time_s": s.total_time_s,
             },
         }),
         contacts,
@@ -447,9 +448,9 @@ fn run_in(inputs: &CampaignInputs, result: &HistoryResult) -> (usize, serde_json
     let (detected, detection) =
         match detect_set_run_in(&set, &fatigue.run_in_detection.params(dt)) {
             Ok(r) => {
-                let governing = r.governing.and_then(|k| slips.get(k)).map(|c| {
-                    json!({ "layer_interface": c.layer, "group": format!("{:?}", c.group) })
-                });
+                let governing = r.governing.and_then(|k| slips.get(k)).map(
+                    |c| json!({ "layer_interface": c.layer, "group": format!("{:?}", c.group) }),
+                );
                 let end_s = r.end_index.map(|e| e as f64 * dt);
                 (
                     r.end_index,

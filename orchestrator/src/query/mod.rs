@@ -232,7 +232,12 @@ async fn fidelity(store: &Store, campaign: CampaignId) -> anyhow::Result<Table> 
     );
     table.push_column(
         "damage_mean_rel_diff".into(),
-        relative(|r| (r.fe_damage_rate_mean_per_s, r.reduced_damage_rate_mean_per_s)),
+        relative(|r| {
+            (
+                r.fe_damage_rate_mean_per_s,
+                r.reduced_damage_rate_mean_per_s,
+            )
+        }),
     );
     table.push_column(
         "slip_amplitude_rel_diff".into(),

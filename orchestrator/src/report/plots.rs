@@ -74,8 +74,7 @@ pub(crate) fn value_map_svg(
             chart
                 .draw_series([Circle::new((s.tp_s, s.hs_m), 9, colour.filled())])
                 .map_err(plot_err)?;
-            let fe = mark_fe
-                && fidelity.get(&s.sea_state_index).map(String::as_str) == Some("fe");
+            let fe = mark_fe && fidelity.get(&s.sea_state_index).map(String::as_str) == Some("fe");
             let ring = if fe {
                 RGBColor(20, 80, 220).stroke_width(4)
             } else {
@@ -87,11 +86,7 @@ pub(crate) fn value_map_svg(
             if let Some(text) = value.and_then(label) {
                 chart
                     .draw_series([EmptyElement::at((s.tp_s, s.hs_m))
-                        + Text::new(
-                            text,
-                            (12, -6),
-                            ("sans-serif", 12).into_font().color(&BLACK),
-                        )])
+                        + Text::new(text, (12, -6), ("sans-serif", 12).into_font().color(&BLACK))])
                     .map_err(plot_err)?;
             }
         }
@@ -120,7 +115,11 @@ pub(crate) fn histogram_svg(h: &SlipHistogram) -> anyhow::Result<String> {
             .collect();
         let x0 = bins.iter().map(|b| b.0).fold(f64::INFINITY, f64::min);
         let x1 = bins.iter().map(|b| b.1).fold(0.0, f64::max);
-        let (x0, x1) = if bins.is_empty() { (0.1, 1000.0) } else { (x0, x1) };
+        let (x0, x1) = if bins.is_empty() {
+            (0.1, 1000.0)
+        } else {
+            (x0, x1)
+        };
         let top = bins.iter().map(|b| b.2).fold(0.0, f64::max);
         let low = bins.iter().map(|b| b.2).fold(f64::INFINITY, f64::min);
         let (y0, y1) = if bins.is_empty() {
@@ -151,9 +150,11 @@ pub(crate) fn histogram_svg(h: &SlipHistogram) -> anyhow::Result<String> {
             .draw()
             .map_err(plot_err)?;
         chart
-            .draw_series(bins.iter().map(|&(lo, hi, c)| {
-                Rectangle::new([(lo, y0), (hi, c)], BLUE.mix(0.6).filled())
-            }))
+            .draw_series(
+                bins.iter().map(|&(lo, hi, c)| {
+                    Rectangle::new([(lo, y0), (hi, c)], BLUE.mix(0.6).filled())
+                }),
+            )
             .map_err(plot_err)?;
         root.present().map_err(plot_err)?;
     }

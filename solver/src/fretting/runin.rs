@@ -87,7 +87,9 @@ pub fn detect_run_in(history: &[f64], params: &RunInParams) -> Result<RunIn, Fre
         .sum::<f64>()
         / reference.len() as f64)
         .sqrt();
-    let tolerance = params.tolerance_sigma * sigma;
+    // floored at the round-off of the window means, so that a constant history (a contact
+    // that stays stuck) is stabilised rather than failed by the last bits of its sums
+    let tolerance = (params.tolerance_sigma * sigma).max(1e-12 * reference_mean.abs());
     let half = ref_windows / 2;
     let drift_in_reference =
         (mean(&means[ref_start..ref_start + half]) - mean(&means[ref_start + half..windows])).abs();

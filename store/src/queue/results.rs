@@ -336,7 +336,11 @@ impl Queue {
              JOIN sea_states s ON s.id = j.sea_state_id \
              WHERE j.campaign_id = $1{} \
              ORDER BY s.sea_state_index, c.job_id, c.layer_interface, c.angular_position",
-            if kind.is_some() { " AND j.kind = $2" } else { "" }
+            if kind.is_some() {
+                " AND j.kind = $2"
+            } else {
+                ""
+            }
         );
         let mut query = sqlx::query(&sql).bind(campaign.0);
         if let Some(kind) = kind {
@@ -385,11 +389,7 @@ impl Queue {
                     angular_position: parse_position(&position)?,
                     reduced_damage_rate_max_per_s: get(row, "reduced_damage_rate_max_per_s", OP)?,
                     fe_damage_rate_max_per_s: get(row, "fe_damage_rate_max_per_s", OP)?,
-                    reduced_damage_rate_mean_per_s: get(
-                        row,
-                        "reduced_damage_rate_mean_per_s",
-                        OP,
-                    )?,
+                    reduced_damage_rate_mean_per_s: get(row, "reduced_damage_rate_mean_per_s", OP)?,
                     fe_damage_rate_mean_per_s: get(row, "fe_damage_rate_mean_per_s", OP)?,
                     reduced_slip_amplitude_max_m: get(row, "reduced_slip_amplitude_max_m", OP)?,
                     fe_slip_amplitude_max_m: get(row, "fe_slip_amplitude_max_m", OP)?,

@@ -54,8 +54,8 @@ use sha2::{Digest, Sha256};
 
 use super::strand_model::{load_strand, ModelArgs, ModelSizes};
 use super::strand_reduced::{
-    cache_root, calibration_for, range_of, CalibrationRequest, CalibrationSource,
-    Fidelity, ReducedArgs,
+    cache_root, calibration_for, range_of, CalibrationRequest, CalibrationSource, Fidelity,
+    ReducedArgs,
 };
 use moorfret_orchestrator::plot::{strand_history_svgs, LoadPlot};
 use moorfret_solver::strand::profile::Strand;
