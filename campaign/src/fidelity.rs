@@ -100,6 +100,9 @@ impl AutoFe {
     }
 }
 
+/// A contact class: layer interface and angular position name.
+type Class = (i64, &'static str);
+
 /// One reduced result of one contact class: the input of [`select_fe_sea_states`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ReducedClassDamage {
@@ -139,7 +142,8 @@ impl FeSelection {
 pub fn select_fe_sea_states(rows: &[ReducedClassDamage], rule: &AutoFe) -> FeSelection {
     // seed means per (class, sea state), then occurrence-weighted annual damage per class
     const YEAR_S: f64 = 31_557_600.0;
-    let mut sums: BTreeMap<((i64, &'static str), i64), (f64, f64, usize)> = BTreeMap::new();
+    // (class, sea state) → (occurrence, Σ rate over seeds, seeds)
+    let mut sums: BTreeMap<(Class, i64), (f64, f64, usize)> = BTreeMap::new();
     for r in rows {
         let rate = if r.damage_rate_per_s.is_finite() && r.damage_rate_per_s > 0.0 {
             r.damage_rate_per_s
@@ -152,7 +156,7 @@ pub fn select_fe_sea_states(rows: &[ReducedClassDamage], rule: &AutoFe) -> FeSel
         e.1 += rate;
         e.2 += 1;
     }
-    let mut per_class: BTreeMap<(i64, &'static str), Vec<(i64, f64)>> = BTreeMap::new();
+    let mut per_class: BTreeMap<Class, Vec<(i64, f64)>> = BTreeMap::new();
     for ((class, sea_state), (occurrence, sum, n)) in sums {
         let annual = occurrence * YEAR_S * sum / n as f64;
         per_class
