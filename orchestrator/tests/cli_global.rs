@@ -87,6 +87,32 @@ fn run_global_writes_consistent_outputs_for_the_paper_case() {
             "{svg}"
         );
     }
+    // the series chains into the strand stage as written: `run strand --load hotspots.csv`
+    // (the 1+6+1 benchmark strand, EA given so that the rope's tension is a moderate strain)
+    let strand_out = dir.path().join("strand");
+    let run = moorfret()
+        .env("MOORFRET_CACHE_DIR", dir.path().join("cache"))
+        .args(["run", "strand"])
+        .arg(campaign_file("benchmarks/strand_1_6_1.json"))
+        .arg("--load")
+        .arg(out.join("hotspots.csv"))
+        .args(["--hot-spot", "0", "--axial-stiffness-n", "3e8", "--out"])
+        .arg(&strand_out)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let (h, m) = rows(&strand_out.join("monitors.csv"));
+    assert_eq!(&h[..3], ["time_s", "strain", "curvature_per_m"]);
+    assert_eq!(m.len(), hs.len());
+    for (a, b) in m.iter().zip(&hs) {
+        assert_eq!(a[0], b[0]);
+        assert!((a[1] - b[1] / 3e8).abs() <= 1e-12 * a[1].abs().max(1e-9));
+        assert_eq!(a[2], b[2]);
+    }
 }
 
 #[test]

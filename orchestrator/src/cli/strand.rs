@@ -51,6 +51,9 @@ pub(crate) struct CalibrateArgs {
     /// --load`).
     #[arg(long)]
     load: Vec<PathBuf>,
+    /// Hot spot to read from a global run's `hotspots.csv` (as `run strand --hot-spot`).
+    #[arg(long, default_value_t = 0)]
+    hot_spot: usize,
     /// Axial strain range to cover, lowest and highest.
     #[arg(long, num_args = 2, value_names = ["LOW", "HIGH"], allow_negative_numbers = true)]
     strain_range: Option<Vec<f64>>,
@@ -120,7 +123,7 @@ fn calibrate(args: &CalibrateArgs) -> anyhow::Result<()> {
     };
     let mut range: Option<LoadRange> = None;
     for path in &args.load {
-        let table = read_load(path, true)?;
+        let table = read_load(path, true, args.hot_spot)?;
         let (samples, _, _) = samples_of(&table, &mut lazy, &args.stiffness, &options)?;
         let r = range_of(&samples).with_context(|| format!("in {}", path.display()))?;
         range = Some(range.map_or(r, |a| a.union(r)));

@@ -2,7 +2,9 @@
 //! driven through a load history (`moorfret_solver::strand::history`).
 //!
 //! LOAD.csv has a header naming three columns, in any order: `time_s`, `curvature_per_m` and
-//! either `tension_n` or `axial_strain`. A tension history becomes the axial strain
+//! either `tension_n` or `axial_strain`; or it is the `hotspots.csv` of `run global` as written
+//! (`time_s`, then `tension_n_K`, `curvature_per_m_K` per hot spot K), read at hot spot
+//! `--hot-spot K` (0 by default). A tension history becomes the axial strain
 //! ε = T / EA with EA measured on the model itself by a tension step
 //! (`measure_axial_stiffness_n`, at `--stiffness-strain`; kept in a cache per model, see
 //! [`StiffnessCache`], or given by `--axial-stiffness-n`); slack samples (T < 0) are refused
@@ -68,6 +70,10 @@ pub(crate) struct HistoryArgs {
     /// Load slack samples (negative tension) as zero strain instead of refusing them.
     #[arg(long)]
     pub(crate) slack_as_zero: bool,
+    /// Hot spot to read when the load file is a global run's `hotspots.csv` (columns
+    /// `tension_n_K`, `curvature_per_m_K`).
+    #[arg(long, default_value_t = 0)]
+    pub(crate) hot_spot: usize,
     /// Turning-point tolerance of the history reduction, as a fraction of each channel's range.
     #[arg(long)]
     pub(crate) turning_point_tolerance: Option<f64>,
@@ -182,7 +188,11 @@ fn at(path: &Path, index: usize, column: &str) -> String {
 }
 
 /// Reads and checks the load file (module docs); the error names the sample and the column.
-pub(crate) fn read_load(path: &Path, slack_as_zero: bool) -> anyhow::Result<LoadTable> {
+pub(crate) fn read_load(
+    path: &Path,
+    slack_as_zero: bool,
+    hot_spot: usize,
+) -> anyhow::Result<LoadTable> {
     let mut reader = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .from_path(path)
@@ -194,7 +204,23 @@ pub(crate) fn read_load(path: &Path, slack_as_zero: bool) -> anyhow::Result<Load
     // column index of time, load value, curvature
     let mut columns: [Option<usize>; 3] = [None; 3];
     let mut kind: Option<LoadKind> = None;
+    // hot spots of a global run's series (`tension_n_K`, `curvature_per_m_K`)
+    let mut hot_spots: Vec<usize> = Vec::new();
     for (i, name) in header.iter().enumerate() {
+        let indexed = |prefix: &str| -> Option<usize> { name.strip_prefix(prefix)?.parse().ok() };
+        let (name, hot_spot_column) = match (indexed("tension_n_"), indexed("curvature_per_m_")) {
+            (Some(k), _) => ("tension_n", Some(k)),
+            (None, Some(k)) => ("curvature_per_m", Some(k)),
+            (None, None) => (name, None),
+        };
+        if let Some(k) = hot_spot_column {
+            if !hot_spots.contains(&k) {
+                hot_spots.push(k);
+            }
+            if k != hot_spot {
+                continue;
+            }
+        }
         let slot = match name {
             "time_s" => 0,
             "tension_n" | "axial_strain" => {
@@ -228,6 +254,12 @@ pub(crate) fn read_load(path: &Path, slack_as_zero: bool) -> anyhow::Result<Load
     let names = ["time_s", "tension_n or axial_strain", "curvature_per_m"];
     for (slot, name) in names.iter().enumerate() {
         if columns[slot].is_none() {
+            if !hot_spots.is_empty() && slot > 0 {
+                bail!(
+                    "{}: no hot spot {hot_spot} (--hot-spot); the file has hot spots {hot_spots:?}",
+                    path.display()
+                );
+            }
             bail!("{}: missing column {name}", path.display());
         }
     }
@@ -748,7 +780,7 @@ pub(super) fn execute(
     if h.checkpoint_every == 0 {
         bail!("--checkpoint-every must be >= 1");
     }
-    let table = read_load(load, h.slack_as_zero)?;
+    let table = read_load(load, h.slack_as_zero, h.hot_spot)?;
     let (_, strand, params) = load_strand(args)?;
     let mut lazy = LazyModel::new(&strand, &params);
     let fidelity = h.reduced.fidelity;
@@ -972,7 +1004,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let p = dir.path().join("load.csv");
         std::fs::write(&p, text).unwrap();
-        read_load(&p, false)
+        read_load(&p, false, 0)
     }
 
     #[test]
@@ -992,6 +1024,26 @@ mod tests {
                 .contains("sample 1 (line 3), column tension_n"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn a_global_runs_hot_spot_series_is_read_as_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("hotspots.csv");
+        std::fs::write(
+            &p,
+            "time_s,tension_n_0,curvature_per_m_0,tension_n_1,curvature_per_m_1\n\
+             0,1e5,0.01,2e5,0.02\n0.1,1.1e5,0.011,2.1e5,0.021\n",
+        )
+        .unwrap();
+        let t = read_load(&p, false, 1).unwrap();
+        assert_eq!(t.kind, LoadKind::Tension);
+        assert_eq!(t.time_s, [0.0, 0.1]);
+        assert_eq!(t.value, [2e5, 2.1e5]);
+        assert_eq!(t.curvature_per_m, [0.02, 0.021]);
+        assert_eq!(read_load(&p, false, 0).unwrap().value, [1e5, 1.1e5]);
+        let e = read_load(&p, false, 2).unwrap_err().to_string();
+        assert!(e.contains("no hot spot 2") && e.contains("[0, 1]"), "{e}");
     }
 
     #[test]
