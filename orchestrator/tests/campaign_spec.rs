@@ -162,6 +162,42 @@ fn profile_without_helical_layers_and_doubled_scatter_rows_are_refused() {
 }
 
 #[test]
+fn commands_that_read_a_store_never_create_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let typo = dir.path().join("typo.db");
+    for args in [
+        vec!["campaign", "status"],
+        vec!["campaign", "resume", "demo"],
+        vec!["campaign", "cancel", "demo"],
+        vec!["query", "lifetime", "--campaign", "demo"],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_moorfret"))
+            .args(&args)
+            .arg("--db")
+            .arg(&typo)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains("no such database file"),
+            "{args:?}: {stderr}"
+        );
+        let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+        assert!(left.is_empty(), "{args:?} left {left:?}");
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_moorfret"))
+        .args(["campaign", "status", "--db", "mysql://x"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("unknown scheme `mysql`"), "{stderr}");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
+#[test]
 fn missing_data_file_is_named_with_its_field() {
     let dir = campaign_copy();
     let db = existing_store(dir.path());

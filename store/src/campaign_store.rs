@@ -67,8 +67,22 @@ impl StoreLocation {
     /// Reads a location: `postgres://…`, `postgresql://…`, `sqlite://path`, `sqlite:path` or a
     /// plain path.
     pub fn parse(location: &str) -> Result<Self, StoreError> {
-        if location.starts_with("postgres://") || location.starts_with("postgresql://") {
-            return Ok(StoreLocation::Postgres(location.to_owned()));
+        if let Some((scheme, _)) = location.split_once("://") {
+            match scheme.to_ascii_lowercase().as_str() {
+                "postgres" | "postgresql" => {
+                    return Ok(StoreLocation::Postgres(location.to_owned()))
+                }
+                "sqlite" => {}
+                _ => {
+                    return Err(StoreError::InvalidLocation {
+                        location: location.to_owned(),
+                        reason: format!(
+                            "unknown scheme `{scheme}`: give an SQLite file path, \
+                             `sqlite://PATH` or `postgres://…`"
+                        ),
+                    })
+                }
+            }
         }
         let path = location
             .strip_prefix("sqlite://")
@@ -82,6 +96,18 @@ impl StoreLocation {
             });
         }
         Ok(StoreLocation::Sqlite(PathBuf::from(path)))
+    }
+
+    /// Refuses an SQLite location whose file does not exist: commands that read or resume a
+    /// campaign never create a store (a mistyped `--db` would otherwise leave an empty one).
+    pub fn require_existing(&self) -> Result<(), StoreError> {
+        match self {
+            StoreLocation::Sqlite(path) if !path.exists() => Err(StoreError::InvalidLocation {
+                location: path.display().to_string(),
+                reason: "no such database file (`campaign launch` creates a store)".into(),
+            }),
+            _ => Ok(()),
+        }
     }
 }
 
@@ -428,6 +454,19 @@ mod tests {
             StoreLocation::parse("b.sqlite").unwrap(),
             StoreLocation::Sqlite("b.sqlite".into())
         );
+        assert_eq!(
+            StoreLocation::parse("POSTGRES://u@h/db").unwrap(),
+            StoreLocation::Postgres("POSTGRES://u@h/db".into())
+        );
+        assert!(matches!(
+            StoreLocation::parse("mysql://x"),
+            Err(StoreError::InvalidLocation { .. })
+        ));
+        let missing = StoreLocation::parse("no/such/dir/typo.db").unwrap();
+        assert!(matches!(
+            missing.require_existing(),
+            Err(StoreError::InvalidLocation { .. })
+        ));
         assert!(matches!(
             StoreLocation::parse("sqlite::memory:"),
             Err(StoreError::InvalidLocation { .. })

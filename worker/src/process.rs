@@ -57,6 +57,12 @@ impl StoreConfig {
             .with_context(|| format!("opening the store {}", self.db))
     }
 
+    /// Opens the store if it exists; never creates one (for commands that read or resume).
+    pub async fn open_existing(&self) -> anyhow::Result<Store> {
+        StoreLocation::parse(&self.db)?.require_existing()?;
+        self.open().await
+    }
+
     /// The artifact store of this store.
     pub fn artifact_store(&self) -> anyhow::Result<ArtifactStore> {
         if let Some(dir) = &self.artifacts {

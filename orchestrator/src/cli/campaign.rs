@@ -88,7 +88,7 @@ pub(crate) fn execute(cmd: CampaignCommand) -> anyhow::Result<()> {
                 store,
                 workers,
             } => {
-                let db = store.config().open().await?;
+                let db = store.config().open_existing().await?;
                 let record = find(&db, &name).await?;
                 if record.state == moorfret_store::CampaignState::Cancelled {
                     bail!("campaign {name} was cancelled; it cannot be resumed");
@@ -97,7 +97,7 @@ pub(crate) fn execute(cmd: CampaignCommand) -> anyhow::Result<()> {
             }
             CampaignCommand::Status { name, store, json } => status(&store, name, json).await,
             CampaignCommand::Cancel { name, store } => {
-                let db = store.config().open().await?;
+                let db = store.config().open_existing().await?;
                 let record = find(&db, &name).await?;
                 let report = db.cancel_campaign(record.id).await?;
                 println!("campaign {name}: {} jobs cancelled", report.jobs_cancelled);
@@ -213,7 +213,7 @@ pub(crate) fn status_json(record: &CampaignRecord, p: &CampaignProgress) -> serd
 }
 
 async fn status(args: &StoreArgs, name: Option<String>, as_json: bool) -> anyhow::Result<()> {
-    let store = args.config().open().await?;
+    let store = args.config().open_existing().await?;
     let records = match &name {
         Some(n) => vec![find(&store, n).await?],
         None => store.campaigns().await?,

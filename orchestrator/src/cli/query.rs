@@ -32,11 +32,7 @@ pub(crate) struct QueryArgs {
 
 /// Opens an existing store (never creates one for a read).
 pub(crate) async fn open_existing(db: &str) -> anyhow::Result<Store> {
-    if let moorfret_store::StoreLocation::Sqlite(path) = moorfret_store::StoreLocation::parse(db)? {
-        if !path.exists() {
-            anyhow::bail!("--db `{db}`: no such database file");
-        }
-    }
+    moorfret_store::StoreLocation::parse(db)?.require_existing()?;
     Ok(Store::open(db, StoreOptions::default()).await?)
 }
 
