@@ -75,8 +75,16 @@ async fn report_of_the_fixture_is_self_contained_and_renders() {
     );
     let page_path = out.join("index.html");
     let page = std::fs::read_to_string(&page_path).unwrap();
-    // Two scatter diagrams, one series figure, two interface histograms.
-    assert_eq!(page.matches("<svg").count(), 5, "inline SVG figures");
+    // Occurrence and two damage maps, one series figure, the run-in map, two histograms.
+    assert_eq!(page.matches("<svg").count(), 7, "inline SVG figures");
+    assert!(page.contains("occurrence (% of the year"));
+    // the counted strand result of each sea state (its last seed's run-in; sea state 1 none)
+    assert!(
+        page.contains("stops drifting: in 1 of 2 sea states (from 30.00 s to 30.00 s"),
+        "run-in section"
+    );
+    assert!(page.contains("2 sea states from the FE model, 0 from the reduced"));
+    assert!(page.contains("No sea state ran both fidelities."));
     assert!(page.contains("share of annual fretting damage"));
     assert!(page.contains("share of annual T-N damage (tn_dnv_spiral_rope)"));
     assert!(page.contains("layer interface 2, outer_arc"));

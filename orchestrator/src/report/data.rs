@@ -222,7 +222,7 @@ pub async fn gather(
         .map(|r| (r.sea_state_index, r.fidelity))
         .collect();
     let mut calibrations = Vec::new();
-    let mut run_in = BTreeMap::new();
+    let mut seeds_run_in: BTreeMap<i64, Vec<(bool, Option<f64>, f64)>> = BTreeMap::new();
     let index_of: BTreeMap<i64, i64> = sea_states
         .iter()
         .map(|s| (s.sea_state_id, s.sea_state_index))
@@ -245,17 +245,30 @@ pub async fn gather(
             .sea_state
             .and_then(|id| index_of.get(&id.0).copied())
             .unwrap_or(-1);
-        // the FE result is the counted one where it ran
+        // per sea state, the run-in of every seed and fidelity
+        let detected = r["detection"]["end_s"].as_f64();
+        let excluded = r["excluded_s"].as_f64().unwrap_or(0.0);
         let fe = job.kind == JobKind::Strand;
-        if job.kind == JobKind::StrandReduced && run_in.contains_key(&index) {
-            continue;
-        }
-        if fe || job.kind == JobKind::StrandReduced {
-            let detected = r["detection"]["end_s"].as_f64();
-            let excluded = r["excluded_s"].as_f64().unwrap_or(0.0);
-            run_in.insert(index, (detected, excluded));
-        }
+        seeds_run_in
+            .entry(index)
+            .or_default()
+            .push((fe, detected, excluded));
     }
+    // the counted fidelity's seeds (FE where it ran); the latest run-in over them, none
+    // detected if one seed never stabilised
+    let run_in: BTreeMap<i64, (Option<f64>, f64)> = seeds_run_in
+        .into_iter()
+        .map(|(index, seeds)| {
+            let any_fe = seeds.iter().any(|s| s.0);
+            let counted: Vec<_> = seeds.into_iter().filter(|s| s.0 == any_fe).collect();
+            let detected = counted
+                .iter()
+                .map(|s| s.1)
+                .try_fold(0.0_f64, |m, d| d.map(|d| m.max(d)));
+            let excluded = counted.iter().map(|s| s.2).fold(0.0, f64::max);
+            (index, (detected, excluded))
+        })
+        .collect();
     let series = match artifacts {
         Some(a) => hot_spot_series(store, campaign, a, &fretting_share).await?,
         None => None,

@@ -194,6 +194,24 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
                  strand results come from the FE model, the others from the reduced strand \
                  response.</p>\n";
     }
+    // the diagram itself: each sea state's occurrence, percent of the year
+    let occurrence: std::collections::BTreeMap<i64, f64> = data
+        .sea_states
+        .iter()
+        .map(|s| (s.sea_state_index, 100.0 * s.occurrence_fraction))
+        .collect();
+    // colour only: labels of neighbouring cells would overlap
+    let largest = occurrence.values().copied().fold(0.0, f64::max);
+    let no_label = |_: f64| None;
+    body += "<div class=\"fig\">";
+    body += &plots::value_map_svg(
+        &data.sea_states,
+        &occurrence,
+        &format!("occurrence (% of the year; darkest {})", number(largest)),
+        &data.fidelity,
+        &no_label,
+    )?;
+    body += "</div>\n";
     match &data.critical {
         Some(c) => {
             let _ = writeln!(
