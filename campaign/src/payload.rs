@@ -2,9 +2,11 @@
 //! the campaign, so a worker needs the store and nothing else: no campaign file, no data files
 //! on its machine) and the small per-job payloads.
 //!
-//! Cache keys: sha256 of the job kind, the solver version, the sha256 of the campaign inputs
-//! that decide results (everything but the campaign name) and the job payload, which for a
-//! strand job holds its global job's cache key. Identical inputs are computed once, also across
+//! Cache keys: sha256 of the job kind, the solver version, the sha256 of the inputs that decide
+//! its results and the job payload. For a global job those inputs are the simulation settings,
+//! hot spots, base case and floater ([`CampaignInputs::global_sha256`]); for the other jobs
+//! they are every campaign input but names and free text ([`CampaignInputs::results_sha256`]),
+//! and their payloads hold their upstream jobs' keys. Identical inputs are computed once, also across
 //! campaigns in one database.
 
 use moorfret_solver::floater::FloaterSpec;
@@ -129,6 +131,26 @@ impl CampaignInputs {
         copy.base_case.name.clear();
         copy.base_case.about = None;
         let text = serde_json::to_string(&copy).unwrap_or_default();
+        hex::encode(Sha256::digest(text.as_bytes()))
+    }
+}
+
+impl CampaignInputs {
+    /// sha256 (hex) of the inputs that decide a global job's results: the simulation settings,
+    /// the hot spots, the base case (names and free text cleared) and the floater. Strand,
+    /// fatigue, scatter and job settings are left out, so campaigns that differ only there
+    /// share their global jobs through the cache.
+    pub fn global_sha256(&self) -> String {
+        let mut case = self.base_case.clone();
+        case.name.clear();
+        case.about = None;
+        let text = serde_json::to_string(&(
+            &self.spec.simulation,
+            &self.spec.hot_spots,
+            &case,
+            &self.floater,
+        ))
+        .unwrap_or_default();
         hex::encode(Sha256::digest(text.as_bytes()))
     }
 }

@@ -117,6 +117,7 @@ pub fn jobs(
     let (global_cost, strand_cost) = (global_cost_s(inputs), strand_cost_s(inputs));
     let max_attempts = inputs.spec.jobs.max_attempts;
     let fidelity = inputs.spec.strand.fidelity;
+    let global_sha256 = inputs.global_sha256();
     // (index in `out`, sea state id, payload, cache key) of every global job
     let mut globals = Vec::with_capacity(seeds);
     for (sea_state, &id) in sea_states.iter().zip(ids) {
@@ -129,7 +130,7 @@ pub fn jobs(
                 seed,
             };
             let global_json = serde_json::to_value(&global).unwrap_or_default();
-            let global_key = cache_key("global", inputs_sha256, &global_json.to_string());
+            let global_key = cache_key("global", &global_sha256, &global_json.to_string());
             let global_index = out.len();
             globals.push((global_index, id, global.clone(), global_key.clone()));
             out.push(PlannedJob {
@@ -377,6 +378,18 @@ mod tests {
             assert_eq!(j.depends_on.len(), 1 + reduced.len());
             assert!(reduced.iter().all(|r| j.depends_on.contains(r)));
         }
+        // global jobs do not depend on the strand settings: both plans share their keys
+        let global_keys = |jobs: &[PlannedJob]| -> Vec<String> {
+            jobs.iter()
+                .filter(|j| j.kind == JobKind::Global)
+                .filter_map(|j| j.cache_key.clone())
+                .collect()
+        };
+        assert_eq!(global_keys(&fe), global_keys(&auto));
+        assert!(fe
+            .iter()
+            .filter(|j| j.kind == JobKind::Strand)
+            .all(|j| !auto.iter().any(|a| a.cache_key == j.cache_key)));
         // every job has a cache key of its own; the FE plan's keys are not the auto plan's
         let mut keys: Vec<&String> = auto.iter().filter_map(|j| j.cache_key.as_ref()).collect();
         keys.sort();
