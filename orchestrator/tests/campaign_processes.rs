@@ -231,31 +231,35 @@ fn stopped_worker_releases_its_lease_without_consuming_an_attempt() {
     });
 }
 
-#[test]
-fn killed_driver_then_resume_completes_every_job_once() {
-    let _serial = serial();
+/// Twelve sleeping jobs run by `campaign resume` with two workers and leases of `lease_ms`;
+/// the driver and its workers are killed together (as a reboot) once three are done, and a
+/// second `campaign resume` finishes the campaign: every job done once. Returns the wall time
+/// of the second resume.
+fn killed_driver_then_resume(lease_ms: &str) -> Duration {
     use std::os::unix::process::CommandExt;
     let dir = tempfile::tempdir().unwrap();
     let payloads: Vec<_> = (0..12)
         .map(|_| TestPayload::Sleep { duration_ms: 300 })
         .collect();
     let (db, id) = store_with(dir.path(), "resume", &payloads);
-    // The driver and its workers in their own process group, killed together (as a reboot).
-    let mut driver = moorfret(&[
-        "campaign",
-        "resume",
-        "resume",
-        "--db",
-        &db,
-        "--workers",
-        "2",
-        "--lease-ms",
-        LEASE_MS,
-    ])
-    .stderr(Stdio::null())
-    .process_group(0)
-    .spawn()
-    .unwrap();
+    let resume = || {
+        moorfret(&[
+            "campaign",
+            "resume",
+            "resume",
+            "--db",
+            &db,
+            "--workers",
+            "2",
+            "--lease-ms",
+            lease_ms,
+        ])
+    };
+    let mut driver = resume()
+        .stderr(Stdio::null())
+        .process_group(0)
+        .spawn()
+        .unwrap();
     wait_until(
         &db,
         "some jobs done",
@@ -272,25 +276,31 @@ fn killed_driver_then_resume_completes_every_job_once() {
     driver.wait().unwrap();
     let states = job_states(&db, id);
     assert!(states.iter().any(|&s| s != JobState::Done), "{states:?}");
-    let out = moorfret(&[
-        "campaign",
-        "resume",
-        "resume",
-        "--db",
-        &db,
-        "--workers",
-        "2",
-        "--lease-ms",
-        LEASE_MS,
-    ])
-    .output()
-    .unwrap();
+    let start = Instant::now();
+    let out = resume().output().unwrap();
+    let took = start.elapsed();
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
     assert_each_done_once(&db, id);
+    took
+}
+
+#[test]
+fn killed_driver_then_resume_completes_every_job_once() {
+    let _serial = serial();
+    killed_driver_then_resume(LEASE_MS);
+}
+
+/// The resumed driver sees that the killed workers of its host are gone and takes their jobs
+/// back at once: with 10 min leases, the campaign still finishes in seconds.
+#[test]
+fn resume_takes_back_the_jobs_of_dead_workers_without_waiting_for_their_leases() {
+    let _serial = serial();
+    let took = killed_driver_then_resume("600000");
+    assert!(took < Duration::from_secs(60), "resume took {took:?}");
 }
 
 #[test]

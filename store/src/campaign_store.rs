@@ -283,6 +283,22 @@ impl Store {
         dispatch!(self, q => q.complete(lease, results).await)
     }
 
+    /// Running jobs held by worker processes registered on `host`, with each worker's pid.
+    pub async fn running_on_host(&self, host: &str) -> Result<Vec<(JobId, i64)>, StoreError> {
+        dispatch!(self, q => q.running_on_host(host).await)
+    }
+
+    /// Ends now the leases held by the worker processes `pids` of `host`, which are known to be
+    /// dead (their parent saw them exit, or the host has no such process): their jobs are
+    /// swept as expired leases at once instead of when the leases run out.
+    pub async fn expire_leases_of(
+        &self,
+        host: &str,
+        pids: &[i64],
+    ) -> Result<SweepReport, StoreError> {
+        dispatch!(self, q => q.expire_leases_of(host, pids).await)
+    }
+
     /// A done job (of any campaign) with this cache key, whose results may be reused.
     pub async fn lookup_cache(&self, cache_key: &str) -> Result<Option<JobId>, StoreError> {
         dispatch!(self, q => q.lookup_cache(cache_key).await)

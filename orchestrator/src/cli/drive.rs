@@ -42,6 +42,18 @@ fn spawn_worker(options: &DriveOptions) -> anyhow::Result<Child> {
     cmd.spawn().context("starting a worker process")
 }
 
+/// Whether process `pid` of this host is alive and a moorfret process (a pid reused by another
+/// program counts as dead). Without `/proc`, every process counts as alive: leases then end
+/// when they run out.
+fn is_moorfret_process(pid: i64) -> bool {
+    if !std::path::Path::new("/proc/self").exists() {
+        return true;
+    }
+    std::fs::read(format!("/proc/{pid}/cmdline"))
+        .map(|c| String::from_utf8_lossy(&c).contains("moorfret"))
+        .unwrap_or(false)
+}
+
 /// Asks a worker to stop (SIGTERM: it releases its lease) and waits for it.
 async fn stop(mut child: Child) {
     if let Some(pid) = child.id() {
@@ -84,6 +96,24 @@ pub(crate) async fn drive(
         );
         b
     });
+    let host = moorfret_worker::this_process().host;
+    // Leases of this host's workers that died with an earlier driver (a crash, SIGKILL) end
+    // now, instead of when they run out.
+    let dead: Vec<i64> = store
+        .running_on_host(&host)
+        .await?
+        .into_iter()
+        .map(|(_, pid)| pid)
+        .filter(|&pid| !is_moorfret_process(pid))
+        .collect();
+    if !dead.is_empty() {
+        let swept = store.expire_leases_of(&host, &dead).await?;
+        tracing::info!(
+            requeued = swept.requeued.len(),
+            failed = swept.failed.len(),
+            "jobs of dead worker processes of this host taken back"
+        );
+    }
     let mut children = Vec::with_capacity(options.workers);
     if open_jobs(&progress) > 0 {
         for _ in 0..options.workers {
@@ -119,7 +149,12 @@ pub(crate) async fn drive(
             break;
         }
         for child in &mut children {
+            let pid = child.id();
             if let Ok(Some(status)) = child.try_wait() {
+                // its leases end now: nobody else holds them
+                if let Some(pid) = pid {
+                    store.expire_leases_of(&host, &[i64::from(pid)]).await?;
+                }
                 restarts += 1;
                 if restarts > MAX_RESTARTS_PER_WORKER * options.workers {
                     anyhow::bail!(

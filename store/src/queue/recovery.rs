@@ -153,6 +153,47 @@ impl Queue {
         Ok(report)
     }
 
+    pub(crate) async fn running_on_host(&self, host: &str) -> Result<Vec<(JobId, i64)>> {
+        const OP: &str = "read running jobs of a host";
+        let rows = sqlx::query(
+            "SELECT j.id, w.pid FROM jobs j JOIN workers w ON w.id = j.worker_id \
+             WHERE j.state = 'running' AND w.host = $1 ORDER BY j.id",
+        )
+        .bind(host)
+        .fetch_all(&self.pool)
+        .await
+        .map_err(StoreError::db(OP))?;
+        rows.iter()
+            .map(|r| {
+                Ok((
+                    JobId(r.try_get("id").map_err(StoreError::db(OP))?),
+                    r.try_get("pid").map_err(StoreError::db(OP))?,
+                ))
+            })
+            .collect()
+    }
+
+    pub(crate) async fn expire_leases_of(&self, host: &str, pids: &[i64]) -> Result<SweepReport> {
+        const OP: &str = "expire the leases of dead workers";
+        if pids.is_empty() {
+            return Ok(SweepReport::default());
+        }
+        let mut tx = self.begin_write(OP).await?;
+        for &pid in pids {
+            sqlx::query(
+                "UPDATE jobs SET lease_expires_at_ms = -1 WHERE state = 'running' AND worker_id IN \
+                 (SELECT id FROM workers WHERE host = $1 AND pid = $2)",
+            )
+            .bind(host)
+            .bind(pid)
+            .execute(&mut *tx)
+            .await
+            .map_err(StoreError::db(OP))?;
+        }
+        tx.commit().await.map_err(StoreError::db(OP))?;
+        self.sweep_expired().await
+    }
+
     pub(crate) async fn cancel_campaign(&self, campaign: CampaignId) -> Result<CancelReport> {
         const OP: &str = "cancel campaign";
         let mut tx = self.begin_write(OP).await?;
