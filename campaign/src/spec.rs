@@ -172,6 +172,11 @@ pub struct StrandSpec {
     /// How `auto` picks the sea states that also run FE.
     #[serde(default, skip_serializing_if = "AutoFe::is_default")]
     pub auto_fe: AutoFe,
+    /// Whether each strand job stores its full per-contact records (every slip cycle with its
+    /// forces) as an artifact. The damage inputs and contact statistics are stored either way;
+    /// the records of a 1000 s six-layer history take 0.2-0.5 GB.
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub contact_records: bool,
     /// Margin of the reduced response's calibration range beyond the load range of the
     /// campaign's global results, on each side, as a fraction of that range.
     #[serde(
@@ -179,6 +184,14 @@ pub struct StrandSpec {
         skip_serializing_if = "is_default_calibration_margin"
     )]
     pub calibration_margin: f64,
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn is_true(b: &bool) -> bool {
+    *b
 }
 
 fn default_calibration_margin() -> f64 {

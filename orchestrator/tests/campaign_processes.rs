@@ -742,6 +742,7 @@ fn auto_fidelity_campaign_survives_a_killed_driver() {
     spec["simulation"]["duration_s"] = serde_json::json!(10.0);
     spec["strand"]["fidelity"] = serde_json::json!("auto");
     spec["strand"]["auto_fe"] = serde_json::json!({ "sea_states": 1 });
+    spec["strand"]["contact_records"] = serde_json::json!(false);
     std::fs::write(&file, spec.to_string()).unwrap();
     let db = dir
         .path()
@@ -844,6 +845,10 @@ fn auto_fidelity_campaign_survives_a_killed_driver() {
             let results = store.results_of(job.id).await.unwrap();
             assert_eq!(results.result["fidelity"], "reduced");
             assert!(!results.class_damage_inputs.is_empty());
+            // `contact_records: false`: rows only, no records artifact
+            assert!(!results.contacts.is_empty());
+            assert!(results.artifacts.iter().all(|a| a.role != "contact_records"));
+            assert!(results.result["contact_records_sha256"].is_null());
         }
         // counted: FE for one sea state, reduced for the other; the FE one is compared
         let rows = store.sea_state_class_damage(id).await.unwrap();

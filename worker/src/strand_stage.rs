@@ -378,11 +378,17 @@ pub(crate) fn strand_results(
     result: &HistoryResult,
     artifacts: &ArtifactStore,
 ) -> Result<JobResults, JobFailure> {
-    let records = serde_json::to_vec(&result.contacts)
-        .map_err(|e| permanent(FailureClass::SerialiseResults, e))?;
-    let artifact = artifacts
-        .put("contact_records", &records)
-        .map_err(|e| transient(FailureClass::ArtifactIo, e))?;
+    let artifact = if inputs.spec.strand.contact_records {
+        let records = serde_json::to_vec(&result.contacts)
+            .map_err(|e| permanent(FailureClass::SerialiseResults, e))?;
+        Some(
+            artifacts
+                .put("contact_records", &records)
+                .map_err(|e| transient(FailureClass::ArtifactIo, e))?,
+        )
+    } else {
+        None
+    };
     let contacts = result
         .contacts
         .iter()
@@ -412,7 +418,7 @@ pub(crate) fn strand_results(
             "samples": load.samples.len(),
             "slack_samples": load.slack_samples,
             "contacts": result.contacts.len(),
-            "contact_records_sha256": artifact.sha256,
+            "contact_records_sha256": artifact.as_ref().map(|a| a.sha256.clone()),
             "effective_duration_s": damage.effective_duration_s,
             "run_in_samples": damage.run_in_samples,
             "run_in": run_in,
@@ -427,7 +433,7 @@ pub(crate) fn strand_results(
         contacts,
         damage_inputs,
         class_damage_inputs,
-        artifacts: vec![artifact],
+        artifacts: artifact.into_iter().collect(),
         ..JobResults::default()
     })
 }
