@@ -847,7 +847,10 @@ fn auto_fidelity_campaign_survives_a_killed_driver() {
             assert!(!results.class_damage_inputs.is_empty());
             // `contact_records: false`: rows only, no records artifact
             assert!(!results.contacts.is_empty());
-            assert!(results.artifacts.iter().all(|a| a.role != "contact_records"));
+            assert!(results
+                .artifacts
+                .iter()
+                .all(|a| a.role != "contact_records"));
             assert!(results.result["contact_records_sha256"].is_null());
         }
         // counted: FE for one sea state, reduced for the other; the FE one is compared
