@@ -338,6 +338,37 @@ fn always_crashing_job_fails_after_the_allowed_losses_and_the_rest_completes() {
     });
 }
 
+/// A copy of the demo campaign in `dir` with the scatter diagram `scatter` and short histories
+/// (10 s transient, 10 s recorded), edited by `edit`; returns the campaign file.
+fn short_demo(
+    dir: &Path,
+    scatter: &str,
+    edit: impl FnOnce(&mut serde_json::Value),
+) -> std::path::PathBuf {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns");
+    for sub in ["data", "benchmarks"] {
+        std::fs::create_dir(dir.join(sub)).unwrap();
+    }
+    for name in [
+        "demo.json",
+        "paper_case.json",
+        "data/oc4_semi_floater.json",
+        "benchmarks/strand_1_6_1.json",
+    ] {
+        std::fs::copy(src.join(name), dir.join(name)).unwrap();
+    }
+    std::fs::write(dir.join("data/demo_scatter.tsv"), scatter).unwrap();
+    let file = dir.join("demo.json");
+    let mut spec: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    spec["simulation"]["transient_s"] = serde_json::json!(10.0);
+    spec["simulation"]["wave_ramp_s"] = serde_json::json!(8.0);
+    spec["simulation"]["duration_s"] = serde_json::json!(10.0);
+    edit(&mut spec);
+    std::fs::write(&file, spec.to_string()).unwrap();
+    file
+}
+
 /// The real stages end to end: one short sea state of the demo campaign (10 s transient, 10 s
 /// recorded, 20 strand load samples) through `campaign launch`, global then strand, then
 /// `campaign status --json` (about 25 s in a debug build); then the damage inputs through
@@ -346,30 +377,11 @@ fn always_crashing_job_fails_after_the_allowed_losses_and_the_rest_completes() {
 fn demo_sea_state_runs_through_both_real_stages() {
     let _serial = serial();
     let dir = tempfile::tempdir().unwrap();
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns");
-    for sub in ["data", "benchmarks"] {
-        std::fs::create_dir(dir.path().join(sub)).unwrap();
-    }
-    for name in [
-        "demo.json",
-        "paper_case.json",
-        "data/oc4_semi_floater.json",
-        "benchmarks/strand_1_6_1.json",
-    ] {
-        std::fs::copy(src.join(name), dir.path().join(name)).unwrap();
-    }
-    std::fs::write(
-        dir.path().join("data/demo_scatter.tsv"),
+    let file = short_demo(
+        dir.path(),
         "lower\tupper\t11\ttotal\n2\t2,5\t1,354\t1,354\n",
-    )
-    .unwrap();
-    let file = dir.path().join("demo.json");
-    let mut spec: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
-    spec["simulation"]["transient_s"] = serde_json::json!(10.0);
-    spec["simulation"]["wave_ramp_s"] = serde_json::json!(8.0);
-    spec["simulation"]["duration_s"] = serde_json::json!(10.0);
-    std::fs::write(&file, spec.to_string()).unwrap();
+        |_| {},
+    );
     let db = dir.path().join("e2e.sqlite").to_string_lossy().into_owned();
     let file = file.to_string_lossy().into_owned();
     let out = moorfret(&["campaign", "launch", &file, "--db", &db, "--workers", "2"])
@@ -716,34 +728,16 @@ fn auto_fidelity_campaign_survives_a_killed_driver() {
     let _serial = serial();
     use std::os::unix::process::CommandExt;
     let dir = tempfile::tempdir().unwrap();
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns");
-    for sub in ["data", "benchmarks"] {
-        std::fs::create_dir(dir.path().join(sub)).unwrap();
-    }
-    for name in [
-        "demo.json",
-        "paper_case.json",
-        "data/oc4_semi_floater.json",
-        "benchmarks/strand_1_6_1.json",
-    ] {
-        std::fs::copy(src.join(name), dir.path().join(name)).unwrap();
-    }
-    std::fs::write(
-        dir.path().join("data/demo_scatter.tsv"),
+    let file = short_demo(
+        dir.path(),
         "lower\tupper\t11\ttotal\n2\t2,5\t1,354\t1,354\n3\t3,5\t0,5\t0,5\n",
-    )
-    .unwrap();
-    let file = dir.path().join("demo.json");
-    let mut spec: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
-    spec["name"] = serde_json::json!("auto");
-    spec["simulation"]["transient_s"] = serde_json::json!(10.0);
-    spec["simulation"]["wave_ramp_s"] = serde_json::json!(8.0);
-    spec["simulation"]["duration_s"] = serde_json::json!(10.0);
-    spec["strand"]["fidelity"] = serde_json::json!("auto");
-    spec["strand"]["auto_fe"] = serde_json::json!({ "sea_states": 1 });
-    spec["strand"]["contact_records"] = serde_json::json!(false);
-    std::fs::write(&file, spec.to_string()).unwrap();
+        |spec| {
+            spec["name"] = serde_json::json!("auto");
+            spec["strand"]["fidelity"] = serde_json::json!("auto");
+            spec["strand"]["auto_fe"] = serde_json::json!({ "sea_states": 1 });
+            spec["strand"]["contact_records"] = serde_json::json!(false);
+        },
+    );
     let db = dir
         .path()
         .join("auto.sqlite")
