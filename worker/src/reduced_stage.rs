@@ -26,6 +26,7 @@ use tokio::runtime::Handle;
 use crate::failure::{permanent, transient};
 use crate::strand_stage::{
     campaign_strand, model_parameters, series_of, strand_load, strand_results, upstream_series,
+    Upstream,
 };
 use moorfret_campaign::{CalibratePayload, CampaignInputs, StrandPayload};
 use moorfret_store::{
@@ -140,31 +141,12 @@ fn calibration_of(
     artifacts: &ArtifactStore,
     rt: &Handle,
 ) -> Result<ReducedStrand, JobFailure> {
-    let source = rt
-        .block_on(retry.run("look up calibration job", || store.lookup_cache(key)))
-        .map_err(|e| transient(FailureClass::Store, e))?
-        .ok_or_else(|| {
-            transient(
-                FailureClass::UpstreamMissing,
-                "no done calibration job carries this job's calibration cache key",
-            )
-        })?;
-    let results = rt
-        .block_on(retry.run("read calibration results", || store.results_of(source)))
-        .map_err(|e| transient(FailureClass::Store, e))?;
-    let artifact = results
-        .artifacts
-        .iter()
-        .find(|a| a.role == CALIBRATION_ROLE)
-        .ok_or_else(|| {
-            permanent(
-                FailureClass::UpstreamMissing,
-                format!("job {source} has no {CALIBRATION_ROLE}"),
-            )
-        })?;
-    let bytes = artifacts
-        .get(&artifact.sha256)
-        .map_err(|e| transient(FailureClass::ArtifactIo, e))?;
+    let upstream = Upstream {
+        what: "calibration",
+        cache_key: key,
+        role: CALIBRATION_ROLE,
+    };
+    let bytes = upstream.artifact(store, retry, artifacts, rt)?;
     let reduced: ReducedStrand =
         serde_json::from_slice(&bytes).map_err(|e| permanent(FailureClass::BadArtifact, e))?;
     reduced

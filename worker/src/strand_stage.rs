@@ -78,36 +78,67 @@ pub fn series_of(
     artifacts: &ArtifactStore,
     rt: &Handle,
 ) -> Result<HotSpotSeries, JobFailure> {
-    let source = rt
-        .block_on(retry.run("look up upstream job", || {
-            store.lookup_cache(global_cache_key)
-        }))
-        .map_err(|e| transient(FailureClass::Store, e))?
-        .ok_or_else(|| {
-            transient(
-                FailureClass::UpstreamMissing,
-                "no done global job carries this job's upstream cache key",
-            )
-        })?;
-    let results = rt
-        .block_on(retry.run("read upstream results", || store.results_of(source)))
-        .map_err(|e| transient(FailureClass::Store, e))?;
     let role = series_role(hot_spot_index);
-    let artifact = results
-        .artifacts
-        .iter()
-        .find(|a| a.role == role)
-        .ok_or_else(|| {
-            permanent(
-                FailureClass::UpstreamMissing,
-                format!("job {source} has no {role}"),
-            )
-        })?;
-    let bytes = artifacts
-        .get(&artifact.sha256)
-        .map_err(|e| transient(FailureClass::ArtifactIo, e))?;
+    let upstream = Upstream {
+        what: "global",
+        cache_key: global_cache_key,
+        role: &role,
+    };
+    let bytes = upstream.artifact(store, retry, artifacts, rt)?;
     let text = String::from_utf8(bytes).map_err(|e| permanent(FailureClass::BadArtifact, e))?;
     HotSpotSeries::from_csv(&text).map_err(|e| permanent(FailureClass::BadArtifact, e))
+}
+
+/// An artifact of an upstream job, found by the job's cache key (so a result shared from another
+/// campaign serves as well) and the artifact's role.
+pub(crate) struct Upstream<'a> {
+    /// What the upstream job is, for messages ("global", "calibration").
+    pub what: &'a str,
+    /// Its cache key.
+    pub cache_key: &'a str,
+    /// The artifact's role.
+    pub role: &'a str,
+}
+
+impl Upstream<'_> {
+    /// The artifact's bytes. The store reads are retried under `retry` while the database is
+    /// unreachable, as the worker loop's calls are.
+    pub(crate) fn artifact(
+        &self,
+        store: &Store,
+        retry: &RetryPolicy,
+        artifacts: &ArtifactStore,
+        rt: &Handle,
+    ) -> Result<Vec<u8>, JobFailure> {
+        let what = self.what;
+        let source = rt
+            .block_on(retry.run("look up upstream job", || {
+                store.lookup_cache(self.cache_key)
+            }))
+            .map_err(|e| transient(FailureClass::Store, e))?
+            .ok_or_else(|| {
+                transient(
+                    FailureClass::UpstreamMissing,
+                    format!("no done {what} job carries this job's {what} cache key"),
+                )
+            })?;
+        let results = rt
+            .block_on(retry.run("read upstream results", || store.results_of(source)))
+            .map_err(|e| transient(FailureClass::Store, e))?;
+        let artifact = results
+            .artifacts
+            .iter()
+            .find(|a| a.role == self.role)
+            .ok_or_else(|| {
+                permanent(
+                    FailureClass::UpstreamMissing,
+                    format!("job {source} has no {}", self.role),
+                )
+            })?;
+        artifacts
+            .get(&artifact.sha256)
+            .map_err(|e| transient(FailureClass::ArtifactIo, e))
+    }
 }
 
 /// Writes checkpoints to the artifact store, at most every `interval` of wall time.
