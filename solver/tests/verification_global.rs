@@ -1,9 +1,11 @@
 //! Verification of the coupled global stage on the paper case: static balance of the floater
-//! with its six lines, rest in calm water, plausible tension and curvature in the severe sea
+//! with its six lines, rest in calm water, a line under prescribed motion in calm water (time
+//! origin of the table, fairlead on the body axis), plausible tension and curvature in the severe sea
 //! state, and identical serial and parallel runs.
 
+use moorfret_solver::floater::prescribed::PrescribedMotion;
 use moorfret_solver::floater::FloaterSpec;
-use moorfret_solver::global::case::CaseSpec;
+use moorfret_solver::global::case::{CaseSpec, FloaterSource};
 use moorfret_solver::global::system::{solve_coupled_statics, StaticsParams};
 use moorfret_solver::global::{run, FloaterInput, GlobalModel, RunParams};
 use nalgebra::Vector6;
@@ -69,8 +71,7 @@ fn coupled_statics_balances_floater_loads_and_fairlead_forces() {
 #[test]
 fn calm_sea_run_stays_at_rest() {
     let mut c = short_case(0.0, 0.0);
-    // A sea of vanishing height: kinematics of order 1e-9 of the paper case's.
-    c.sea_state.hs_m = 1e-8;
+    c.sea_state.hs_m = 0.0;
     c.timing.duration_s = 10.0;
     c.timing.output_interval_s = 0.5;
     let model = GlobalModel::new(&c, floater(), None).unwrap();
@@ -86,7 +87,160 @@ fn calm_sea_run_stays_at_rest() {
     for t in &h.tension_n {
         assert!((t - t0).abs() < 5.0, "tension moved from {t0} to {t}");
     }
+    assert_eq!(r.wave_cut_off.components, 0);
     println!("calm: {:?}", r.stats);
+}
+
+/// One line of the paper case under a prescribed floater motion in calm water (the usual check
+/// against another mooring code or a model test).
+fn calm_prescribed_case(fairlead_radius_m: f64) -> CaseSpec {
+    let mut c = case();
+    c.sea_state = Default::default();
+    c.mooring.lines.truncate(1);
+    c.hot_spots.truncate(1);
+    c.mooring.fairlead_radius_m = fairlead_radius_m;
+    c.floater = FloaterSource::PrescribedMotion {
+        csv_path: "motion.csv".into(),
+    };
+    c.timing.transient_s = 0.0;
+    c.timing.duration_s = 60.0;
+    c.timing.output_interval_s = 0.5;
+    c
+}
+
+/// Motion table `time_s,…` from `t0_s` to `t0_s + span_s` every 0.5 s: surge `surge(t)`.
+fn surge_table(t0_s: f64, span_s: f64, surge: impl Fn(f64) -> f64) -> PrescribedMotion {
+    let mut text = String::from("time_s,surge_m,sway_m,heave_m,roll_rad,pitch_rad,yaw_rad\n");
+    let n = (span_s / 0.5).round() as usize;
+    for k in 0..=n {
+        let t = t0_s + 0.5 * k as f64;
+        text += &format!("{t},{},0,0,0,0,0\n", surge(t));
+    }
+    PrescribedMotion::from_csv_str(&text).unwrap()
+}
+
+#[test]
+fn calm_water_is_a_case_without_sea_state() {
+    let mut text: serde_json::Value = serde_json::from_str(CASE).unwrap();
+    text.as_object_mut().unwrap().remove("sea_state");
+    let c = CaseSpec::from_json_str(&text.to_string()).unwrap();
+    assert!(c.sea_state.is_calm());
+    assert_eq!(c.validate(), Ok(()));
+    let mut waves = case();
+    waves.sea_state.tp_s = 0.0;
+    let e = waves.validate().unwrap_err().to_string();
+    assert!(e.starts_with("sea_state.tp_s must be > 0 when"), "{e}");
+    waves.sea_state.tp_s = 10.0;
+    waves.sea_state.hs_m = 1e-160;
+    let e = waves.validate().unwrap_err().to_string();
+    assert!(
+        e.starts_with("sea_state.hs_m must be 0 (calm water)"),
+        "{e}"
+    );
+}
+
+/// Slow surge (period 600 s) in calm water: the fairlead tension follows the line's statics at
+/// the displaced fairlead; the quasi-static tension at the largest offset comes from the same
+/// model held still there.
+#[test]
+fn slow_prescribed_surge_in_calm_water_follows_the_statics() {
+    let amplitude_m = 4.0;
+    let surge = |t: f64| amplitude_m * (1.0 - (2.0 * std::f64::consts::PI * t / 600.0).cos()) / 2.0;
+    let c = calm_prescribed_case(40.868);
+    let model = GlobalModel::new(
+        &c,
+        FloaterInput::Prescribed(surge_table(0.0, 120.0, surge)),
+        None,
+    )
+    .unwrap();
+    let r = run(&model, &RunParams::default(), |_, _| {}).unwrap();
+    let tension = &r.lines[0].fairlead_tension_n;
+    let t_end = *tension.last().unwrap();
+    let offset_end = surge(60.0);
+    // The same line held still at the final offset.
+    let held = GlobalModel::new(
+        &c,
+        FloaterInput::Prescribed(surge_table(0.0, 120.0, |_| offset_end)),
+        None,
+    )
+    .unwrap();
+    let eq = solve_coupled_statics(&held, &StaticsParams::default(), None).unwrap();
+    let t_static = eq.line_solutions[0].fairlead_force_n.norm();
+    let t_start = tension[0];
+    println!("tension {t_start:.0} N at rest, {t_end:.0} N after {offset_end:.2} m of surge, statics {t_static:.0} N");
+    // The line at azimuth 0 lies downstream of a +x surge: the offset slackens it.
+    assert!(t_end < t_start - 1e3, "{t_end} vs {t_start}");
+    // Speed 2 cm/s at the end: drag and inertia move the tension by less than 0.1 % (measured
+    // 0.007 %).
+    assert!(
+        ((t_end - t_static) / t_static).abs() < 1e-3,
+        "{t_end} vs {t_static}"
+    );
+}
+
+#[test]
+fn prescribed_table_time_is_simulation_time() {
+    let c = calm_prescribed_case(40.868);
+    // A table that starts after t = 0 cannot give the pose of the statics.
+    let late = GlobalModel::new(
+        &c,
+        FloaterInput::Prescribed(surge_table(5.0, 120.0, |_| 0.0)),
+        None,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        late.starts_with("floater.prescribed_motion.csv_path") && late.contains("t = 0 to 60 s"),
+        "{late}"
+    );
+    let short = GlobalModel::new(
+        &c,
+        FloaterInput::Prescribed(surge_table(0.0, 30.0, |_| 0.0)),
+        None,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(short.contains("covers t = 0 to 30 s"), "{short}");
+    // A table starting before 0 is read at its own times: with surge = 0.1 t (a spline
+    // reproduces it exactly) the statics are at surge 0, not at the table's first row (−1 m).
+    let m = GlobalModel::new(
+        &c,
+        FloaterInput::Prescribed(surge_table(-10.0, 140.0, |t| 0.1 * t)),
+        None,
+    )
+    .unwrap();
+    let eq = solve_coupled_statics(&m, &StaticsParams::default(), None).unwrap();
+    assert!(eq.body.position_m.x.abs() < 1e-12, "{}", eq.body.position_m);
+}
+
+/// A fairlead on the body axis: the line and its statics are those of a fairlead on a circle,
+/// moved by the radius.
+#[test]
+fn fairlead_on_the_body_axis_is_allowed() {
+    let statics = |radius_m: f64| {
+        let c = calm_prescribed_case(radius_m);
+        assert_eq!(c.validate(), Ok(()));
+        let m = GlobalModel::new(
+            &c,
+            FloaterInput::Prescribed(surge_table(0.0, 120.0, |_| 0.0)),
+            None,
+        )
+        .unwrap();
+        let eq = solve_coupled_statics(&m, &StaticsParams::default(), None).unwrap();
+        eq.line_solutions[0].fairlead_force_n
+    };
+    let (on_axis, on_circle) = (statics(0.0), statics(40.868));
+    assert!(
+        (on_axis - on_circle).norm() < 1e-9 * on_circle.norm(),
+        "{on_axis} vs {on_circle}"
+    );
+    let mut c = calm_prescribed_case(-1.0);
+    c.mooring.fairlead_radius_m = -1.0;
+    assert!(c
+        .validate()
+        .unwrap_err()
+        .to_string()
+        .starts_with("mooring.fairlead_radius_m must be >= 0"));
 }
 
 #[test]

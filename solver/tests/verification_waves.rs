@@ -122,7 +122,7 @@ fn one_hour_realisation_has_target_hs_and_peak_period() {
 
     // Sampling error of the variance of a Gaussian process over T:
     // Var(m̂0) ≈ (2π/T) ∫ S² dω, and Hs ∝ √m0 halves the relative error.
-    let renorm = sea.spectrum();
+    let renorm = sea.spectrum().expect("a sea with waves");
     let int_s2: f64 = sea
         .field()
         .components()

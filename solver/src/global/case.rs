@@ -22,7 +22,8 @@ use serde::{Deserialize, Serialize};
 
 use super::error::GlobalError;
 use crate::mooring::spec::{
-    Environment, LineEnds, LineSpec, LineTypeSpec, SeabedSpec, SegmentSpec,
+    default_gravity, default_water_density, Environment, LineEnds, LineSpec, LineTypeSpec,
+    SeabedSpec, SegmentSpec,
 };
 use crate::waves::spectrum::PeakEnhancement;
 use crate::waves::RealisationParams;
@@ -38,7 +39,8 @@ pub struct CaseSpec {
     pub name: String,
     /// Water depth, density and seabed.
     pub site: SiteSpec,
-    /// Irregular sea state.
+    /// Irregular sea state; absent (or `hs_m: 0`) means calm water, no waves.
+    #[serde(default)]
     pub sea_state: SeaStateSpec,
     /// Time integration and output settings.
     pub timing: TimingSpec,
@@ -59,7 +61,7 @@ pub struct SiteSpec {
     /// Water depth (m).
     pub water_depth_m: f64,
     /// Sea water density (kg/m³).
-    #[serde(default = "default_density")]
+    #[serde(default = "default_water_density")]
     pub water_density_kg_m3: f64,
     /// Gravitational acceleration (m/s²).
     #[serde(default = "default_gravity")]
@@ -67,14 +69,6 @@ pub struct SiteSpec {
     /// Seabed contact of the lines.
     #[serde(default)]
     pub seabed: SeabedSpec,
-}
-
-fn default_density() -> f64 {
-    1025.0
-}
-
-fn default_gravity() -> f64 {
-    9.80665
 }
 
 /// JONSWAP peak enhancement: a number, or `"dnv"` for the DNV-RP-C205 default from Tp/√Hs.
@@ -87,21 +81,49 @@ pub enum GammaSpec {
     Rule(String),
 }
 
-/// Irregular sea state.
+/// Irregular sea state. `hs_m: 0` (or no `sea_state` at all) is calm water: no waves, the other
+/// fields unused.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SeaStateSpec {
-    /// Significant wave height (m).
+    /// Significant wave height (m); 0 for calm water.
     pub hs_m: f64,
-    /// Peak period (s).
+    /// Peak period (s); required when `hs_m > 0`.
+    #[serde(default)]
     pub tp_s: f64,
-    /// Peak enhancement factor γ or `"dnv"`.
+    /// Peak enhancement factor γ or `"dnv"` (DNV-RP-C205 from Tp/√Hs, the default).
+    #[serde(default = "dnv_gamma")]
     pub gamma: GammaSpec,
     /// Seed of the random realisation.
+    #[serde(default)]
     pub seed: u64,
     /// Wave heading (deg, from +x towards +y).
     #[serde(default)]
     pub heading_deg: f64,
+}
+
+fn dnv_gamma() -> GammaSpec {
+    GammaSpec::Rule("dnv".into())
+}
+
+impl Default for SeaStateSpec {
+    /// Calm water.
+    fn default() -> Self {
+        Self {
+            hs_m: 0.0,
+            tp_s: 0.0,
+            gamma: dnv_gamma(),
+            seed: 0,
+            heading_deg: 0.0,
+        }
+    }
+}
+
+impl SeaStateSpec {
+    /// True for calm water (no waves).
+    pub fn is_calm(&self) -> bool {
+        self.hs_m == 0.0
+    }
 }
 
 /// Time integration and output settings.
@@ -119,7 +141,8 @@ pub struct TimingSpec {
     /// Time over which the wave loads are ramped up from zero (s), within the transient.
     #[serde(default = "default_ramp")]
     pub wave_ramp_s: f64,
-    /// Spectral radius ρ∞ of the generalised-α method.
+    /// Spectral radius ρ∞ of the generalised-α method; the line integrator's default (0, the
+    /// most dissipative) when omitted.
     #[serde(default = "default_rho")]
     pub spectral_radius: f64,
 }
@@ -129,7 +152,7 @@ fn default_ramp() -> f64 {
 }
 
 fn default_rho() -> f64 {
-    0.85
+    crate::mooring::dynamics::DynamicParams::default().spectral_radius
 }
 
 /// Where the floater motion comes from.
@@ -141,7 +164,9 @@ pub enum FloaterSource {
         /// Path of the floater description, relative to the case file.
         spec_path: String,
     },
-    /// A 6-DOF motion table (`time_s,surge_m,…,yaw_rad`).
+    /// A 6-DOF motion table (`time_s,surge_m,…,yaw_rad`). Simulation time is the table's
+    /// time: the statics take the pose at t = 0 and the table must cover t = 0 to
+    /// `transient_s + duration_s`.
     PrescribedMotion {
         /// Path of the CSV table, relative to the case file.
         csv_path: String,
@@ -166,7 +191,7 @@ pub struct MooringSpec {
     pub line_types: BTreeMap<String, LineTypeSpec>,
     /// Segments from the fairlead to the anchor.
     pub segments: Vec<SegmentSpec>,
-    /// Fairlead radius from the body z axis (m).
+    /// Fairlead radius from the body z axis (m); 0 puts every fairlead on the axis.
     pub fairlead_radius_m: f64,
     /// Fairlead depth below the still water level (m).
     pub fairlead_depth_m: f64,
@@ -277,16 +302,31 @@ impl CaseSpec {
             .validate()
             .map_err(|e| line_field("site", e))?;
         let s = &self.sea_state;
-        positive("sea_state.hs_m", s.hs_m)?;
-        positive("sea_state.tp_s", s.tp_s)?;
-        if !s.heading_deg.is_finite() {
-            return Err(invalid(
-                "sea_state.heading_deg",
-                s.heading_deg,
-                "must be finite",
-            ));
+        non_negative("sea_state.hs_m", s.hs_m)?;
+        if !s.is_calm() {
+            if !(s.hs_m * s.hs_m).is_normal() {
+                return Err(invalid(
+                    "sea_state.hs_m",
+                    s.hs_m,
+                    "must be 0 (calm water) or above 1.5e-154 m (Hs² underflows)",
+                ));
+            }
+            if !(s.tp_s.is_finite() && s.tp_s > 0.0) {
+                return Err(invalid(
+                    "sea_state.tp_s",
+                    s.tp_s,
+                    "must be > 0 when sea_state.hs_m > 0",
+                ));
+            }
+            if !s.heading_deg.is_finite() {
+                return Err(invalid(
+                    "sea_state.heading_deg",
+                    s.heading_deg,
+                    "must be finite",
+                ));
+            }
+            self.peak_enhancement()?;
         }
-        self.peak_enhancement()?;
         let t = &self.timing;
         non_negative("timing.transient_s", t.transient_s)?;
         positive("timing.duration_s", t.duration_s)?;
@@ -311,7 +351,7 @@ impl CaseSpec {
         self.line_spec()
             .validate()
             .map_err(|e| line_field("mooring", e))?;
-        positive("mooring.fairlead_radius_m", m.fairlead_radius_m)?;
+        non_negative("mooring.fairlead_radius_m", m.fairlead_radius_m)?;
         non_negative("mooring.fairlead_depth_m", m.fairlead_depth_m)?;
         if m.fairlead_depth_m >= self.site.water_depth_m {
             return Err(invalid(
@@ -524,6 +564,43 @@ mod tests {
             .unwrap_err()
             .to_string()
             .starts_with("sea_state.gamma"));
+    }
+
+    /// One default per setting: the paper case with every setting that equals its default
+    /// left out resolves to the same case as the file that writes them all.
+    #[test]
+    fn omitted_settings_resolve_to_the_written_defaults() {
+        let full: serde_json::Value =
+            serde_json::from_str(include_str!("../../../campaigns/paper_case.json")).unwrap();
+        let mut minimal = full.clone();
+        for (section, key) in [
+            ("site", "water_density_kg_m3"),
+            ("site", "gravity_m_s2"),
+            ("site", "seabed"),
+            ("sea_state", "heading_deg"),
+            ("timing", "wave_ramp_s"),
+            ("timing", "spectral_radius"),
+        ] {
+            let removed = minimal[section].as_object_mut().unwrap().remove(key);
+            assert!(removed.is_some(), "{section}.{key} is in the full case");
+        }
+        let parse = |v: &serde_json::Value| CaseSpec::from_json_str(&v.to_string()).unwrap();
+        assert_eq!(parse(&minimal), parse(&full));
+        // The line integrator, the mooring site and the case agree on their shared defaults.
+        let minimal = parse(&minimal);
+        assert_eq!(
+            minimal.timing.spectral_radius,
+            crate::mooring::dynamics::DynamicParams::default().spectral_radius
+        );
+        let site: Environment = serde_json::from_str(r#"{"water_depth_m": 100.0}"#).unwrap();
+        assert_eq!(site, minimal.environment());
+        // Calm water: no sea_state at all, or only hs_m = 0.
+        let mut calm = full.clone();
+        calm.as_object_mut().unwrap().remove("sea_state");
+        let mut zero = full;
+        zero["sea_state"] = serde_json::json!({"hs_m": 0.0});
+        assert_eq!(parse(&calm).sea_state, parse(&zero).sea_state);
+        assert!(parse(&calm).sea_state.is_calm());
     }
 
     #[test]

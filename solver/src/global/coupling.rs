@@ -324,7 +324,7 @@ pub(crate) fn coupled_step(
     let (mut acc1, mut trial) = match &model.floater {
         FloaterModel::RigidBody(_) => (start.acc, advance(start, &a, h, &start.acc)),
         FloaterModel::Prescribed(m) => {
-            let s = m.sample(m.time_range().0 + t1).map_err(|e| StepFailure {
+            let s = m.sample(t1).map_err(|e| StepFailure {
                 passes: 0,
                 residual: f64::NAN,
                 line: None,

@@ -127,7 +127,7 @@ impl WaveCutOff {
     ) -> Self {
         let band_upper = sea.band_rad_s().1;
         let comps = sea.field().components();
-        let m0 = sea.spectrum().hs_m().powi(2) / 16.0 * sea.kept_m0_fraction();
+        let m0 = sea.hs_m().powi(2) / 16.0 * sea.kept_m0_fraction();
         Self {
             cut_off_rad_s,
             limited_by: if band_upper <= cut_off_rad_s {

@@ -111,7 +111,22 @@ impl GlobalModel {
                 });
                 FloaterModel::RigidBody(Box::new(f))
             }
-            (FloaterSource::PrescribedMotion { .. }, FloaterInput::Prescribed(m)) => {
+            (FloaterSource::PrescribedMotion { csv_path }, FloaterInput::Prescribed(m)) => {
+                // Simulation time is table time: the statics take the pose at t = 0 and the
+                // run samples the table up to the end of the record.
+                let (start_s, end_s) = m.time_range();
+                let needed_s = case.timing.transient_s + case.timing.duration_s;
+                if start_s > 0.0 || end_s < needed_s {
+                    return Err(GlobalError::InvalidCase {
+                        field: "floater.prescribed_motion.csv_path".into(),
+                        value: csv_path.clone(),
+                        reason: format!(
+                            "covers t = {start_s} to {end_s} s; the run needs t = 0 to \
+                             {needed_s} s (transient_s + duration_s; simulation time is the \
+                             table's time)"
+                        ),
+                    });
+                }
                 FloaterModel::Prescribed(m)
             }
             _ => {
@@ -130,7 +145,6 @@ impl GlobalModel {
             })
             .collect();
         let s = &case.sea_state;
-        let spectrum = Jonswap::new(s.hs_m, s.tp_s, case.peak_enhancement()?)?;
         let table = TableParams::default();
         let resolution = WaveResolution::default();
         let (cut_off, limit, table_limit) = resolution.cut_off_rad_s(
@@ -138,7 +152,13 @@ impl GlobalModel {
             matches!(floater, FloaterModel::RigidBody(_)).then_some(&table),
             case.site.water_depth_m,
         );
-        let sea = IrregularSea::new(&spectrum, &case.realisation_params(Some(cut_off)))?;
+        let realisation = case.realisation_params(Some(cut_off));
+        let sea = if s.is_calm() {
+            IrregularSea::calm(&realisation)?
+        } else {
+            let spectrum = Jonswap::new(s.hs_m, s.tp_s, case.peak_enhancement()?)?;
+            IrregularSea::new(&spectrum, &realisation)?
+        };
         let wave_cut_off = WaveCutOff::of(
             &sea,
             cut_off,
@@ -345,7 +365,7 @@ pub fn solve_coupled_statics(
     let floater = match &model.floater {
         FloaterModel::RigidBody(f) => f,
         FloaterModel::Prescribed(m) => {
-            let body = m.sample(m.time_range().0)?.state;
+            let body = m.sample(0.0)?.state;
             let body = BodyState {
                 velocity_m_per_s: Vector3::zeros(),
                 angular_velocity_rad_per_s: Vector3::zeros(),

@@ -291,6 +291,7 @@ mod tests {
             length_m: 2.0,
             elements: 1,
             extra_mass_kg: Some(extra_kg),
+            extra_volume_m3: None,
         };
         let env = Environment {
             water_depth_m: 50.0,

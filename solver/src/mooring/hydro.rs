@@ -166,6 +166,7 @@ mod tests {
             length_m: 1.0,
             elements: 1,
             extra_mass_kg: None,
+            extra_volume_m3: None,
         };
         let env = Environment {
             water_depth_m: 100.0,

@@ -7,8 +7,9 @@
 //! ρ A C_a and Froude–Krylov plus diffraction ρ A (1 + C_a,n) on the normal water acceleration,
 //! with A = π D² / 4.
 //!
-//! Extra (clump) mass is steel spread over its segment: it adds mass and its submerged weight
-//! m g (1 − ρ_w / ρ_steel); its own drag and added mass are neglected.
+//! Extra (clump) mass is spread over its segment: it adds mass and its submerged weight
+//! (m − ρ_w V) g, with V its displaced volume when given and m / ρ_steel (steel) otherwise; its
+//! own drag and added mass are neglected.
 
 use super::spec::{Environment, LineTypeSpec, SegmentSpec};
 
@@ -69,7 +70,12 @@ impl Section {
         let d = line_type.hydrodynamic_diameter_m;
         let area = std::f64::consts::PI * d * d / 4.0;
         let extra_per_m = segment.extra_mass_kg.unwrap_or(0.0) / segment.length_m;
-        let extra_weight_per_m = extra_per_m * env.gravity_m_s2 * (1.0 - rho / STEEL_DENSITY_KG_M3);
+        let extra_weight_per_m = match segment.extra_volume_m3 {
+            Some(_) => segment.extra_submerged_weight_n(env) / segment.length_m,
+            // Kept in this form for steel: the results of cases without a volume are unchanged
+            // to the bit.
+            None => extra_per_m * env.gravity_m_s2 * (1.0 - rho / STEEL_DENSITY_KG_M3),
+        };
         let mass = line_type.mass_kg_per_m + extra_per_m;
         let added_n = rho * area * line_type.added_mass_normal;
         let k = env.seabed.normal_stiffness_n_per_m2;

@@ -62,9 +62,26 @@ pub struct SegmentSpec {
     pub length_m: f64,
     /// Number of finite elements (equal lengths).
     pub elements: usize,
-    /// Extra (clump) steel mass distributed uniformly over the segment (kg).
+    /// Extra (clump) mass distributed uniformly over the segment (kg).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub extra_mass_kg: Option<f64>,
+    /// Volume of water displaced by the extra mass (m³): its submerged weight is
+    /// (m − ρ_w V) g. Absent, the extra mass is steel (V = m / 7850 kg/m³). A MoorDyn point's
+    /// mass and volume map onto `extra_mass_kg` and this.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub extra_volume_m3: Option<f64>,
+}
+
+impl SegmentSpec {
+    /// Submerged weight of the extra mass (N): (m − ρ_w V) g, V = m / ρ_steel when the
+    /// volume is not given; negative for a buoy.
+    pub fn extra_submerged_weight_n(&self, env: &Environment) -> f64 {
+        let mass_kg = self.extra_mass_kg.unwrap_or(0.0);
+        let volume_m3 = self
+            .extra_volume_m3
+            .unwrap_or(mass_kg / super::section::STEEL_DENSITY_KG_M3);
+        (mass_kg - env.water_density_kg_m3 * volume_m3) * env.gravity_m_s2
+    }
 }
 
 /// A mooring line: its line types and its segments from the fairlead to the anchor.
@@ -132,11 +149,13 @@ pub struct Environment {
     pub seabed: SeabedSpec,
 }
 
-fn default_water_density() -> f64 {
+/// Sea water density when a file omits it (kg/m³).
+pub fn default_water_density() -> f64 {
     1025.0
 }
 
-fn default_gravity() -> f64 {
+/// Standard gravity (m/s²) when a file omits it.
+pub fn default_gravity() -> f64 {
     9.80665
 }
 
@@ -230,6 +249,16 @@ impl LineSpec {
             if let Some(m) = s.extra_mass_kg {
                 non_negative(format!("{path}.extra_mass_kg"), m)?;
             }
+            if let Some(v) = s.extra_volume_m3 {
+                non_negative(format!("{path}.extra_volume_m3"), v)?;
+                if s.extra_mass_kg.is_none() {
+                    return Err(LineError::invalid(
+                        format!("{path}.extra_volume_m3"),
+                        v,
+                        "needs extra_mass_kg (the mass of the body that displaces it)",
+                    ));
+                }
+            }
         }
         Ok(())
     }
@@ -294,6 +323,7 @@ mod tests {
                     length_m: 10.0,
                     elements: 2,
                     extra_mass_kg: None,
+                    extra_volume_m3: None,
                 },
                 SegmentSpec {
                     name: "b".into(),
@@ -301,6 +331,7 @@ mod tests {
                     length_m: 20.0,
                     elements: 4,
                     extra_mass_kg: Some(100.0),
+                    extra_volume_m3: None,
                 },
             ],
         }
@@ -311,6 +342,34 @@ mod tests {
         let s = spec();
         assert_eq!(s.validate(), Ok(()));
         assert_eq!(s.length_m(), 30.0);
+    }
+
+    /// A clump of given volume weighs (m − ρV) g in water; without a volume it is steel; the
+    /// section carries the weight per metre of its segment.
+    #[test]
+    fn extra_mass_weighs_its_mass_less_its_displaced_water() {
+        let env: Environment = serde_json::from_str(r#"{"water_depth_m": 100.0}"#).unwrap();
+        let mut s = spec();
+        let steel = s.segments[1].extra_submerged_weight_n(&env);
+        let expected_steel = 100.0 * 9.80665 * (1.0 - 1025.0 / 7850.0);
+        assert!((steel - expected_steel).abs() < 1e-12 * expected_steel);
+        s.segments[1].extra_volume_m3 = Some(0.2);
+        let buoy = s.segments[1].extra_submerged_weight_n(&env);
+        assert!((buoy - (100.0 - 1025.0 * 0.2) * 9.80665).abs() < 1e-9);
+        assert!(buoy < 0.0, "a 100 kg body of 0.2 m³ floats");
+        let with_volume = super::super::section::Section::new(&rope(), &s.segments[1], &env);
+        let bare = super::super::section::Section::new(&rope(), &s.segments[0], &env);
+        assert!((with_volume.weight_n_per_m - (bare.weight_n_per_m + buoy / 20.0)).abs() < 1e-9);
+        assert_eq!(with_volume.mass_kg_per_m, bare.mass_kg_per_m + 100.0 / 20.0);
+        s.segments[1].extra_volume_m3 = Some(-1.0);
+        let msg = s.validate().unwrap_err().to_string();
+        assert!(
+            msg.starts_with("segments[1].extra_volume_m3 must be >= 0"),
+            "{msg}"
+        );
+        s.segments[0].extra_volume_m3 = Some(1.0);
+        let msg = s.validate().unwrap_err().to_string();
+        assert!(msg.starts_with("segments[0].extra_volume_m3"), "{msg}");
     }
 
     #[test]

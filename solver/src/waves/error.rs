@@ -88,6 +88,19 @@ pub(crate) fn positive(field: &'static str, value: f64) -> Result<f64, WavesErro
     }
 }
 
+/// Check `value` finite and ≥ 0.
+pub(crate) fn non_negative(field: &'static str, value: f64) -> Result<f64, WavesError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(value)
+    } else {
+        Err(WavesError::InvalidParameter {
+            field,
+            value,
+            rule: ">= 0",
+        })
+    }
+}
+
 /// Check `value` finite.
 pub(crate) fn finite(field: &'static str, value: f64) -> Result<f64, WavesError> {
     if value.is_finite() {

@@ -140,7 +140,8 @@ impl NormalPairs {
 #[derive(Debug, Clone, PartialEq)]
 pub struct IrregularSea {
     field: AiryField,
-    spectrum: Jonswap,
+    /// The renormalised spectrum; `None` for a calm sea.
+    spectrum: Option<Jonswap>,
     repeat_period_s: f64,
     d_omega: f64,
     band_rad_s: (f64, f64),
@@ -162,8 +163,18 @@ impl IrregularSea {
         };
         let d_omega = 2.0 * PI / t_rep;
         let (lo, hi) = spectrum.band(params.band_energy_fraction)?;
+        // A band that is not finite, or wider than 10⁷ components, comes from a spectrum too
+        // small or too narrow to realise: refused rather than allocated.
+        let components_in_band = hi / d_omega;
+        if !(lo.is_finite() && components_in_band.is_finite() && components_in_band < 1e7) {
+            return Err(WavesError::EmptyBand {
+                omega_min_rad_s: lo,
+                omega_max_rad_s: hi,
+                d_omega_rad_s: d_omega,
+            });
+        }
         let n_lo = ((lo / d_omega).ceil() as usize).max(1);
-        let n_hi = (hi / d_omega).floor() as usize;
+        let n_hi = components_in_band.floor() as usize;
         if n_hi < n_lo {
             return Err(WavesError::EmptyBand {
                 omega_min_rad_s: lo,
@@ -193,7 +204,7 @@ impl IrregularSea {
         }
         Ok(Self {
             field: AiryField::new(components, depth, heading, rho),
-            spectrum,
+            spectrum: Some(spectrum),
             repeat_period_s: t_rep,
             d_omega,
             band_rad_s: (lo, hi),
@@ -201,13 +212,34 @@ impl IrregularSea {
         })
     }
 
+    /// Still water: no components, over the repeat period, depth and density of `params` (its
+    /// seed, band and cut-off play no part).
+    pub fn calm(params: &RealisationParams) -> Result<Self, WavesError> {
+        let t_rep = params.repeat_period_s()?;
+        let depth = positive("depth_m", params.depth_m)?;
+        let rho = positive("water_density_kg_m3", params.water_density_kg_m3)?;
+        let heading = finite("heading_rad", params.heading_rad)?;
+        Ok(Self {
+            field: AiryField::new(Vec::new(), depth, heading, rho),
+            spectrum: None,
+            repeat_period_s: t_rep,
+            d_omega: 2.0 * PI / t_rep,
+            band_rad_s: (0.0, 0.0),
+            kept_m0_fraction: 1.0,
+        })
+    }
+
     /// The underlying component field.
     pub fn field(&self) -> &AiryField {
         &self.field
     }
-    /// The spectrum as renormalised over the kept components.
-    pub fn spectrum(&self) -> &Jonswap {
-        &self.spectrum
+    /// The spectrum as renormalised over the kept components; `None` for a calm sea.
+    pub fn spectrum(&self) -> Option<&Jonswap> {
+        self.spectrum.as_ref()
+    }
+    /// Significant wave height of the spectrum (m); 0 for a calm sea.
+    pub fn hs_m(&self) -> f64 {
+        self.spectrum.as_ref().map_or(0.0, Jonswap::hs_m)
     }
     /// Repeat period T_repeat (s).
     pub fn repeat_period_s(&self) -> f64 {

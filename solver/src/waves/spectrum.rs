@@ -63,6 +63,14 @@ impl Jonswap {
     /// Spectrum for significant wave height `hs_m` (m) and peak period `tp_s` (s).
     pub fn new(hs_m: f64, tp_s: f64, peak: PeakEnhancement) -> Result<Self, WavesError> {
         let hs_m = positive("hs_m", hs_m)?;
+        if !(hs_m * hs_m).is_normal() {
+            // Hs² underflows: every density would be zero or subnormal and the band undefined.
+            return Err(WavesError::InvalidParameter {
+                field: "hs_m",
+                value: hs_m,
+                rule: "large enough that Hs² is a normal number (Hs > 1.5e-154 m)",
+            });
+        }
         let tp_s = positive("tp_s", tp_s)?;
         let gamma = match peak {
             PeakEnhancement::Given(g) => {
@@ -250,6 +258,11 @@ mod tests {
         assert_eq!(e.to_string(), "tp_s must be > 0, got -1");
         let e = Jonswap::new(0.0, 10.0, PeakEnhancement::DnvDefault).unwrap_err();
         assert_eq!(e.to_string(), "hs_m must be > 0, got 0");
+        let tiny = Jonswap::new(1e-160, 10.0, PeakEnhancement::Given(1.0)).unwrap_err();
+        assert!(
+            tiny.to_string().starts_with("hs_m must be large enough"),
+            "{tiny}"
+        );
         let e = Jonswap::new(2.0, 10.0, PeakEnhancement::Given(0.5)).unwrap_err();
         assert_eq!(e.to_string(), "gamma must be in [1, 7], got 0.5");
         let e = Jonswap::new(f64::NAN, 10.0, PeakEnhancement::DnvDefault).unwrap_err();

@@ -26,7 +26,7 @@
 use std::f64::consts::PI;
 
 use super::dispersion::GRAVITY;
-use super::error::{finite, positive, WavesError};
+use super::error::{finite, non_negative, positive, WavesError};
 
 /// NREL 5 MW rotor thrust (kN) at 3, 4, …, 25 m/s, as in `campaigns/data/paper_case_lines.json`
 /// (it includes the rotor-weight component along the tilted shaft).
@@ -190,9 +190,9 @@ impl Default for WindLaw {
 }
 
 impl WindLaw {
-    /// Hub wind speed (m/s) for significant wave height `hs_m`.
+    /// Hub wind speed (m/s) for significant wave height `hs_m` (0 for calm water).
     pub fn wind_speed_m_s(&self, hs_m: f64) -> Result<f64, WavesError> {
-        let hs_m = positive("hs_m", hs_m)?;
+        let hs_m = non_negative("hs_m", hs_m)?;
         match self {
             Self::FullyDevelopedSea { min_m_s, max_m_s } => {
                 if !(min_m_s.is_finite() && max_m_s.is_finite() && min_m_s <= max_m_s) {
