@@ -20,6 +20,5 @@ pub mod global;
 pub mod io;
 pub mod linalg;
 pub mod mooring;
-pub mod samples;
 pub mod strand;
 pub mod waves;

@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand};
 
 pub(crate) mod campaign;
 pub(crate) mod drive;
+pub(crate) mod import;
 pub(crate) mod query;
 pub(crate) mod rainflow;
 pub(crate) mod report;
@@ -30,6 +31,9 @@ pub(crate) enum Command {
     /// The reduced strand response: calibrate it, compare a reduced run with an FE run.
     #[command(subcommand)]
     Strand(strand::StrandCommand),
+    /// Other tools' input files as moorfret cases (`import moordyn DECK --out CASE.json`).
+    #[command(subcommand)]
+    Import(import::ImportCommand),
     /// Rainflow-count one column of a CSV file (ASTM E1049-85), cycles as JSON or CSV.
     Rainflow(rainflow::RainflowArgs),
     /// Campaigns: launch, resume, status, cancel.
@@ -48,6 +52,7 @@ pub(crate) fn execute(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Run(cmd) => run::execute(cmd),
         Command::Strand(cmd) => strand::execute(cmd),
+        Command::Import(cmd) => import::execute(cmd),
         Command::Rainflow(args) => rainflow::execute(args),
         Command::Campaign(cmd) => campaign::execute(cmd),
         Command::Worker(args) => worker::execute(args),

@@ -40,7 +40,7 @@ pub struct CaseSpec {
     /// Water depth, density and seabed.
     pub site: SiteSpec,
     /// Irregular sea state; absent (or `hs_m: 0`) means calm water, no waves.
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "SeaStateSpec::is_calm")]
     pub sea_state: SeaStateSpec,
     /// Time integration and output settings.
     pub timing: TimingSpec,

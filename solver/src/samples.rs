@@ -1,1 +1,0 @@
-//! Shared sample problems (published reference cases) reused by tests, benchmarks and examples.
