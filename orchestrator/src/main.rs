@@ -18,7 +18,7 @@ fn main() -> ExitCode {
     match cli::execute(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
-            eprintln!("error: {err:#}");
+            eprintln!("error: {}", moorfret_worker::failure::error_text(&err));
             ExitCode::from(1)
         }
     }

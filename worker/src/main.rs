@@ -29,7 +29,7 @@ fn main() -> ExitCode {
     match process::run(cli.args.options()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
-            eprintln!("error: {err:#}");
+            eprintln!("error: {}", moorfret_worker::failure::error_text(&err));
             ExitCode::from(1)
         }
     }
