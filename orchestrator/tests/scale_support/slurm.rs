@@ -12,7 +12,7 @@
 //! left that carries this cluster's `SLURM_CONF` in its environment (job steps and the jobs'
 //! own processes, which `slurmd` starts detached): no other process is touched.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 use std::fs;
 use std::io::Read;
@@ -122,6 +122,8 @@ pub struct SlurmCluster {
     dir: tempfile::TempDir,
     conf: PathBuf,
     daemons: Vec<Daemon>,
+    /// Exited job-step processes present before the cluster started (not its own).
+    earlier_step_zombies: HashSet<u32>,
 }
 
 impl SlurmCluster {
@@ -137,6 +139,7 @@ impl SlurmCluster {
             dir,
             conf,
             daemons: Vec::new(),
+            earlier_step_zombies: step_zombies(),
         };
         for sub in ["state", "spool", "log", "run", "jobs"] {
             fs::create_dir(cluster.path(sub)).expect("cluster directory");
@@ -478,7 +481,28 @@ impl Drop for SlurmCluster {
                 .stderr(Stdio::null())
                 .status();
         }
+        // Job-step processes are detached from slurmd: once exited they wait, as zombies, for
+        // the system's init to collect them. Give it a few seconds, so that the cluster is
+        // gone from the process table too when the test ends.
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while Instant::now() < deadline && !step_zombies().is_subset(&self.earlier_step_zombies) {
+            std::thread::sleep(Duration::from_millis(200));
+        }
     }
+}
+
+/// Exited `slurmstepd` processes not yet collected by their parent.
+fn step_zombies() -> HashSet<u32> {
+    let Ok(entries) = fs::read_dir("/proc") else {
+        return HashSet::new();
+    };
+    entries
+        .filter_map(|e| e.ok()?.file_name().to_str()?.parse::<u32>().ok())
+        .filter(|pid| {
+            fs::read_to_string(format!("/proc/{pid}/stat"))
+                .is_ok_and(|stat| stat.contains("(slurmstepd) Z "))
+        })
+        .collect()
 }
 
 /// Two TCP ports free on this machine now.
