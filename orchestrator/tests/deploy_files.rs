@@ -57,12 +57,95 @@ fn slurm_script_stops_workers_gracefully_and_passes_the_wall_time() {
     };
     assert_eq!(directive("signal"), "B:TERM@120");
     assert!(directive("array").starts_with("0-"));
+    // The default lead matches --signal; an override of --signal comes with one of the lead.
     assert!(
-        script.contains("SIGNAL_LEAD_S=120"),
+        script.contains("SIGNAL_LEAD_S=${MOORFRET_SIGNAL_LEAD_S:-120}"),
         "lead must match --signal"
     );
     assert!(script.contains("--wall-time-s"));
-    assert!(script.contains("trap 'kill -TERM"));
+    // The worker replaces the batch shell, so that a `B:` signal reaches it.
+    assert!(script.contains(r#"exec "$worker" "${args[@]}""#));
+}
+
+/// The batch script run outside Slurm, with stand-ins for `squeue` (10 min left) and the
+/// worker: the worker gets the time left less the lead as its wall time; SIGTERM sent to the
+/// batch shell alone (as `--signal=B:TERM` does) or to its whole process group (as `scancel`
+/// does) reaches the worker, and the script exits with the worker's own status. The scheduler
+/// itself is exercised by `tests/slurm_cluster.rs`.
+#[test]
+fn slurm_script_passes_the_wall_time_and_exits_with_the_workers_status() {
+    use std::os::unix::fs::PermissionsExt;
+    use std::os::unix::process::CommandExt;
+    if !tool_available("bash", &["-c", "true"]) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, text: &str| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+        path
+    };
+    write("squeue", "#!/bin/sh\necho 10:00\n");
+    let args_file = dir.path().join("worker-args");
+    let worker = write(
+        "worker",
+        "#!/bin/bash\n\
+         if [[ $1 == --help ]]; then echo '  --wall-time-s <S>'; exit 0; fi\n\
+         trap 'kill $!; exit 0' TERM\n\
+         echo \"$*\" > \"$ARGS_FILE.tmp\" && mv \"$ARGS_FILE.tmp\" \"$ARGS_FILE\"\n\
+         sleep 30 & wait\n",
+    );
+    let path = format!(
+        "{}:{}",
+        dir.path().display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    for lead in [None, Some("100")] {
+        let _ = std::fs::remove_file(&args_file);
+        let mut command = Command::new("bash");
+        command
+            .arg(deploy_dir().join("slurm/moorfret-workers.sbatch"))
+            .env("PATH", &path)
+            .env("SLURM_JOB_ID", "1")
+            .env("MOORFRET_DB", "postgres://db-host/moorfret")
+            .env("MOORFRET_ARTIFACTS", "/shared/artifacts")
+            .env("MOORFRET_WORKER", &worker)
+            .env("ARGS_FILE", &args_file)
+            .stderr(std::process::Stdio::null())
+            .process_group(0);
+        match lead {
+            Some(s) => command.env("MOORFRET_SIGNAL_LEAD_S", s),
+            None => command.env_remove("MOORFRET_SIGNAL_LEAD_S"),
+        };
+        let mut shell = command.spawn().unwrap();
+        let start = std::time::Instant::now();
+        while !args_file.exists() {
+            assert!(start.elapsed().as_secs() < 20, "the worker did not start");
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        let args = std::fs::read_to_string(&args_file).unwrap();
+        let budget = 600 - lead.map_or(120, |s| s.parse::<i64>().unwrap());
+        assert_eq!(
+            args.trim(),
+            format!(
+                "--db postgres://db-host/moorfret --artifacts /shared/artifacts \
+                 --exit-when-idle --wall-time-s {budget}"
+            )
+        );
+        // The default lead: the batch shell alone, as `B:`; the other: the whole group.
+        let target = match lead {
+            None => shell.id().to_string(),
+            Some(_) => format!("-{}", shell.id()),
+        };
+        assert!(Command::new("kill")
+            .args(["-TERM", "--", &target])
+            .status()
+            .unwrap()
+            .success());
+        let status = shell.wait().unwrap();
+        assert_eq!(status.code(), Some(0), "lead {lead:?}");
+    }
 }
 
 /// Slurm prints time left as `[days-]hours:minutes:seconds`, `minutes:seconds`, `minutes`,

@@ -1,5 +1,6 @@
 //! Shared pieces of the scale-out tests: the PostgreSQL server under test, throw-away stores
-//! on both backends, and a worker loop on the store API that many tasks run at once.
+//! on both backends, a worker loop on the store API that many tasks run at once, and (`slurm`)
+//! a one-node Slurm cluster for the batch script.
 //!
 //! PostgreSQL comes from `MOORFRET_TEST_POSTGRES_URL` (default
 //! `postgres://postgres@127.0.0.1:5432/test`); without a server the tests print that they are
@@ -166,3 +167,4 @@ where
 pub mod netns;
 pub mod pg_database;
 pub mod process_worker;
+pub mod slurm;
