@@ -21,4 +21,5 @@ pub mod io;
 pub mod linalg;
 pub mod mooring;
 pub mod strand;
+pub mod text;
 pub mod waves;

@@ -25,6 +25,7 @@ use crate::mooring::spec::{
     default_gravity, default_water_density, Environment, LineEnds, LineSpec, LineTypeSpec,
     SeabedSpec, SegmentSpec,
 };
+use crate::text::Num;
 use crate::waves::spectrum::PeakEnhancement;
 use crate::waves::RealisationParams;
 
@@ -244,6 +245,9 @@ pub struct ThrustTableSpec {
     pub thrust_kn: Vec<f64>,
 }
 
+/// Most time steps a run may take (10⁸: about 116 days at the paper's 0.1 s).
+const MAX_STEPS: f64 = 1e8;
+
 fn invalid(field: impl Into<String>, value: impl std::fmt::Display, reason: &str) -> GlobalError {
     GlobalError::InvalidCase {
         field: field.into(),
@@ -256,7 +260,7 @@ fn positive(field: &str, v: f64) -> Result<(), GlobalError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(invalid(field, v, "must be > 0"))
+        Err(invalid(field, Num(v), "must be > 0"))
     }
 }
 
@@ -264,7 +268,7 @@ fn non_negative(field: &str, v: f64) -> Result<(), GlobalError> {
     if v.is_finite() && v >= 0.0 {
         Ok(())
     } else {
-        Err(invalid(field, v, "must be >= 0"))
+        Err(invalid(field, Num(v), "must be >= 0"))
     }
 }
 
@@ -338,6 +342,18 @@ impl CaseSpec {
                 "timing.time_step_s",
                 t.time_step_s,
                 "must not exceed timing.output_interval_s",
+            ));
+        }
+        let steps = (t.transient_s + t.duration_s) / t.time_step_s;
+        if steps > MAX_STEPS {
+            return Err(invalid(
+                "timing.duration_s",
+                Num(t.duration_s),
+                &format!(
+                    "with timing.transient_s and timing.time_step_s gives {} steps, more than {}",
+                    Num(steps.floor()),
+                    Num(MAX_STEPS)
+                ),
             ));
         }
         if !(0.0..=1.0).contains(&t.spectral_radius) {
@@ -533,6 +549,14 @@ mod tests {
         c.sea_state.tp_s = 0.0;
         let e = c.validate().unwrap_err().to_string();
         assert!(e.starts_with("sea_state.tp_s must be > 0"), "{e}");
+        let mut c = paper_case();
+        c.timing.duration_s = 1e300;
+        let e = c.validate().unwrap_err().to_string();
+        assert!(
+            e.starts_with("timing.duration_s with timing.transient_s and timing.time_step_s gives")
+                && e.ends_with("(got 1e300)"),
+            "{e}"
+        );
         let mut c = paper_case();
         c.mooring.segments[1].length_m = -3.0;
         let e = c.validate().unwrap_err().to_string();

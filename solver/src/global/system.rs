@@ -31,6 +31,7 @@ use crate::mooring::spec::{Environment, LineEnds, LineSpec};
 use crate::mooring::statics::{solve_statics, StaticParams, StaticSolution, StaticStart};
 use crate::mooring::workspace::LineWorkspace;
 use crate::mooring::LineModel;
+use crate::text::Num;
 use crate::waves::{IrregularSea, Jonswap, RotorTable, StillWater, TableParams};
 
 /// The parsed content of the case's floater file.
@@ -121,9 +122,11 @@ impl GlobalModel {
                         field: "floater.prescribed_motion.csv_path".into(),
                         value: csv_path.clone(),
                         reason: format!(
-                            "covers t = {start_s} to {end_s} s; the run needs t = 0 to \
-                             {needed_s} s (transient_s + duration_s; simulation time is the \
-                             table's time)"
+                            "covers t = {} to {} s; the run needs t = 0 to {} s (transient_s + \
+                             duration_s; simulation time is the table's time)",
+                            Num(start_s),
+                            Num(end_s),
+                            Num(needed_s)
                         ),
                     });
                 }

@@ -14,6 +14,7 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use super::error::LineError;
+use crate::text::Num;
 
 /// Section properties of one line type (a chain grade or a rope construction).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -172,7 +173,7 @@ fn positive(field: String, v: f64) -> Result<(), LineError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(LineError::invalid(field, v, "must be > 0"))
+        Err(LineError::invalid(field, Num(v), "must be > 0"))
     }
 }
 
@@ -180,7 +181,7 @@ fn non_negative(field: String, v: f64) -> Result<(), LineError> {
     if v.is_finite() && v >= 0.0 {
         Ok(())
     } else {
-        Err(LineError::invalid(field, v, "must be >= 0"))
+        Err(LineError::invalid(field, Num(v), "must be >= 0"))
     }
 }
 

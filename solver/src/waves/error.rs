@@ -8,7 +8,7 @@ use thiserror::Error;
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum WavesError {
     /// A parameter is out of its admissible range, e.g. `tp_s must be > 0, got -1`.
-    #[error("{field} must be {rule}, got {value}")]
+    #[error("{field} must be {rule}, got {}", crate::text::Num(*.value))]
     InvalidParameter {
         /// Name of the offending field (with its unit suffix).
         field: &'static str,
@@ -33,12 +33,36 @@ pub enum WavesError {
         residual: f64,
     },
     /// The frequency band left no wave component on the discrete grid.
-    #[error("no wave component in the band [{omega_min_rad_s}, {omega_max_rad_s}] rad/s with d_omega = {d_omega_rad_s} rad/s")]
+    #[error(
+        "no wave component in the band [{}, {}] rad/s with d_omega = {} rad/s",
+        crate::text::Num(*.omega_min_rad_s),
+        crate::text::Num(*.omega_max_rad_s),
+        crate::text::Num(*.d_omega_rad_s)
+    )]
     EmptyBand {
         /// Lower band edge (rad/s).
         omega_min_rad_s: f64,
         /// Upper band edge (rad/s).
         omega_max_rad_s: f64,
+        /// Grid spacing (rad/s).
+        d_omega_rad_s: f64,
+    },
+    /// The band would need more components than a realisation holds.
+    #[error(
+        "the band [{}, {}] rad/s holds {} components at d_omega = {} rad/s, more than 10⁷: \
+         shorten the duration (d_omega = 2π / repeat period)",
+        crate::text::Num(*.omega_min_rad_s),
+        crate::text::Num(*.omega_max_rad_s),
+        crate::text::Num(*.components),
+        crate::text::Num(*.d_omega_rad_s)
+    )]
+    BandTooWide {
+        /// Lower band edge (rad/s).
+        omega_min_rad_s: f64,
+        /// Upper band edge (rad/s).
+        omega_max_rad_s: f64,
+        /// Components the band would hold.
+        components: f64,
         /// Grid spacing (rad/s).
         d_omega_rad_s: f64,
     },

@@ -163,13 +163,21 @@ impl IrregularSea {
         };
         let d_omega = 2.0 * PI / t_rep;
         let (lo, hi) = spectrum.band(params.band_energy_fraction)?;
-        // A band that is not finite, or wider than 10⁷ components, comes from a spectrum too
-        // small or too narrow to realise: refused rather than allocated.
+        // A band that is not finite, or wider than 10⁷ components (a duration of years), is
+        // refused rather than allocated.
         let components_in_band = hi / d_omega;
-        if !(lo.is_finite() && components_in_band.is_finite() && components_in_band < 1e7) {
+        if !(lo.is_finite() && components_in_band.is_finite()) {
             return Err(WavesError::EmptyBand {
                 omega_min_rad_s: lo,
                 omega_max_rad_s: hi,
+                d_omega_rad_s: d_omega,
+            });
+        }
+        if components_in_band >= 1e7 {
+            return Err(WavesError::BandTooWide {
+                omega_min_rad_s: lo,
+                omega_max_rad_s: hi,
+                components: components_in_band.floor(),
                 d_omega_rad_s: d_omega,
             });
         }

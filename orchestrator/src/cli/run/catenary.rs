@@ -16,6 +16,7 @@ use clap::Args;
 use moorfret_solver::mooring::catenary::{
     solve_catenary, Catenary, CatenaryError, CatenaryParams, CatenarySolution, ElasticLine,
 };
+use moorfret_solver::text::Num;
 use serde::Serialize;
 
 /// Axial stiffness standing for an inextensible line (N): at 1 MN of tension it stretches by
@@ -101,7 +102,9 @@ pub(crate) fn execute(args: CatenaryArgs) -> anyhow::Result<()> {
         _ => anyhow!(err).context(format!(
             "no catenary for --length-m {} between spans --horizontal-span-m {} and \
              --vertical-span-m {}",
-            args.length_m, args.horizontal_span_m, args.vertical_span_m
+            Num(args.length_m),
+            Num(args.horizontal_span_m),
+            Num(args.vertical_span_m)
         )),
     })?;
     tracing::debug!(
