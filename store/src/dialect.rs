@@ -20,6 +20,10 @@ pub(crate) struct Dialect {
     pub(crate) reserve_job_ids_sql: &'static str,
     /// Query counting tables named `$1` in the current schema.
     pub(crate) table_exists_sql: &'static str,
+    /// Whether the schema is checked and migrated inside one write transaction. sqlx's SQLite
+    /// migrator takes no lock, so processes opening a new store at once would each apply the
+    /// migrations; PostgreSQL's takes an advisory lock.
+    pub(crate) migrate_in_write_transaction: bool,
 }
 
 /// SQLite.
@@ -33,6 +37,7 @@ pub(crate) const SQLITE: Dialect = Dialect {
                           (SELECT 1 WHERE $1 > 0 UNION ALL SELECT n + 1 FROM seq WHERE n < $1) \
                           SELECT (SELECT COALESCE(MAX(id), 0) FROM jobs) + n FROM seq ORDER BY n",
     table_exists_sql: "SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' AND name = $1",
+    migrate_in_write_transaction: true,
 };
 
 /// PostgreSQL.
@@ -45,4 +50,5 @@ pub(crate) const POSTGRES: Dialect = Dialect {
                           FROM generate_series(1, $1) ORDER BY id",
     table_exists_sql: "SELECT COUNT(*) FROM information_schema.tables \
                        WHERE table_schema = current_schema() AND table_name = $1",
+    migrate_in_write_transaction: false,
 };

@@ -3,7 +3,7 @@
 //! Mounted twice, as `sqlite::schema` and `postgres::schema`; each parent defines `Db`,
 //! `DIALECT` and `MIGRATOR`.
 
-use sqlx::Pool;
+use sqlx::{Database, Pool};
 
 use super::{Db, DIALECT, MIGRATOR};
 use crate::error::StoreError;
@@ -17,50 +17,91 @@ pub(crate) fn supported_version() -> i64 {
 
 /// Schema version recorded in the database (0 for an empty database).
 pub(crate) async fn found_version(pool: &Pool<Db>) -> Result<i64> {
+    let mut conn = pool
+        .acquire()
+        .await
+        .map_err(StoreError::db("read schema version"))?;
+    found_version_on(&mut conn).await
+}
+
+/// [`found_version`] on one connection (inside its transaction, if any).
+async fn found_version_on(conn: &mut <Db as Database>::Connection) -> Result<i64> {
     const OP: &str = "read schema version";
     let mut found = 0_i64;
-    let has_table = |name: &'static str| async move {
-        sqlx::query_scalar::<_, i64>(DIALECT.table_exists_sql)
-            .bind(name)
-            .fetch_one(pool)
+    for table in ["_sqlx_migrations", "schema_info"] {
+        let exists = sqlx::query_scalar::<_, i64>(DIALECT.table_exists_sql)
+            .bind(table)
+            .fetch_one(&mut *conn)
             .await
-            .map(|n| n > 0)
-            .map_err(StoreError::db(OP))
-    };
-    if has_table("_sqlx_migrations").await? {
-        let applied: Option<i64> = sqlx::query_scalar("SELECT MAX(version) FROM _sqlx_migrations")
-            .fetch_one(pool)
-            .await
-            .map_err(StoreError::db(OP))?;
-        found = found.max(applied.unwrap_or(0));
-    }
-    if has_table("schema_info").await? {
-        let recorded: Option<String> =
-            sqlx::query_scalar("SELECT value FROM schema_info WHERE key = 'schema_version'")
-                .fetch_optional(pool)
-                .await
-                .map_err(StoreError::db(OP))?;
-        if let Some(text) = recorded {
-            let version = text.parse::<i64>().map_err(|_| StoreError::UnknownValue {
-                field: "schema_info.schema_version",
-                value: text.clone(),
-            })?;
-            found = found.max(version);
+            .map_err(StoreError::db(OP))?
+            > 0;
+        if !exists {
+            continue;
+        }
+        if table == "_sqlx_migrations" {
+            let applied: Option<i64> =
+                sqlx::query_scalar("SELECT MAX(version) FROM _sqlx_migrations")
+                    .fetch_one(&mut *conn)
+                    .await
+                    .map_err(StoreError::db(OP))?;
+            found = found.max(applied.unwrap_or(0));
+        } else {
+            let recorded: Option<String> =
+                sqlx::query_scalar("SELECT value FROM schema_info WHERE key = 'schema_version'")
+                    .fetch_optional(&mut *conn)
+                    .await
+                    .map_err(StoreError::db(OP))?;
+            if let Some(text) = recorded {
+                let version = text.parse::<i64>().map_err(|_| StoreError::UnknownValue {
+                    field: "schema_info.schema_version",
+                    value: text.clone(),
+                })?;
+                found = found.max(version);
+            }
         }
     }
     Ok(found)
 }
 
 /// Refuses a database from a newer binary (before writing anything), then applies the
-/// embedded migrations it lacks.
+/// embedded migrations it lacks. On SQLite the check and the migrations run in one `BEGIN
+/// IMMEDIATE` transaction, so that processes opening a new store at once migrate it once: the
+/// others wait for the write lock, then find it current.
 pub(crate) async fn prepare_schema(pool: &Pool<Db>) -> Result<()> {
     let supported = supported_version();
+    if !DIALECT.migrate_in_write_transaction {
+        let found = found_version(pool).await?;
+        if found > supported {
+            return Err(StoreError::SchemaTooNew { found, supported });
+        }
+        if found < supported {
+            MIGRATOR.run(pool).await?;
+        }
+        return Ok(());
+    }
+    // A current store needs no write lock (read commands stay read-only).
     let found = found_version(pool).await?;
     if found > supported {
         return Err(StoreError::SchemaTooNew { found, supported });
     }
-    if found < supported {
-        MIGRATOR.run(pool).await?;
+    if found == supported {
+        return Ok(());
     }
+    let mut tx = pool
+        .begin_with(DIALECT.begin_write)
+        .await
+        .map_err(StoreError::db("lock the store to migrate it"))?;
+    let found = found_version_on(&mut tx).await?;
+    if found > supported {
+        return Err(StoreError::SchemaTooNew { found, supported });
+    }
+    if found < supported {
+        // `run_direct` on the transaction's connection: `run(&mut *tx)` makes the future of
+        // `Store::open` not `Send` (sqlx's "`Acquire` is not general enough").
+        MIGRATOR.run_direct(&mut *tx).await?;
+    }
+    tx.commit()
+        .await
+        .map_err(StoreError::db("commit the store's migration"))?;
     Ok(())
 }

@@ -64,23 +64,42 @@ pub(crate) async fn connect(path: &Path, max_connections: u32) -> Result<Pool<Db
         .synchronous(SqliteSynchronous::Normal)
         .foreign_keys(true)
         .busy_timeout(BUSY_TIMEOUT);
-    SqlitePoolOptions::new()
-        .max_connections(max_connections)
-        .acquire_timeout(BUSY_TIMEOUT)
-        .connect_with(options)
-        .await
-        .map_err(|source| match &source {
-            sqlx::Error::Database(db) if db.code().as_deref() == Some("26") => {
-                StoreError::NotADatabase {
-                    path: path.to_path_buf(),
-                    reason: db.message().into(),
-                }
+    // Connections to a new file switching it to WAL at the same moment (processes opening a
+    // new store at once) can get SQLITE_BUSY at once, without the busy handler: retried here
+    // for up to the busy timeout.
+    let started = std::time::Instant::now();
+    let mut attempt = 0_u32;
+    let connected = loop {
+        let result = SqlitePoolOptions::new()
+            .max_connections(max_connections)
+            .acquire_timeout(BUSY_TIMEOUT)
+            .connect_with(options.clone())
+            .await;
+        match &result {
+            Err(sqlx::Error::Database(db))
+                if db.code().as_deref() == Some("5") && started.elapsed() < BUSY_TIMEOUT =>
+            {
+                attempt += 1;
+                tokio::time::sleep(std::time::Duration::from_millis(
+                    10 * u64::from(attempt.min(20)),
+                ))
+                .await;
             }
-            _ => StoreError::Database {
-                operation: "open store",
-                source,
-            },
-        })
+            _ => break result,
+        }
+    };
+    connected.map_err(|source| match &source {
+        sqlx::Error::Database(db) if db.code().as_deref() == Some("26") => {
+            StoreError::NotADatabase {
+                path: path.to_path_buf(),
+                reason: db.message().into(),
+            }
+        }
+        _ => StoreError::Database {
+            operation: "open store",
+            source,
+        },
+    })
 }
 
 /// Files whose header this process has read, kept open for the life of the process.

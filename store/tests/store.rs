@@ -1143,6 +1143,33 @@ async fn opening_a_missing_path_creates_the_store_with_its_directories() {
     again.close().await;
 }
 
+/// Several processes opening one new SQLite store at once (three `campaign launch` on a new
+/// file) migrate it once: every open succeeds and finds the schema current.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn concurrent_first_opens_of_a_new_store_all_succeed() {
+    for round in 0..5 {
+        let dir = tempfile::tempdir().unwrap();
+        let location = format!("sqlite://{}", dir.path().join("new.sqlite").display());
+        let opens: Vec<_> = (0..6)
+            .map(|_| {
+                let location = location.clone();
+                tokio::spawn(async move { Store::open(&location, StoreOptions::default()).await })
+            })
+            .collect();
+        for open in opens {
+            let store = open
+                .await
+                .unwrap()
+                .unwrap_or_else(|e| panic!("round {round}: {e}"));
+            assert_eq!(
+                store.schema_version().await.unwrap(),
+                store.supported_schema_version()
+            );
+            store.close().await;
+        }
+    }
+}
+
 #[tokio::test]
 async fn opening_garbage_is_refused_with_a_clear_error() {
     let dir = tempfile::tempdir().unwrap();
