@@ -257,7 +257,37 @@ pub fn hot_spot_line_type(case: &CaseSpec, arc_length_m: f64) -> Option<&LineTyp
     None
 }
 
-/// EA of the segment holding each hot spot; checks the line id and the arc length.
+/// Arc-length spans of the rope segments, e.g. `30-160 m`.
+fn rope_spans(case: &CaseSpec) -> String {
+    let mut spans: Vec<(f64, f64)> = Vec::new();
+    let mut start = 0.0;
+    for seg in &case.mooring.segments {
+        let end = start + seg.length_m;
+        if case
+            .mooring
+            .line_types
+            .get(&seg.line_type)
+            .is_some_and(|t| t.is_rope())
+        {
+            match spans.last_mut() {
+                Some(last) if last.1 == start => last.1 = end,
+                _ => spans.push((start, end)),
+            }
+        }
+        start = end;
+    }
+    if spans.is_empty() {
+        return "none".into();
+    }
+    spans
+        .iter()
+        .map(|(a, b)| format!("{a}-{b} m"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// EA of the segment holding each hot spot; checks the line id, the arc length and that it lies
+/// on a rope.
 fn hot_spot_stiffness(spec: &CampaignSpec, case: &CaseSpec) -> Result<Vec<f64>, CampaignError> {
     let total: f64 = case.mooring.segments.iter().map(|s| s.length_m).sum();
     let mut out = Vec::with_capacity(spec.hot_spots.len());
@@ -276,12 +306,26 @@ fn hot_spot_stiffness(spec: &CampaignSpec, case: &CaseSpec) -> Result<Vec<f64>, 
                 reason: format!("must not exceed the line length {total} m"),
             });
         }
-        let ea = hot_spot_line_type(case, h.arc_length_m).map(|t| t.axial_stiffness_n);
-        out.push(ea.ok_or_else(|| CampaignError::Invalid {
-            field: format!("hot_spots[{i}].arc_length_m"),
-            value: h.arc_length_m.to_string(),
-            reason: "lies on a segment whose line type is not defined".into(),
-        })?);
+        let line_type =
+            hot_spot_line_type(case, h.arc_length_m).ok_or_else(|| CampaignError::Invalid {
+                field: format!("hot_spots[{i}].arc_length_m"),
+                value: h.arc_length_m.to_string(),
+                reason: "lies on a segment whose line type is not defined".into(),
+            })?;
+        // The strand model and the rope T-N curves describe a wire rope: a hot spot on a
+        // chain (no bending stiffness) would get a rope's fretting and T-N damage.
+        if !line_type.is_rope() {
+            return Err(CampaignError::Invalid {
+                field: format!("hot_spots[{i}].arc_length_m"),
+                value: h.arc_length_m.to_string(),
+                reason: format!(
+                    "lies on a chain segment of the global case (ropes: {}); a hot spot must be \
+                     on the spiral-strand rope",
+                    rope_spans(case)
+                ),
+            });
+        }
+        out.push(line_type.axial_stiffness_n);
     }
     Ok(out)
 }

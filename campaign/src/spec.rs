@@ -19,6 +19,7 @@
 
 use moorfret_solver::global::case::{GammaSpec, HotSpotSpec, WindSpec};
 use moorfret_solver::strand::history::{HistoryError, HistoryOptions};
+use moorfret_solver::text::Num;
 use serde::{Deserialize, Serialize};
 
 use crate::error::CampaignError;
@@ -264,6 +265,12 @@ pub const MAX_SEEDS_PER_SEA_STATE: u32 = 1000;
 /// Most threads a strand job or `run strand` uses.
 pub const MAX_STRAND_THREADS: usize = 256;
 
+/// Most time steps of a global run (10⁸: about 116 days at 0.1 s).
+pub const MAX_GLOBAL_STEPS: f64 = 1e8;
+
+/// Largest wire-on-wire friction coefficient accepted.
+pub const MAX_FRICTION_COEFFICIENT: f64 = 2.0;
+
 /// Job settings.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -357,6 +364,24 @@ impl CampaignSpec {
         if let Some(ramp) = s.wave_ramp_s {
             non_negative("simulation.wave_ramp_s", ramp)?;
         }
+        let steps = (s.transient_s + s.duration_s) / s.time_step_s;
+        if steps > MAX_GLOBAL_STEPS {
+            let (field, value) = if s.duration_s > MAX_GLOBAL_STEPS * 0.1 {
+                ("simulation.duration_s", s.duration_s)
+            } else {
+                ("simulation.time_step_s", s.time_step_s)
+            };
+            return Err(invalid(
+                field,
+                Num(value),
+                &format!(
+                    "gives {} time steps over simulation.transient_s + simulation.duration_s, \
+                     more than {}",
+                    Num(steps.floor()),
+                    Num(MAX_GLOBAL_STEPS)
+                ),
+            ));
+        }
         if !(1..=MAX_SEEDS_PER_SEA_STATE).contains(&s.seeds_per_sea_state) {
             return Err(invalid(
                 "simulation.seeds_per_sea_state",
@@ -386,7 +411,16 @@ impl CampaignSpec {
         }
         let st = &self.strand;
         if let Some(mu) = st.friction_coefficient {
-            non_negative("strand.friction_coefficient", mu)?;
+            if !(mu.is_finite() && (0.0..=MAX_FRICTION_COEFFICIENT).contains(&mu)) {
+                return Err(invalid(
+                    "strand.friction_coefficient",
+                    Num(mu),
+                    &format!(
+                        "must be in [0, {MAX_FRICTION_COEFFICIENT}] (steel wires on steel: \
+                         about 0.1 to 0.8)"
+                    ),
+                ));
+            }
         }
         positive("strand.normal_penalty_n_per_m", st.normal_penalty_n_per_m)?;
         positive("strand.elastic_slip_m", st.elastic_slip_m)?;
@@ -397,6 +431,17 @@ impl CampaignSpec {
                 "strand.load_interval_s",
                 st.load_interval_s,
                 "must be a whole multiple of simulation.output_interval_s",
+            ));
+        }
+        if st.load_interval_s > s.duration_s {
+            return Err(invalid(
+                "strand.load_interval_s",
+                Num(st.load_interval_s),
+                &format!(
+                    "must not exceed simulation.duration_s ({} s): the strand would get no load \
+                     step",
+                    Num(s.duration_s)
+                ),
             ));
         }
         positive("strand.checkpoint_interval_s", st.checkpoint_interval_s)?;
@@ -512,6 +557,19 @@ mod tests {
         let mut s = spec.clone();
         s.hot_spots.push(s.hot_spots[0].clone());
         assert_eq!(field(s), "hot_spots[1]");
+        let mut s = spec.clone();
+        s.simulation.time_step_s = 1e-9;
+        assert_eq!(field(s), "simulation.time_step_s");
+        let mut s = spec.clone();
+        s.simulation.duration_s = 1e308;
+        assert_eq!(field(s), "simulation.duration_s");
+        let mut s = spec.clone();
+        s.strand.friction_coefficient = Some(1e6);
+        assert_eq!(field(s), "strand.friction_coefficient");
+        let mut s = spec.clone();
+        s.strand.load_interval_s = 100.0 * s.simulation.output_interval_s.max(1.0);
+        s.simulation.duration_s = 30.0;
+        assert_eq!(field(s), "strand.load_interval_s");
         let mut s = spec;
         s.hot_spots.push(HotSpotSpec {
             line: 1,

@@ -194,41 +194,50 @@ fn killed_worker_job_is_reclaimed_after_lease_expiry_and_completed_once() {
     });
 }
 
+/// SIGTERM (`kill`, the scheduler) and SIGHUP (a closed terminal) both stop a worker with its
+/// lease handed back at once.
 #[test]
 fn stopped_worker_releases_its_lease_without_consuming_an_attempt() {
     let _serial = serial();
-    let dir = tempfile::tempdir().unwrap();
-    let (db, id) = store_with(
-        dir.path(),
-        "sigterm",
-        &[TestPayload::Sleep {
-            duration_ms: 60_000,
-        }],
-    );
-    let log = dir.path().join("worker.log");
-    let mut w = worker(&db, &log);
-    wait_until(
-        &db,
-        "the job to run",
-        |s| s[0] == JobState::Running,
-        id,
-        Some(&log),
-    );
-    let pid = w.id().to_string();
-    assert!(Command::new("kill")
-        .args(["-TERM", &pid])
-        .status()
-        .unwrap()
-        .success());
-    let status = w.wait().unwrap();
-    assert!(status.success());
-    rt().block_on(async {
-        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
-        let job = &store.jobs_of_campaign(id).await.unwrap()[0];
-        assert_eq!(job.state, JobState::Ready);
-        assert_eq!((job.attempt, job.lost_count), (0, 0));
-        store.close().await;
-    });
+    for signal in ["-TERM", "-HUP"] {
+        let dir = tempfile::tempdir().unwrap();
+        let (db, id) = store_with(
+            dir.path(),
+            "sigterm",
+            &[TestPayload::Sleep {
+                duration_ms: 60_000,
+            }],
+        );
+        let log = dir.path().join("worker.log");
+        let mut w = worker(&db, &log);
+        wait_until(
+            &db,
+            "the job to run",
+            |s| s[0] == JobState::Running,
+            id,
+            Some(&log),
+        );
+        let pid = w.id().to_string();
+        assert!(Command::new("kill")
+            .args([signal, &pid])
+            .status()
+            .unwrap()
+            .success());
+        let status = w.wait().unwrap();
+        assert!(status.success(), "{signal}");
+        rt().block_on(async {
+            let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+            let job = &store.jobs_of_campaign(id).await.unwrap()[0];
+            assert_eq!(
+                job.state,
+                JobState::Ready,
+                "{signal}: {}",
+                std::fs::read_to_string(&log).unwrap_or_default()
+            );
+            assert_eq!((job.attempt, job.lost_count), (0, 0), "{signal}");
+            store.close().await;
+        });
+    }
 }
 
 /// Twelve sleeping jobs run by `campaign resume` with two workers and leases of `lease_ms`;

@@ -162,6 +162,36 @@ fn profile_without_helical_layers_and_doubled_scatter_rows_are_refused() {
 }
 
 #[test]
+fn hot_spot_on_a_chain_is_refused() {
+    for arc in [10.0, 572.0] {
+        let dir = campaign_copy();
+        let db = existing_store(dir.path());
+        edit_json(&dir.path().join("demo.json"), |v| {
+            v["hot_spots"] = serde_json::json!([{"line": 1, "arc_length_m": arc}]);
+        });
+        assert_refused(
+            dir.path(),
+            &db,
+            &[
+                "hot_spots[0].arc_length_m",
+                "lies on a chain segment",
+                "30-190 m",
+            ],
+        );
+    }
+}
+
+#[test]
+fn unusable_artifact_directory_is_refused_before_the_campaign_is_stored() {
+    let dir = campaign_copy();
+    let db = existing_store(dir.path());
+    let artifacts = dir.path().join("store.sqlite.artifacts");
+    let _ = std::fs::remove_dir_all(&artifacts);
+    std::fs::write(&artifacts, b"a file where the artifact directory goes").unwrap();
+    assert_refused(dir.path(), &db, &["artifact directory"]);
+}
+
+#[test]
 fn commands_that_read_a_store_never_create_one() {
     let dir = tempfile::tempdir().unwrap();
     let typo = dir.path().join("typo.db");

@@ -144,3 +144,31 @@ fn non_physical_case_fails_naming_the_field() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("sea_state.tp_s must be > 0"), "{err}");
 }
+
+/// Thread counts out of range are usage errors (exit code 2), not slow runs or stalls.
+#[test]
+fn thread_counts_out_of_range_are_usage_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    for threads in ["0", "1000", "100000"] {
+        let out = moorfret()
+            .args(["run", "global"])
+            .arg(case_path())
+            .arg("--out")
+            .arg(dir.path().join("out"))
+            .args(["--duration-s", "1", "--threads", threads])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "--threads {threads}: {stderr}");
+        assert!(stderr.contains("--threads"), "{stderr}");
+    }
+    assert!(!dir.path().join("out").exists());
+    let out = moorfret()
+        .args(["run", "strand"])
+        .arg(campaign_file("benchmarks/strand_1_6_1.json"))
+        .args(["--load", "x.csv", "--checkpoint-every", "0", "--out"])
+        .arg(dir.path().join("strand"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+}

@@ -54,6 +54,19 @@ impl ArtifactStore {
         Self::open(database.with_file_name(name))
     }
 
+    /// Writes, syncs and removes a probe file: an error here (a file in the way, a read-only
+    /// or full disk) is found before a campaign is stored, not by its workers.
+    pub fn check_writable(&self) -> Result<(), StoreError> {
+        let probe = self
+            .dir
+            .join(format!("{TEMP_PREFIX}probe-{}", std::process::id()));
+        let written = File::create(&probe)
+            .and_then(|mut f| f.write_all(&[0_u8; 4096]).and_then(|()| f.sync_all()));
+        let removed = fs::remove_file(&probe);
+        written.map_err(io_error(&probe))?;
+        removed.map_err(io_error(&probe))
+    }
+
     /// The directory.
     pub fn dir(&self) -> &Path {
         &self.dir

@@ -1,5 +1,5 @@
 //! A worker process (`moorfret worker`, `moorfret-worker`): open the store and the artifact
-//! directory, run the claim loop of [`crate::serve`] until SIGTERM, SIGINT or idleness, and
+//! directory, run the claim loop of [`crate::serve`] until SIGTERM, SIGINT, SIGHUP or idleness, and
 //! release the running job's lease on the way out without consuming an attempt.
 //!
 //! The binaries parse their command lines into [`ProcessOptions`]; everything after that lives
@@ -158,17 +158,20 @@ pub fn run(options: ProcessOptions) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Resolves on SIGTERM or SIGINT.
+/// Resolves on SIGTERM, SIGINT or SIGHUP (a closed terminal ends a worker as `kill` does:
+/// its lease goes back at once).
 async fn wait_for_signal() {
     use tokio::signal::unix::{signal, SignalKind};
     match (
         signal(SignalKind::terminate()),
         signal(SignalKind::interrupt()),
+        signal(SignalKind::hangup()),
     ) {
-        (Ok(mut term), Ok(mut int)) => {
+        (Ok(mut term), Ok(mut int), Ok(mut hup)) => {
             tokio::select! {
                 _ = term.recv() => {}
                 _ = int.recv() => {}
+                _ = hup.recv() => {}
             }
         }
         _ => {

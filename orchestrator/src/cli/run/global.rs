@@ -44,8 +44,8 @@ pub(crate) struct GlobalArgs {
     /// Seed of the sea's realisation, overriding the case's.
     #[arg(long)]
     pub(crate) seed: Option<u64>,
-    /// Worker threads for the lines.
-    #[arg(long, default_value_t = 1)]
+    /// Worker threads for the lines (at most 256; more than the lines gain nothing).
+    #[arg(long, default_value_t = 1, value_parser = clap::builder::TypedValueParser::map(clap::value_parser!(u16).range(1..=256), usize::from))]
     pub(crate) threads: usize,
 }
 

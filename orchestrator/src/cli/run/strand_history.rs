@@ -87,7 +87,7 @@ pub(crate) struct HistoryArgs {
     #[arg(long)]
     pub(crate) checkpoint: Option<PathBuf>,
     /// History segments between two checkpoints.
-    #[arg(long, default_value_t = DEFAULT_CHECKPOINT_SEGMENTS)]
+    #[arg(long, default_value_t = DEFAULT_CHECKPOINT_SEGMENTS, value_parser = clap::builder::TypedValueParser::map(clap::value_parser!(u64).range(1..), |n| n as usize))]
     pub(crate) checkpoint_every: usize,
     /// Start from the checkpoint file if it exists.
     #[arg(long, requires = "checkpoint")]
@@ -777,9 +777,6 @@ pub(super) fn execute(
     out: &Path,
 ) -> anyhow::Result<()> {
     let start = Instant::now();
-    if h.checkpoint_every == 0 {
-        bail!("--checkpoint-every must be >= 1");
-    }
     let table = read_load(load, h.slack_as_zero, h.hot_spot)?;
     let (_, strand, params) = load_strand(args)?;
     let mut lazy = LazyModel::new(&strand, &params);
