@@ -59,11 +59,15 @@ fn read_file(
         path: path.clone(),
         source,
     })?;
-    let text = String::from_utf8(bytes).map_err(|e| CampaignError::File {
+    let mut text = String::from_utf8(bytes).map_err(|e| CampaignError::File {
         field: field.to_owned(),
         path: path.clone(),
         message: format!("not UTF-8 text: {e}"),
     })?;
+    // A byte-order mark (spreadsheet exports) is not content.
+    if text.starts_with('\u{feff}') {
+        text.drain(..'\u{feff}'.len_utf8());
+    }
     let file = ResolvedFile {
         field: field.to_owned(),
         path: relative.to_owned(),

@@ -161,6 +161,21 @@ fn profile_without_helical_layers_and_doubled_scatter_rows_are_refused() {
     assert_refused(dir.path(), &db, &["scatter.path", "overlap"]);
 }
 
+/// Files saved by spreadsheets and some editors start with a UTF-8 byte-order mark.
+#[test]
+fn a_byte_order_mark_is_not_content() {
+    let dir = campaign_copy();
+    let plain = resolve(&dir.path().join("demo.json")).unwrap();
+    for file in ["demo.json", "data/demo_scatter.tsv"] {
+        let path = dir.path().join(file);
+        let text = std::fs::read_to_string(&path).unwrap();
+        std::fs::write(&path, format!("\u{feff}{text}")).unwrap();
+    }
+    let marked = resolve(&dir.path().join("demo.json")).unwrap();
+    assert_eq!(marked.inputs.spec, plain.inputs.spec);
+    assert_eq!(marked.scatter, plain.scatter);
+}
+
 #[test]
 fn hot_spot_on_a_chain_is_refused() {
     for arc in [10.0, 572.0] {

@@ -198,8 +198,12 @@ async fn run_to_end(
                 job.error_message.as_deref().unwrap_or("")
             );
         }
+        let done = progress.count(JobState::Done);
+        if failed == progress.jobs_total {
+            bail!("campaign {}: all {failed} jobs failed", record.name);
+        }
         bail!(
-            "campaign {}: {failed} of {} jobs failed; the others are done",
+            "campaign {}: {failed} of {} jobs failed, {done} done",
             record.name,
             progress.jobs_total
         );

@@ -185,8 +185,9 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
         "<p>{} sea states, occurrence planned {:.5}, covered by completed sea states {:.5} \
          (fraction of the year; lifetime sums are not renormalised).</p>",
         data.sea_states.len(),
-        planned,
-        covered
+        // + 0.0: an empty sum is −0.0, shown as "-0.00000".
+        planned + 0.0,
+        covered + 0.0
     );
     body += "<h2>Scatter diagram: share of the annual damage per sea state</h2>\n";
     if data.fidelity.values().any(|f| f != "fe") {
