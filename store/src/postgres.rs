@@ -66,11 +66,22 @@ pub(crate) async fn connect(
         conn.close().await.map_err(StoreError::db("open store"))?;
         options = options.options([("search_path", schema)]);
     }
-    PgPoolOptions::new()
+    match PgPoolOptions::new()
         .max_connections(max_connections)
-        .connect_with(options)
+        .connect_with(options.clone())
         .await
-        .map_err(StoreError::db("open store"))
+    {
+        // The pool retries until its acquire timeout, then says only that it timed out; one
+        // direct attempt says why (connection refused, authentication, unknown database).
+        Err(sqlx::Error::PoolTimedOut) => match options.connect().await {
+            Err(cause) => Err(StoreError::db("open store")(cause)),
+            Ok(conn) => {
+                let _ = conn.close().await;
+                Err(StoreError::db("open store")(sqlx::Error::PoolTimedOut))
+            }
+        },
+        connected => connected.map_err(StoreError::db("open store")),
+    }
 }
 
 /// Drops a schema and everything in it (test clean-up).

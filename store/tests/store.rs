@@ -1170,6 +1170,21 @@ async fn concurrent_first_opens_of_a_new_store_all_succeed() {
     }
 }
 
+/// A closed PostgreSQL port: after the pool's retries, the error says why it could not connect.
+#[tokio::test]
+async fn unreachable_postgres_says_why() {
+    let err = match Store::open(
+        "postgres://postgres@127.0.0.1:1/test",
+        StoreOptions::default(),
+    )
+    .await
+    {
+        Ok(_) => panic!("nothing listens on port 1"),
+        Err(e) => e.to_string(),
+    };
+    assert!(err.to_lowercase().contains("refused"), "{err}");
+}
+
 #[tokio::test]
 async fn opening_garbage_is_refused_with_a_clear_error() {
     let dir = tempfile::tempdir().unwrap();
