@@ -538,3 +538,27 @@ fn a_reduced_run_writes_the_fe_files_calibrates_once_and_refuses_a_load_out_of_r
     assert!(e.contains("covers") && e.contains("calibrate"), "{e}");
     assert!(!dir.path().join("outside").join("contacts.csv").exists());
 }
+
+/// A load beyond the admissible fibre strain is blamed on the part that makes it: a tension of
+/// 1e12 N on the tension column, not on the curvature.
+#[test]
+fn an_inadmissible_load_names_the_column_at_fault() {
+    let dir = tempfile::tempdir().unwrap();
+    let load = dir.path().join("load.csv");
+    std::fs::write(
+        &load,
+        "time_s,tension_n,curvature_per_m\n0,1e12,0.002\n0.1,2e4,0.002\n",
+    )
+    .unwrap();
+    let out = run(
+        &load,
+        &dir.path().join("out"),
+        &["--axial-stiffness-n", "3.6e8"],
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("column tension_n") && !err.contains("column curvature"),
+        "{err}"
+    );
+}

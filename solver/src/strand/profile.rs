@@ -153,6 +153,20 @@ pub enum ProfileError {
         /// The names the file has.
         known: Vec<String>,
     },
+    /// A name was given for a file of one profile.
+    #[error(
+        "the file holds one profile, not named profiles: '{name}' cannot be chosen (give no name)"
+    )]
+    SingleProfile {
+        /// Requested name.
+        name: String,
+    },
+    /// No name was given for a file of named profiles.
+    #[error("the file holds named profiles ({}): give the name of one", known.join(", "))]
+    NameNeeded {
+        /// The names the file has.
+        known: Vec<String>,
+    },
     /// A required field is missing.
     #[error("{field} is missing")]
     MissingField {
@@ -403,9 +417,25 @@ pub fn profile_from_json(text: &str) -> Result<StrandProfile, ProfileError> {
 /// name in a file of named profiles.
 pub fn select_profile(text: &str, name: Option<&str>) -> Result<StrandProfile, ProfileError> {
     let Some(name) = name else {
-        return profile_from_json(text);
+        return profile_from_json(text).map_err(|e| match profiles_from_json(text) {
+            Ok(named) => ProfileError::NameNeeded {
+                known: named.into_keys().collect(),
+            },
+            Err(_) => e,
+        });
     };
-    let mut profiles = profiles_from_json(text)?;
+    let mut profiles = match profiles_from_json(text) {
+        Ok(p) => p,
+        Err(e) => {
+            return Err(if profile_from_json(text).is_ok() {
+                ProfileError::SingleProfile {
+                    name: name.to_owned(),
+                }
+            } else {
+                e
+            })
+        }
+    };
     profiles
         .remove(name)
         .ok_or_else(|| ProfileError::UnknownProfile {
@@ -427,5 +457,28 @@ impl Strand {
             .map_or(2.0 * self.core_wire_radius_m, |l| {
                 2.0 * (l.helix_radius_m + l.wire_radius_m)
             })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SINGLE: &str = include_str!("../../../campaigns/benchmarks/strand_1_6_1.json");
+    const NAMED: &str = include_str!("../../../campaigns/data/strand_profiles.json");
+
+    #[test]
+    fn a_name_is_given_exactly_when_the_file_holds_named_profiles() {
+        assert!(select_profile(SINGLE, None).is_ok());
+        assert!(select_profile(NAMED, Some("benchmark_1_6_1")).is_ok());
+        let e = select_profile(SINGLE, Some("x")).unwrap_err().to_string();
+        assert!(e.starts_with("the file holds one profile"), "{e}");
+        let e = select_profile(NAMED, None).unwrap_err().to_string();
+        assert!(
+            e.starts_with("the file holds named profiles (") && e.contains("paper_six_layer"),
+            "{e}"
+        );
+        let e = select_profile(NAMED, Some("x")).unwrap_err().to_string();
+        assert!(e.starts_with("no strand profile named 'x'"), "{e}");
     }
 }

@@ -461,11 +461,18 @@ pub fn validate_samples(
                 "negative: the strand would be in compression".into(),
             ));
         }
-        let fibre = s.strain + s.curvature_per_m.abs() * half_d;
+        let bending = s.curvature_per_m.abs() * half_d;
+        let fibre = s.strain + bending;
         if fibre > options.max_fibre_strain {
+            // Blamed on the larger of the two parts.
+            let (field, value) = if s.strain >= bending {
+                ("strain", s.strain)
+            } else {
+                ("curvature_per_m", s.curvature_per_m)
+            };
             return Err(bad(
-                "curvature_per_m",
-                s.curvature_per_m,
+                field,
+                value,
                 format!(
                     "fibre strain ε + |κ| D/2 = {fibre:.3e} at the strand surface exceeds the \
                      admissible {:.3e}",
