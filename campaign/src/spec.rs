@@ -364,6 +364,23 @@ impl CampaignSpec {
         if let Some(ramp) = s.wave_ramp_s {
             non_negative("simulation.wave_ramp_s", ramp)?;
         }
+        match &s.gamma {
+            GammaSpec::Value(g) if !(g.is_finite() && (1.0..=7.0).contains(g)) => {
+                return Err(invalid(
+                    "simulation.gamma",
+                    Num(*g),
+                    "must be in [1, 7] or \"dnv\"",
+                ));
+            }
+            GammaSpec::Rule(r) if !r.eq_ignore_ascii_case("dnv") => {
+                return Err(invalid(
+                    "simulation.gamma",
+                    r,
+                    "must be a number in [1, 7] or \"dnv\"",
+                ));
+            }
+            _ => {}
+        }
         let steps = (s.transient_s + s.duration_s) / s.time_step_s;
         if steps > MAX_GLOBAL_STEPS {
             let (field, value) = if s.duration_s > MAX_GLOBAL_STEPS * 0.1 {
@@ -557,6 +574,12 @@ mod tests {
         let mut s = spec.clone();
         s.hot_spots.push(s.hot_spots[0].clone());
         assert_eq!(field(s), "hot_spots[1]");
+        let mut s = spec.clone();
+        s.simulation.gamma = GammaSpec::Value(0.5);
+        assert_eq!(field(s), "simulation.gamma");
+        let mut s = spec.clone();
+        s.simulation.gamma = GammaSpec::Rule("high".into());
+        assert_eq!(field(s), "simulation.gamma");
         let mut s = spec.clone();
         s.simulation.time_step_s = 1e-9;
         assert_eq!(field(s), "simulation.time_step_s");
