@@ -112,3 +112,51 @@ async fn report_of_the_fixture_is_self_contained_and_renders() {
     // A rendered page of plots compresses to far more than a blank 1280 × 2000 image (< 10 kB).
     assert!(bytes.len() > 30_000, "screenshot of {} bytes", bytes.len());
 }
+
+/// An artifact changed on disk (one byte) or deleted is an error naming it, not a report
+/// without its plot.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_damaged_or_missing_artifact_fails_the_report_naming_it() {
+    let Some((store, fixture::Location::Sqlite(dir))) = fixture::open(false).await else {
+        panic!("SQLite fixture");
+    };
+    let db = dir.path().join("fixture.sqlite");
+    let artifacts = ArtifactStore::beside_database(&db).unwrap();
+    fixture::populate(&store, Some(&artifacts)).await;
+    store.close().await;
+    let files: Vec<PathBuf> = std::fs::read_dir(artifacts.dir())
+        .unwrap()
+        .flat_map(|d| std::fs::read_dir(d.unwrap().path()).unwrap())
+        .map(|f| f.unwrap().path())
+        .collect();
+    assert!(!files.is_empty());
+    let report = || {
+        Command::new(env!("CARGO_BIN_EXE_moorfret"))
+            .args(["report", fixture::NAME, "--out"])
+            .arg(dir.path().join("report"))
+            .arg("--db")
+            .arg(&db)
+            .output()
+            .unwrap()
+    };
+    for damage in ["flip a byte", "delete"] {
+        let originals: Vec<Vec<u8>> = files.iter().map(|f| std::fs::read(f).unwrap()).collect();
+        for f in &files {
+            if damage == "delete" {
+                std::fs::remove_file(f).unwrap();
+            } else {
+                let mut bytes = std::fs::read(f).unwrap();
+                bytes[0] ^= 1;
+                std::fs::write(f, bytes).unwrap();
+            }
+        }
+        let out = report();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{damage}: {err}");
+        assert!(err.contains("artifact hot_spot_"), "{damage}: {err}");
+        for (f, bytes) in files.iter().zip(originals) {
+            std::fs::write(f, bytes).unwrap();
+        }
+    }
+    assert!(report().status.success());
+}

@@ -359,12 +359,12 @@ async fn hot_spot_series(
         }
         let results = store.results_of(job.id).await?;
         // One artifact per hot spot (`hot_spot_<i>_series`) or one for all (`hotspots.csv`).
-        let mut parts: Vec<(usize, &str)> = results
+        let mut parts: Vec<(usize, &str, &str)> = results
             .artifacts
             .iter()
             .filter_map(|a| {
                 let i = a.role.strip_prefix("hot_spot_")?.strip_suffix("_series")?;
-                Some((i.parse().ok()?, a.sha256.as_str()))
+                Some((i.parse().ok()?, a.sha256.as_str(), a.role.as_str()))
             })
             .collect();
         parts.sort();
@@ -374,14 +374,19 @@ async fn hot_spot_series(
                 .iter()
                 .find(|a| a.role.contains("hotspots"))
             {
-                parts.push((0, a.sha256.as_str()));
+                parts.push((0, a.sha256.as_str(), a.role.as_str()));
             }
         }
         let mut series: Option<HotSpotSeries> = None;
-        for (_, sha) in parts {
-            let Ok(bytes) = artifacts.get(sha) else {
-                continue;
-            };
+        for (_, sha, role) in parts {
+            // A missing or damaged artifact is an error, not an absent plot.
+            let bytes = artifacts.get(sha).with_context(|| {
+                format!(
+                    "artifact {role} ({sha}) of job {} in {}",
+                    job.id,
+                    artifacts.dir().display()
+                )
+            })?;
             let part = parse_hotspots_csv(&bytes, index)?;
             match &mut series {
                 None => series = Some(part),
