@@ -36,6 +36,43 @@ where
         .map_err(plot_err)
 }
 
+/// Buckets of a time panel's curve: a panel is about 1000 px wide, so two points (the lowest
+/// and the highest) per half pixel draw the same line as every sample.
+const PANEL_BUCKETS: usize = 2000;
+
+/// The points of `y(t)` to draw: all of them up to `2 buckets`, else the lowest and the
+/// highest sample of each of `buckets` runs of equal length, in time order, and the last
+/// sample. The drawn envelope is that of every sample, and an SVG stays a few hundred kB
+/// whatever the length of the series.
+pub(crate) fn decimated(t: &[f64], y: &[f64], buckets: usize) -> Vec<(f64, f64)> {
+    let n = t.len().min(y.len());
+    if n <= 2 * buckets.max(1) {
+        return t.iter().copied().zip(y.iter().copied()).take(n).collect();
+    }
+    let mut out = Vec::with_capacity(2 * buckets + 2);
+    out.push((t[0], y[0]));
+    for b in 0..buckets {
+        let (lo, hi) = (
+            b * n / buckets,
+            ((b + 1) * n / buckets).max(b * n / buckets + 1),
+        );
+        let run = lo..hi.min(n);
+        let lowest = run.clone().fold(lo, |m, i| if y[i] < y[m] { i } else { m });
+        let highest = run.fold(lo, |m, i| if y[i] > y[m] { i } else { m });
+        let (first, second) = (lowest.min(highest), lowest.max(highest));
+        if first != 0 {
+            out.push((t[first], y[first]));
+        }
+        if second != first {
+            out.push((t[second], y[second]));
+        }
+    }
+    if out.last().map(|p| p.0) != Some(t[n - 1]) {
+        out.push((t[n - 1], y[n - 1]));
+    }
+    out
+}
+
 /// One panel: `y(t)`.
 pub(crate) fn panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, plotters::coord::Shift>,
@@ -79,10 +116,7 @@ where
         .map_err(plot_err)?;
     for &(label, color, y) in curves {
         let series = chart
-            .draw_series(LineSeries::new(
-                t.iter().copied().zip(y.iter().copied()),
-                color,
-            ))
+            .draw_series(LineSeries::new(decimated(t, y, PANEL_BUCKETS), color))
             .map_err(plot_err)?;
         if !label.is_empty() {
             series
@@ -179,4 +213,28 @@ pub fn static_shapes_svg(result: &GlobalResult, path: &Path) -> anyhow::Result<(
     root.present()
         .map_err(plot_err)
         .with_context(|| format!("writing {}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decimation_keeps_every_extreme_in_time_order() {
+        let n = 1_000_000;
+        let t: Vec<f64> = (0..n).map(|i| i as f64 * 0.001).collect();
+        let mut y: Vec<f64> = t.iter().map(|t| (0.7 * t).sin()).collect();
+        y[123_457] = 5.0; // a spike
+        y[876_543] = -4.0;
+        let d = decimated(&t, &y, 2000);
+        assert!(d.len() <= 4002, "{}", d.len());
+        assert!(d.windows(2).all(|w| w[0].0 < w[1].0));
+        let max = d.iter().map(|p| p.1).fold(f64::MIN, f64::max);
+        let min = d.iter().map(|p| p.1).fold(f64::MAX, f64::min);
+        assert_eq!((max, min), (5.0, -4.0));
+        assert_eq!(d[0], (t[0], y[0]));
+        assert_eq!(*d.last().unwrap(), (t[n - 1], y[n - 1]));
+        // Short series are drawn as they are.
+        assert_eq!(decimated(&t[..10], &y[..10], 2000).len(), 10);
+    }
 }
