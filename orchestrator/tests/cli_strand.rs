@@ -562,3 +562,21 @@ fn an_inadmissible_load_names_the_column_at_fault() {
         "{err}"
     );
 }
+
+#[test]
+fn a_zero_contact_regularisation_names_the_option() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = moorfret()
+        .args(["run", "strand"])
+        .arg(profile())
+        .args(["--contact-regularisation", "0", "1e-6", "--out"])
+        .arg(dir.path().join("out"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("--contact-regularisation: NORMAL_PENALTY_N_PER_M must be > 0 (got 0)"),
+        "{err}"
+    );
+}

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{anyhow, Context};
+use anyhow::{anyhow, bail, Context};
 use clap::Args;
 use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::{
@@ -102,10 +102,23 @@ pub(crate) fn load_strand(
         .validate()
         .with_context(|| format!("in strand profile {}", args.profile.display()))?;
     let reg = match args.contact_regularisation.as_deref() {
-        Some(&[normal_penalty_n_per_m, elastic_slip_m]) => Regularisation {
-            normal_penalty_n_per_m,
-            elastic_slip_m,
-        },
+        Some(&[normal_penalty_n_per_m, elastic_slip_m]) => {
+            for (name, v) in [
+                ("NORMAL_PENALTY_N_PER_M", normal_penalty_n_per_m),
+                ("ELASTIC_SLIP_M", elastic_slip_m),
+            ] {
+                if !(v.is_finite() && v > 0.0) {
+                    bail!(
+                        "--contact-regularisation: {name} must be > 0 (got {})",
+                        moorfret_solver::text::Num(v)
+                    );
+                }
+            }
+            Regularisation {
+                normal_penalty_n_per_m,
+                elastic_slip_m,
+            }
+        }
         _ => *profile
             .regularisation
             .as_ref()
