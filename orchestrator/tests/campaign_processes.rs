@@ -240,6 +240,63 @@ fn stopped_worker_releases_its_lease_without_consuming_an_attempt() {
     }
 }
 
+/// A job leased by a worker the driver did not start (here the test, as another host): the
+/// driver's progress says it is waiting on that lease, and the campaign ends once the lease
+/// runs out and the job is re-run.
+#[test]
+fn progress_says_when_the_campaign_waits_on_a_lease_held_elsewhere() {
+    let _serial = serial();
+    let dir = tempfile::tempdir().unwrap();
+    let payloads = [
+        TestPayload::Sleep { duration_ms: 100 },
+        TestPayload::Sleep { duration_ms: 100 },
+    ];
+    let (db, id) = store_with(dir.path(), "elsewhere", &payloads);
+    rt().block_on(async {
+        let options = StoreOptions {
+            policy: moorfret_store::QueuePolicy {
+                lease_ms: 3000,
+                heartbeat_interval_ms: 1000,
+                ..moorfret_store::QueuePolicy::default()
+            },
+            ..StoreOptions::default()
+        };
+        let store = Store::open(&db, options).await.unwrap();
+        let worker = store
+            .register_worker(&moorfret_store::WorkerInfo {
+                host: "another-host".into(),
+                pid: 1,
+                version: "test".into(),
+            })
+            .await
+            .unwrap();
+        let lease = store
+            .claim(&worker, &moorfret_store::ClaimFilter::default())
+            .await
+            .unwrap();
+        assert!(lease.is_some());
+        store.close().await;
+    });
+    let out = moorfret(&[
+        "campaign",
+        "resume",
+        "elsewhere",
+        "--db",
+        &db,
+        "--workers",
+        "1",
+    ])
+    .output()
+    .unwrap();
+    let log = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{log}");
+    assert!(
+        log.contains("(1 on workers this driver did not start: waiting for them or for their leases to run out)"),
+        "{log}"
+    );
+    assert_each_done_once(&db, id);
+}
+
 /// Twelve sleeping jobs run by `campaign resume` with two workers and leases of `lease_ms`;
 /// the driver and its workers are killed together (as a reboot) once three are done, and a
 /// second `campaign resume` finishes the campaign: every job done once. Returns the wall time

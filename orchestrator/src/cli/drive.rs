@@ -126,9 +126,37 @@ pub(crate) async fn drive(
     loop {
         progress = store.progress(record.id).await?;
         let finished = finished_jobs(&progress);
+        let running = progress.count(JobState::Running);
+        // Jobs running on workers this driver did not start (another host, a worker started
+        // by hand or by a scheduler, one that died elsewhere): the campaign waits on their
+        // leases, which return when those workers finish or their leases run out.
+        let ours: Vec<i64> = children
+            .iter()
+            .filter_map(|c| c.id().map(i64::from))
+            .collect();
+        let held_here = if running > 0 {
+            store
+                .running_on_host(&host)
+                .await?
+                .into_iter()
+                .filter(|(_, pid)| ours.contains(pid))
+                .count()
+        } else {
+            0
+        };
+        let elsewhere = usize::try_from(running)
+            .unwrap_or(0)
+            .saturating_sub(held_here);
+        let waiting = if elsewhere > 0 {
+            format!(
+                " ({elsewhere} on workers this driver did not start: waiting for them or for \
+                 their leases to run out)"
+            )
+        } else {
+            String::new()
+        };
         let message = format!(
-            "{} running, {} failed, occurrence covered {:.3} % of {:.3} % planned",
-            progress.count(JobState::Running),
+            "{running} running{waiting}, {} failed, occurrence covered {:.3} % of {:.3} % planned",
             progress.count(JobState::Failed),
             100.0 * progress.occurrence_covered,
             100.0 * progress.occurrence_planned
