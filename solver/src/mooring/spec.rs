@@ -16,6 +16,9 @@ use serde::{Deserialize, Serialize};
 use super::error::LineError;
 use crate::text::Num;
 
+/// Most elements of one segment (the paper's line has 84 in all).
+pub const MAX_SEGMENT_ELEMENTS: usize = 10_000;
+
 /// Section properties of one line type (a chain grade or a rope construction).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -240,11 +243,11 @@ impl LineSpec {
                 ));
             }
             positive(format!("{path}.length_m"), s.length_m)?;
-            if s.elements == 0 {
+            if s.elements == 0 || s.elements > MAX_SEGMENT_ELEMENTS {
                 return Err(LineError::invalid(
                     format!("{path}.elements"),
-                    0,
-                    "must be >= 1",
+                    s.elements,
+                    &format!("must be from 1 to {MAX_SEGMENT_ELEMENTS}"),
                 ));
             }
             if let Some(m) = s.extra_mass_kg {
