@@ -297,6 +297,20 @@ struct Line {
     elements: usize,
 }
 
+/// Where a chain of lines lies: its fairlead and anchor points and their radial geometry.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Placed {
+    fairlead: usize,
+    anchor: usize,
+    /// moorfret line id: the MoorDyn id of the line at the fairlead.
+    id: u32,
+    radius_m: f64,
+    depth_m: f64,
+    reach_m: f64,
+    azimuth_rad: f64,
+    anchor_z_m: f64,
+}
+
 /// One segment of a chain, with its row and the free point above it.
 #[derive(Debug, Clone, PartialEq)]
 struct ChainSegment {
@@ -864,19 +878,34 @@ pub fn import(text: &str, settings: &ImportSettings) -> Result<Imported, DeckErr
                 ),
             ));
         }
-        layout.push((
-            *f,
-            *anchor,
-            lines[c[0].line].id,
-            radius,
-            -fp[2],
-            reach,
-            azimuth,
-            ap[2],
-        ));
+        layout.push(Placed {
+            fairlead: *f,
+            anchor: *anchor,
+            id: lines[c[0].line].id,
+            radius_m: radius,
+            depth_m: -fp[2],
+            reach_m: reach,
+            azimuth_rad: azimuth,
+            anchor_z_m: ap[2],
+        });
     }
-    let (_, a0, _, radius, depth, reach, _, anchor_z) = layout[0];
-    for &(f, a, _, r, d, h, _, z) in &layout[1..] {
+    let first = &layout[0];
+    let (a0, radius, depth, reach, anchor_z) = (
+        first.anchor,
+        first.radius_m,
+        first.depth_m,
+        first.reach_m,
+        first.anchor_z_m,
+    );
+    for p in &layout[1..] {
+        let (f, a, r, d, h, z) = (
+            p.fairlead,
+            p.anchor,
+            p.radius_m,
+            p.depth_m,
+            p.reach_m,
+            p.anchor_z_m,
+        );
         let close = |x: f64, y: f64| (x - y).abs() <= 1e-6 * x.abs().max(y.abs()).max(1.0);
         if !close(r, radius) || !close(d, depth) {
             return Err(refuse(
@@ -976,9 +1005,9 @@ pub fn import(text: &str, settings: &ImportSettings) -> Result<Imported, DeckErr
             anchor_horizontal_distance_m: reach,
             lines: layout
                 .iter()
-                .map(|&(_, _, id, _, _, _, azimuth, _)| LineLayoutSpec {
-                    id,
-                    fairlead_azimuth_deg: azimuth.to_degrees(),
+                .map(|p| LineLayoutSpec {
+                    id: p.id,
+                    fairlead_azimuth_deg: p.azimuth_rad.to_degrees(),
                 })
                 .collect(),
         },
