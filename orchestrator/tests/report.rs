@@ -50,8 +50,9 @@ fn screenshot(browser: &Path, page: &Path, png: &Path, profile: &Path) {
     );
 }
 
-#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn report_of_the_fixture_is_self_contained_and_renders() {
+/// The fixture campaign in an SQLite store with its artifacts: (directory, store file,
+/// artifact store).
+async fn populated_fixture() -> (tempfile::TempDir, PathBuf, ArtifactStore) {
     let Some((store, fixture::Location::Sqlite(dir))) = fixture::open(false).await else {
         panic!("SQLite fixture");
     };
@@ -59,15 +60,25 @@ async fn report_of_the_fixture_is_self_contained_and_renders() {
     let artifacts = ArtifactStore::beside_database(&db).unwrap();
     fixture::populate(&store, Some(&artifacts)).await;
     store.close().await;
+    (dir, db, artifacts)
+}
 
-    let out = dir.path().join("report");
-    let run = Command::new(env!("CARGO_BIN_EXE_moorfret"))
+/// `moorfret report` of the fixture campaign in `db` into `out`.
+fn report(db: &Path, out: &Path) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_moorfret"))
         .args(["report", fixture::NAME, "--out"])
-        .arg(&out)
+        .arg(out)
         .arg("--db")
-        .arg(&db)
+        .arg(db)
         .output()
-        .unwrap();
+        .unwrap()
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn report_of_the_fixture_is_self_contained_and_renders() {
+    let (dir, db, _) = populated_fixture().await;
+    let out = dir.path().join("report");
+    let run = report(&db, &out);
     assert!(
         run.status.success(),
         "{}",
@@ -117,28 +128,14 @@ async fn report_of_the_fixture_is_self_contained_and_renders() {
 /// without its plot.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_damaged_or_missing_artifact_fails_the_report_naming_it() {
-    let Some((store, fixture::Location::Sqlite(dir))) = fixture::open(false).await else {
-        panic!("SQLite fixture");
-    };
-    let db = dir.path().join("fixture.sqlite");
-    let artifacts = ArtifactStore::beside_database(&db).unwrap();
-    fixture::populate(&store, Some(&artifacts)).await;
-    store.close().await;
+    let (dir, db, artifacts) = populated_fixture().await;
     let files: Vec<PathBuf> = std::fs::read_dir(artifacts.dir())
         .unwrap()
         .flat_map(|d| std::fs::read_dir(d.unwrap().path()).unwrap())
         .map(|f| f.unwrap().path())
         .collect();
     assert!(!files.is_empty());
-    let report = || {
-        Command::new(env!("CARGO_BIN_EXE_moorfret"))
-            .args(["report", fixture::NAME, "--out"])
-            .arg(dir.path().join("report"))
-            .arg("--db")
-            .arg(&db)
-            .output()
-            .unwrap()
-    };
+    let out = dir.path().join("report");
     for damage in ["flip a byte", "delete"] {
         let originals: Vec<Vec<u8>> = files.iter().map(|f| std::fs::read(f).unwrap()).collect();
         for f in &files {
@@ -150,13 +147,13 @@ async fn a_damaged_or_missing_artifact_fails_the_report_naming_it() {
                 std::fs::write(f, bytes).unwrap();
             }
         }
-        let out = report();
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{damage}: {err}");
+        let run = report(&db, &out);
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{damage}: {err}");
         assert!(err.contains("artifact hot_spot_"), "{damage}: {err}");
         for (f, bytes) in files.iter().zip(originals) {
             std::fs::write(f, bytes).unwrap();
         }
     }
-    assert!(report().status.success());
+    assert!(report(&db, &out).status.success());
 }

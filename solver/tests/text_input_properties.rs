@@ -110,15 +110,6 @@ proptest! {
             }
         }
     }
-}
-
-proptest! {
-    #![proptest_config(Config {
-        cases: 400,
-        rng_seed: RngSeed::Fixed(20261126),
-        failure_persistence: None,
-        ..Config::default()
-    })]
 
     /// Scatter tables of arbitrary digits, separators and signs parse or are refused; never a
     /// panic.

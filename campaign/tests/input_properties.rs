@@ -1,8 +1,15 @@
-//! Adversarial case files: the paper case with one value replaced by an extreme number or a value
-//! of the wrong type. Reading and validating never panics; a refusal names a field of the case
-//! by its path; a case that validates builds its model and solves its statics, or reports why,
-//! without a panic and without non-finite results.
+//! Adversarial inputs: one value of a file replaced by an extreme number or a value of the wrong
+//! type.
+//! - The demo campaign, resolved with its files: resolution never panics or aborts, and a
+//!   refusal names a field of the campaign file by its path.
+//! - The paper's global case: reading and validating never panic, a refusal names a field of
+//!   the case by its path, and a case that validates builds its model and solves its statics,
+//!   or reports why, without a panic and without non-finite results. (It found an abort:
+//!   `segments[i].elements` 4294967295 allocated until the process was killed.)
 
+use std::path::Path;
+
+use moorfret_campaign::{resolve, CampaignError};
 use moorfret_solver::floater::FloaterSpec;
 use moorfret_solver::global::case::CaseSpec;
 use moorfret_solver::global::system::{solve_coupled_statics, StaticsParams};
@@ -19,6 +26,22 @@ const FLOATER: &str = include_str!(concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/../campaigns/data/oc4_semi_floater.json"
 ));
+
+/// The demo campaign and the files it names, copied into `dir`.
+fn copy_demo(dir: &Path) {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns");
+    for f in [
+        "demo.json",
+        "paper_case.json",
+        "data/demo_scatter.tsv",
+        "data/oc4_semi_floater.json",
+        "benchmarks/strand_1_6_1.json",
+    ] {
+        let to = dir.join(f);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::copy(src.join(f), to).unwrap();
+    }
+}
 
 /// Paths (JSON pointers) of every number in `v`.
 fn number_paths(v: &Value, at: &str, out: &mut Vec<String>) {
@@ -38,7 +61,6 @@ fn number_paths(v: &Value, at: &str, out: &mut Vec<String>) {
     }
 }
 
-/// Extreme numbers, ordinary ones, and values of the wrong type.
 fn replacement() -> impl Strategy<Value = Value> {
     prop_oneof![
         Just(serde_json::json!(0.0)),
@@ -56,7 +78,7 @@ fn replacement() -> impl Strategy<Value = Value> {
 }
 
 /// Whether a dotted field path (`mooring.segments[1].length_m`) names a place of the case.
-fn names_a_field(field: &str) -> bool {
+fn names_a_case_field(field: &str) -> bool {
     let top = field
         .split(['.', '['])
         .next()
@@ -70,6 +92,25 @@ fn names_a_field(field: &str) -> bool {
     )
 }
 
+/// Whether a field path names a place of the campaign file (or a file it names).
+fn names_a_field(field: &str) -> bool {
+    let top = field.split(['.', '[', ':', ' ']).next().unwrap_or_default();
+    matches!(
+        top,
+        "name"
+            | "design_life_years"
+            | "seed"
+            | "scatter"
+            | "global"
+            | "simulation"
+            | "hot_spots"
+            | "strand"
+            | "fatigue"
+            | "jobs"
+            | "campaign"
+    )
+}
+
 proptest! {
     #![proptest_config(Config {
         cases: 160,
@@ -77,6 +118,33 @@ proptest! {
         failure_persistence: None,
         ..Config::default()
     })]
+
+    #[test]
+    fn a_campaign_with_one_bad_value_is_refused_by_field_or_resolves(
+        pick in any::<prop::sample::Index>(),
+        value in replacement(),
+    ) {
+        let dir = tempfile::tempdir().unwrap();
+        copy_demo(dir.path());
+        let file = dir.path().join("demo.json");
+        let mut spec: Value =
+            serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+        let mut paths = Vec::new();
+        number_paths(&spec, "", &mut paths);
+        let path = &paths[pick.index(paths.len())];
+        *spec.pointer_mut(path).unwrap() = value.clone();
+        std::fs::write(&file, spec.to_string()).unwrap();
+        match resolve(&file) {
+            Ok(_) => {}
+            Err(CampaignError::Invalid { field, .. }) => {
+                prop_assert!(names_a_field(&field), "{path} = {value}: {field}");
+            }
+            Err(e) => {
+                let text = e.to_string();
+                prop_assert!(!text.is_empty() && text.len() < 2000, "{path} = {value}: {text}");
+            }
+        }
+    }
 
     #[test]
     fn a_case_with_one_bad_value_is_refused_by_field_or_solves(
@@ -99,7 +167,7 @@ proptest! {
         if let Err(e) = spec.validate() {
             match &e {
                 GlobalError::InvalidCase { field, .. } => {
-                    prop_assert!(names_a_field(field), "{path} = {value}: {e}");
+                    prop_assert!(names_a_case_field(field), "{path} = {value}: {e}");
                 }
                 other => prop_assert!(!other.to_string().is_empty()),
             }
