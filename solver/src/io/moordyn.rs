@@ -114,6 +114,22 @@ impl Entry {
             })
     }
 
+    /// Checks that the ID column of the `k`-th entry (from 0) of a table of `what`s is k + 1.
+    fn sequential_id(&self, k: usize, what: &str) -> Result<(), DeckError> {
+        let id = self.number(0, "ID")?;
+        if id == (k + 1) as f64 {
+            Ok(())
+        } else {
+            Err(refuse(
+                self.row,
+                format!(
+                    "{what} IDs must run 1, 2, … in order (found {id} at position {})",
+                    k + 1
+                ),
+            ))
+        }
+    }
+
     fn optional_number(&self, column: usize, name: &str) -> Result<f64, DeckError> {
         if column < self.fields.len() {
             self.number(column, name)
@@ -486,16 +502,7 @@ fn read_points(deck: &Deck, notes: &mut Vec<DeckNote>) -> Result<Vec<Point>, Dec
     }
     let mut points = Vec::new();
     for (k, e) in deck.points.iter().enumerate() {
-        let id = e.number(0, "ID")?;
-        if id != (k + 1) as f64 {
-            return Err(refuse(
-                e.row,
-                format!(
-                    "point IDs must run 1, 2, … in order (found {id} at position {})",
-                    k + 1
-                ),
-            ));
-        }
+        e.sequential_id(k, "point")?;
         let attachment = e.text(1, "Attachment")?.to_ascii_lowercase();
         let role = match attachment.as_str() {
             "fixed" | "anchor" | "fix" => Role::Anchor,
@@ -553,16 +560,7 @@ fn read_lines(
 ) -> Result<Vec<Line>, DeckError> {
     let mut lines = Vec::new();
     for (k, e) in deck.lines.iter().enumerate() {
-        let id = e.number(0, "ID")?;
-        if id != (k + 1) as f64 {
-            return Err(refuse(
-                e.row,
-                format!(
-                    "line IDs must run 1, 2, … in order (found {id} at position {})",
-                    k + 1
-                ),
-            ));
-        }
+        e.sequential_id(k, "line")?;
         let line_type = e.text(1, "LineType")?.to_owned();
         if !types.contains_key(&line_type) {
             return Err(refuse(
