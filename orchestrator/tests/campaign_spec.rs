@@ -206,6 +206,37 @@ fn unusable_artifact_directory_is_refused_before_the_campaign_is_stored() {
     assert_refused(dir.path(), &db, &["artifact directory"]);
 }
 
+/// Every command that takes `--db` reads `MOORFRET_DB` too, and says so in its help.
+#[test]
+fn every_store_command_honours_moorfret_db() {
+    let dir = tempfile::tempdir().unwrap();
+    let typo = dir.path().join("from-env.db");
+    for args in [
+        vec!["campaign", "status"],
+        vec!["campaign", "resume", "demo"],
+        vec!["campaign", "cancel", "demo"],
+        vec!["query", "lifetime", "--campaign", "demo"],
+        vec!["report", "demo", "--out", "r"],
+    ] {
+        let help = Command::new(env!("CARGO_BIN_EXE_moorfret"))
+            .args(&args[..args.len().min(2)])
+            .arg("--help")
+            .output()
+            .unwrap();
+        let help = String::from_utf8_lossy(&help.stdout);
+        assert!(help.contains("[env: MOORFRET_DB="), "{args:?}: {help}");
+        let out = Command::new(env!("CARGO_BIN_EXE_moorfret"))
+            .args(&args)
+            .env("MOORFRET_DB", &typo)
+            .current_dir(dir.path())
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(stderr.contains("from-env.db"), "{args:?}: {stderr}");
+    }
+}
+
 #[test]
 fn commands_that_read_a_store_never_create_one() {
     let dir = tempfile::tempdir().unwrap();
