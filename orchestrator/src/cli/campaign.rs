@@ -93,11 +93,7 @@ pub(crate) fn execute(cmd: CampaignCommand) -> anyhow::Result<()> {
                 if record.state == moorfret_store::CampaignState::Cancelled {
                     bail!("campaign {name} was cancelled; it cannot be resumed");
                 }
-                store
-                    .config()
-                    .artifact_store()?
-                    .check_writable()
-                    .context("the artifact directory is not writable")?;
+                check_artifacts_writable(&store)?;
                 run_to_end(&db, &store, &record, workers).await
             }
             CampaignCommand::Status { name, store, json } => status(&store, name, json).await,
@@ -110,6 +106,15 @@ pub(crate) fn execute(cmd: CampaignCommand) -> anyhow::Result<()> {
             }
         }
     })
+}
+
+/// The artifact directory must take files before a campaign is stored or resumed: a worker
+/// that cannot write its results would only fail and be restarted.
+fn check_artifacts_writable(args: &StoreArgs) -> anyhow::Result<()> {
+    args.config()
+        .artifact_store()?
+        .check_writable()
+        .context("the artifact directory is not writable")
 }
 
 async fn launch(
@@ -135,12 +140,7 @@ async fn launch(
             m.computed
         );
     }
-    // The artifact directory must take files before the campaign is stored: a worker that
-    // cannot write its results would only fail and be restarted.
-    args.config()
-        .artifact_store()?
-        .check_writable()
-        .context("the artifact directory is not writable")?;
+    check_artifacts_writable(args)?;
     let store = args.config().open().await?;
     let started = std::time::Instant::now();
     let (id, jobs) = plan::create(&store, &resolved)
