@@ -96,7 +96,8 @@ fn run_global_writes_consistent_outputs_for_the_paper_case() {
         .arg(campaign_file("benchmarks/strand_1_6_1.json"))
         .arg("--load")
         .arg(out.join("hotspots.csv"))
-        .args(["--hot-spot", "0", "--axial-stiffness-n", "3e8", "--out"])
+        .args(["--hot-spot", "0", "--axial-stiffness-n", "3e8"])
+        .args(["--monitors", "every-sample", "--out"])
         .arg(&strand_out)
         .output()
         .unwrap();

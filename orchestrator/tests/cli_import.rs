@@ -120,10 +120,19 @@ fn the_papers_line_from_a_moordyn_deck_matches_the_case_written_by_hand() {
         .fold((f64::MAX, f64::MIN), |(l, h), r| (l.min(r[1]), h.max(r[1])));
     assert!(hi - lo > 0.2 * hi, "{lo}..{hi}");
 
-    // The strand stage read the hot spot's series as written.
+    // The strand stage read the hot spot's series as written: every sample, and its monitors
+    // at the series' own times.
     let (_, monitors) = csv_rows(&out.join("line_strand/monitors.csv"), 0);
     let (_, series) = csv_rows(&out.join("line/hotspots.csv"), 0);
-    assert_eq!(monitors.len(), series.len());
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("line_strand/summary.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(summary["samples"].as_u64(), Some(series.len() as u64));
+    assert!(monitors.len() >= 2);
+    assert!(monitors
+        .iter()
+        .all(|m| series.iter().any(|s| s[0] == m[0])));
 }
 
 #[test]

@@ -24,7 +24,9 @@ use moorfret_solver::strand::reduced::compare::{
 };
 use moorfret_solver::strand::reduced::LoadRange;
 
-use super::run::strand_history::{read_load, samples_of, LazyModel, Observer, StiffnessArgs};
+use super::run::strand_history::{
+    read_load, samples_of, LazyModel, LoadTable, Observer, StiffnessArgs,
+};
 use super::run::strand_model::{load_strand, ModelArgs};
 use super::run::strand_reduced::{
     calibration_for, range_of, write_calibration, CalibrationRequest,
@@ -90,6 +92,10 @@ pub(crate) struct CompareArgs {
     /// Run-in left out of the statistics (s).
     #[arg(long, default_value_t = 0.0)]
     run_in_s: f64,
+    /// The load history both runs were driven through (default: the `load` their summaries
+    /// name, which must be the same file).
+    #[arg(long)]
+    load: Option<PathBuf>,
     /// Write the comparison as JSON to this file.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -213,63 +219,98 @@ fn calibrate(args: &CalibrateArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Contact records, strain series, times and EA of a `run strand --load` output directory.
+/// Contact records and load of a `run strand --load` output directory (`summary.json`).
 struct RunOutput {
     records: Vec<ContactRecord>,
-    strain: Vec<f64>,
-    dt_s: f64,
+    /// The load file as the run's summary names it.
+    load: PathBuf,
+    hot_spot: usize,
+    slack_as_zero: bool,
+    samples: usize,
     /// EA of a tension history's conversion (none for a strain history).
     ea_n: Option<f64>,
 }
 
-fn read_run(dir: &Path) -> anyhow::Result<RunOutput> {
-    let path = dir.join("contact_records.json");
+/// The load both compared runs were driven through, and its time step.
+struct SharedLoad {
+    table: LoadTable,
+    dt_s: f64,
+}
+
+fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> anyhow::Result<T> {
     let text =
-        std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?;
-    let records: Vec<ContactRecord> =
-        serde_json::from_str(&text).with_context(|| format!("reading {}", path.display()))?;
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    serde_json::from_str(&text).with_context(|| format!("reading {}", path.display()))
+}
+
+fn read_run(dir: &Path) -> anyhow::Result<RunOutput> {
+    let records: Vec<ContactRecord> = read_json(&dir.join("contact_records.json"))?;
     let path = dir.join("summary.json");
-    let summary: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(&path).with_context(|| format!("reading {}", path.display()))?,
-    )
-    .with_context(|| format!("reading {}", path.display()))?;
-    let ea_n = summary
-        .pointer("/axial_stiffness/ea_n")
-        .and_then(serde_json::Value::as_f64);
-    let path = dir.join("monitors.csv");
-    let mut reader =
-        csv::Reader::from_path(&path).with_context(|| format!("reading {}", path.display()))?;
-    let (mut time, mut strain) = (Vec::new(), Vec::new());
-    for (i, rec) in reader.records().enumerate() {
-        let rec = rec.with_context(|| format!("{}: line {}", path.display(), i + 2))?;
-        let num = |k: usize| -> anyhow::Result<f64> {
-            rec.get(k)
-                .and_then(|v| v.parse::<f64>().ok())
-                .ok_or_else(|| {
-                    anyhow!(
-                        "{}: line {}, column {k}: not a number",
-                        path.display(),
-                        i + 2
-                    )
-                })
-        };
-        time.push(num(0)?);
-        strain.push(num(1)?);
+    let summary: serde_json::Value = read_json(&path)?;
+    let field = |name: &str| {
+        summary
+            .get(name)
+            .ok_or_else(|| anyhow!("{}: no `{name}`", path.display()))
+    };
+    let load = field("load")?
+        .as_str()
+        .ok_or_else(|| anyhow!("{}: `load` is not a path", path.display()))?;
+    let samples = field("samples")?
+        .as_u64()
+        .ok_or_else(|| anyhow!("{}: `samples` is not a count", path.display()))?;
+    Ok(RunOutput {
+        records,
+        load: PathBuf::from(load),
+        hot_spot: summary
+            .get("hot_spot")
+            .and_then(serde_json::Value::as_u64)
+            .unwrap_or(0) as usize,
+        slack_as_zero: summary
+            .get("slack_as_zero")
+            .and_then(serde_json::Value::as_bool)
+            .unwrap_or(false),
+        samples: samples as usize,
+        ea_n: summary
+            .pointer("/axial_stiffness/ea_n")
+            .and_then(serde_json::Value::as_f64),
+    })
+}
+
+/// The load of the compared runs, read from `given` or from the load file their summaries name
+/// (the same for both).
+fn shared_load(given: Option<&Path>, a: &RunOutput, b: &RunOutput) -> anyhow::Result<SharedLoad> {
+    if given.is_none() && a.load != b.load {
+        bail!(
+            "the runs name different load files ({} and {}); give --load if they hold the \
+             same history",
+            a.load.display(),
+            b.load.display()
+        );
     }
+    let path = given.unwrap_or(&a.load);
+    let table = read_load(path, a.slack_as_zero, a.hot_spot)
+        .context("the load of the compared runs (--load to give it)")?;
+    for run in [a, b] {
+        if run.samples != table.time_s().len() {
+            bail!(
+                "{}: {} samples, but a run was driven through {}",
+                path.display(),
+                table.time_s().len(),
+                run.samples
+            );
+        }
+    }
+    let time = table.time_s();
     if time.len() < 2 {
         bail!("{}: fewer than two samples", path.display());
     }
     let dt_s = (time[time.len() - 1] - time[0]) / (time.len() - 1) as f64;
-    Ok(RunOutput {
-        records,
-        strain,
-        dt_s,
-        ea_n,
-    })
+    Ok(SharedLoad { table, dt_s })
 }
 
 fn damage_inputs(
     run: &RunOutput,
+    load: &SharedLoad,
     strand: &Strand,
     run_in_samples: usize,
 ) -> anyhow::Result<SeaStateInputs> {
@@ -279,10 +320,15 @@ fn damage_inputs(
         .ea_n
         .unwrap_or_else(|| straight_strand_stiffness(strand).simple_n);
     let config = FatigueSpec::default().fretting_config(strand, ea_n);
-    let tension: Vec<f64> = run.strain.iter().map(|e| e * ea_n).collect();
+    let tension: Vec<f64> = load
+        .table
+        .strain(run.ea_n)?
+        .iter()
+        .map(|e| e * ea_n)
+        .collect();
     let history = TensionHistory {
         tension_n: &tension,
-        dt_s: run.dt_s,
+        dt_s: load.dt_s,
         run_in_samples,
     };
     Ok(sea_state_damage_inputs(&run.records, &history, &config)?)
@@ -304,7 +350,8 @@ fn compare(args: &CompareArgs) -> anyhow::Result<()> {
     if !(args.run_in_s >= 0.0 && args.run_in_s.is_finite()) {
         bail!("--run-in-s {}: must be finite and ≥ 0", args.run_in_s);
     }
-    let run_in = (args.run_in_s / a.dt_s).round() as usize;
+    let load = shared_load(args.load.as_deref(), &a, &b)?;
+    let run_in = (args.run_in_s / load.dt_s).round() as usize;
     let interfaces = compare_records(&a.records, &b.records, args.min_slip_range_m, run_in);
     println!(
         "per interface, cycles of at least {:.2e} m after {} s (compared / reference − 1):",
@@ -314,8 +361,8 @@ fn compare(args: &CompareArgs) -> anyhow::Result<()> {
     for c in &interfaces {
         println!("{c}");
     }
-    let da = damage_inputs(&a, &strand, run_in)?;
-    let db = damage_inputs(&b, &strand, run_in)?;
+    let da = damage_inputs(&a, &load, &strand, run_in)?;
+    let db = damage_inputs(&b, &load, &strand, run_in)?;
     println!("per contact class, damage inputs (compared / reference − 1):");
     println!("class                      fretting damage rate mean       max              slip cycles/h (all regimes)");
     let mut classes = Vec::new();

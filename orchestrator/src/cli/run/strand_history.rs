@@ -17,7 +17,9 @@
 //! Writes into DIR:
 //! - `monitors.csv`: `time_s,strain,curvature_per_m`, then one column per monitor channel
 //!   (quantity, layer or layer interface, neutral axis / outer arc / ring angle), one row per
-//!   sample;
+//!   turning point of the load (the samples an FE run solves; between them the monitors are
+//!   interpolations of the solved states), or one row per sample with
+//!   `--monitors every-sample`: the file grows with what was solved, not with the sampling;
 //! - `contacts.csv`: one row per contact: layer interface, θ from the neutral axis, z, largest
 //!   normal force, largest slip range, counted slip cycles, position class;
 //! - `contact_records.json`: the full per-contact records with their slip cycles;
@@ -42,6 +44,7 @@ use moorfret_solver::fretting::ContactRecord;
 use moorfret_solver::linalg::NewtonParams;
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
 use moorfret_solver::strand::history::monitors::{MonitorChannel, MonitorGroup, MonitorTarget};
+use moorfret_solver::strand::history::reduce::reduce_history;
 use moorfret_solver::strand::history::stiffness::{
     contact_compliant_stiffness_n, measure_axial_stiffness_n, samples_from_tension,
     straight_strand_stiffness, SlackTension,
@@ -95,9 +98,22 @@ pub(crate) struct HistoryArgs {
     /// Stop after this many segments, as an interrupted run would (tests of `--resume`).
     #[arg(long, hide = true)]
     pub(crate) stop_after_segments: Option<usize>,
+    /// Rows of `monitors.csv`: the load's turning points (the samples an FE run solves) or
+    /// every sample of the load.
+    #[arg(long, value_enum, default_value_t = MonitorRows::TurningPoints)]
+    pub(crate) monitors: MonitorRows,
     /// Fidelity and calibration of the strand response.
     #[command(flatten)]
     pub(crate) reduced: ReducedArgs,
+}
+
+/// Which samples `monitors.csv` holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum MonitorRows {
+    /// The turning points of the load at the run's tolerance (the samples an FE run solves).
+    TurningPoints,
+    /// Every sample of the load.
+    EverySample,
 }
 
 /// How a tension history becomes a strain history (EA) and where measured values are cached.
@@ -176,6 +192,33 @@ pub(crate) struct LoadTable {
     time_s: Vec<f64>,
     value: Vec<f64>,
     curvature_per_m: Vec<f64>,
+}
+
+impl LoadTable {
+    /// Sample times (s).
+    pub(crate) fn time_s(&self) -> &[f64] {
+        &self.time_s
+    }
+
+    /// The axial strain of every sample: as given, or T / `ea_n` for a tension history (slack
+    /// samples, admitted by `--slack-as-zero`, as zero strain).
+    pub(crate) fn strain(&self, ea_n: Option<f64>) -> anyhow::Result<Vec<f64>> {
+        match (self.kind, ea_n) {
+            (LoadKind::Strain, _) => Ok(self.value.clone()),
+            (LoadKind::Tension, Some(ea)) => {
+                let (samples, _) = samples_from_tension(
+                    &self.time_s,
+                    &self.value,
+                    &self.curvature_per_m,
+                    ea,
+                    1,
+                    SlackTension::AsZero,
+                )?;
+                Ok(samples.iter().map(|s| s.strain).collect())
+            }
+            (LoadKind::Tension, None) => bail!("a tension history needs the EA of its run"),
+        }
+    }
 }
 
 /// "LOAD.csv sample i (line l), column c".
@@ -424,6 +467,9 @@ struct Summary<'a> {
     calibration: Option<CalibrationSource>,
     load: String,
     load_kind: &'static str,
+    /// Hot spot read from a global run's `hotspots.csv`.
+    hot_spot: usize,
+    slack_as_zero: bool,
     samples: usize,
     slack_samples: usize,
     axial_stiffness: Option<AxialStiffness>,
@@ -499,7 +545,8 @@ fn channel_names(channels: &[MonitorChannel]) -> Vec<String> {
         .collect()
 }
 
-fn write_monitors(path: &Path, r: &HistoryResult) -> anyhow::Result<()> {
+/// `monitors.csv` at the samples `rows` (indices into the series, increasing).
+fn write_monitors(path: &Path, r: &HistoryResult, rows: &[usize]) -> anyhow::Result<()> {
     let m = &r.monitors;
     let mut w = csv::Writer::from_path(path)?;
     let mut header = vec![
@@ -509,7 +556,7 @@ fn write_monitors(path: &Path, r: &HistoryResult) -> anyhow::Result<()> {
     ];
     header.extend(channel_names(&m.channels));
     w.write_record(&header)?;
-    for i in 0..m.time_s.len() {
+    for &i in rows.iter().filter(|&&i| i < m.time_s.len()) {
         let mut row = vec![
             m.time_s[i].to_string(),
             m.strain[i].to_string(),
@@ -861,7 +908,7 @@ pub(super) fn execute(
         Err(e) => return Err(anyhow!(e).context("strand history run failed")),
     };
 
-    write_outputs(out, &result, &table)?;
+    write_outputs(out, &result, &table, h.monitors, &result.kept_samples)?;
     let summary = Summary {
         model: ModelDescription::of(args),
         sizes: Some(ModelSizes::of(model)),
@@ -869,6 +916,8 @@ pub(super) fn execute(
         calibration: None,
         load: load.display().to_string(),
         load_kind: table.kind.column(),
+        hot_spot: h.hot_spot,
+        slack_as_zero: h.slack_as_zero,
         samples: samples.len(),
         slack_samples,
         axial_stiffness: stiffness,
@@ -897,9 +946,23 @@ pub(super) fn execute(
 }
 
 /// The output files of a history run, FE or reduced: monitors, contacts, contact records and
-/// plots.
-fn write_outputs(out: &Path, result: &HistoryResult, table: &LoadTable) -> anyhow::Result<()> {
-    write_monitors(&out.join("monitors.csv"), result)?;
+/// plots. `turning_points` are the samples an FE run at the run's tolerance solves.
+fn write_outputs(
+    out: &Path,
+    result: &HistoryResult,
+    table: &LoadTable,
+    monitors: MonitorRows,
+    turning_points: &[usize],
+) -> anyhow::Result<()> {
+    let every: Vec<usize>;
+    let rows = match monitors {
+        MonitorRows::TurningPoints => turning_points,
+        MonitorRows::EverySample => {
+            every = (0..result.monitors.time_s.len()).collect();
+            &every
+        }
+    };
+    write_monitors(&out.join("monitors.csv"), result, rows)?;
     write_contacts(&out.join("contacts.csv"), &result.contacts)?;
     std::fs::write(
         out.join("contact_records.json"),
@@ -960,7 +1023,9 @@ impl ReducedRun<'_> {
             .map_err(|e| anyhow!("{}: {e}", self.load.display()))?;
         std::fs::create_dir_all(self.out)
             .with_context(|| format!("creating {}", self.out.display()))?;
-        write_outputs(self.out, &result, self.table)?;
+        let turning_points =
+            reduce_history(self.samples, self.options.turning_point_tolerance)?;
+        write_outputs(self.out, &result, self.table, h.monitors, &turning_points)?;
         let summary = Summary {
             model: ModelDescription::of(self.args),
             sizes: None,
@@ -968,6 +1033,8 @@ impl ReducedRun<'_> {
             calibration: Some(source),
             load: self.load.display().to_string(),
             load_kind: self.table.kind.column(),
+            hot_spot: h.hot_spot,
+            slack_as_zero: h.slack_as_zero,
             samples: self.samples.len(),
             slack_samples: self.slack_samples,
             axial_stiffness: self.stiffness,
