@@ -21,7 +21,8 @@
 //!   range, hence the DNV damage, is then on the high side).
 //! - Run-in: the start of each strand history is left out of every statistic (the seed's
 //!   Fig. 22 shows a mean-slip drift over about the first 100 s). Each strand job detects where
-//!   the mean slip of every slip monitor stops drifting ([`RunInDetection`],
+//!   the slip of every slip monitor, less the part that follows the load (axial strain and
+//!   curvature), stops drifting ([`RunInDetection`],
 //!   `moorfret_solver::fretting::detect_set_run_in`) and stores it; the statistics leave out
 //!   that run-in, or `run_in_s` when given (a fixed override). A history that never
 //!   stabilises keeps every sample (transient slips are the larger ones, so this errs on the
@@ -29,10 +30,11 @@
 
 use moorfret_solver::fatigue::{rope_nominal_area_m2, ApiComponent, DnvComponent, TnCurve};
 use moorfret_solver::fretting::{
-    BinEdges, CrossedCylinders, DamageInputsConfig, ElasticMaterial, ForceMeasure, FrettingParams,
-    FrettingSnLaw, NamedTnCurve, RegimeCriterion, RunInParams,
+    detect_set_run_in, BinEdges, CrossedCylinders, DamageInputsConfig, ElasticMaterial,
+    ForceMeasure, FrettingParams, FrettingSnLaw, NamedTnCurve, RegimeCriterion, RunInParams,
 };
 use moorfret_solver::mooring::spec::LineTypeSpec;
+use moorfret_solver::strand::history::monitors::{MonitorChannel, MonitorQuantity, MonitorSeries};
 use moorfret_solver::strand::profile::Strand;
 use serde::{Deserialize, Serialize};
 
@@ -102,6 +104,55 @@ impl RunInDetection {
             window_samples: ((self.window_s / load_interval_s).round() as usize).max(1),
             reference_fraction: self.reference_fraction,
             tolerance_sigma: self.tolerance_sigma,
+        }
+    }
+
+    /// The run-in of a strand history's slip monitors against its load (strain and
+    /// curvature), its samples `load_interval_s` apart, as a JSON record (`stabilised`,
+    /// `end_s`, the monitors examined and unstable, the governing one, the worst drift over
+    /// its band; `error` when the history is too short for the windows), with the first
+    /// sample after the run-in when it stabilised.
+    pub fn detect(
+        &self,
+        monitors: &MonitorSeries,
+        load_interval_s: f64,
+    ) -> (Option<usize>, serde_json::Value) {
+        let slips: Vec<&MonitorChannel> = monitors
+            .channels
+            .iter()
+            .filter(|c| c.quantity == MonitorQuantity::Slip && !c.values.is_empty())
+            .collect();
+        let set: Vec<&[f64]> = slips.iter().map(|c| c.values.as_slice()).collect();
+        let loads = [
+            monitors.strain.as_slice(),
+            monitors.curvature_per_m.as_slice(),
+        ];
+        match detect_set_run_in(&set, &loads, &self.params(load_interval_s)) {
+            Ok(r) => {
+                let governing = r.governing.and_then(|k| slips.get(k)).map(|c| {
+                    serde_json::json!({
+                        "layer_interface": c.layer,
+                        "group": format!("{:?}", c.group),
+                    })
+                });
+                let end_s = r.end_index.map(|e| e as f64 * load_interval_s);
+                (
+                    r.end_index,
+                    serde_json::json!({
+                        "stabilised": r.end_index.is_some(),
+                        "end_s": end_s,
+                        "monitors": r.histories,
+                        "unstable_monitors": r.unstable,
+                        "governing_monitor": governing,
+                        "worst_drift_ratio": r.worst_drift_ratio,
+                    }),
+                )
+            }
+            // too short a history for the windows: nothing detected
+            Err(e) => (
+                None,
+                serde_json::json!({ "stabilised": false, "error": e.to_string() }),
+            ),
         }
     }
 }

@@ -61,12 +61,26 @@ fn existing_store(dir: &Path) -> String {
             .unwrap();
         store.close().await;
     });
+    settle(&db);
     db
+}
+
+/// Waits until the last connection to `db` has checkpointed its log into the file and removed
+/// it (on a thread of its own, after the pool is closed), so that the store's bytes are
+/// settled before a test compares them.
+fn settle(db: &str) {
+    let wal = format!("{db}-wal");
+    for _ in 0..200 {
+        if !Path::new(&wal).exists() {
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(25));
+    }
 }
 
 fn campaign_names(db: &str) -> Vec<String> {
     let rt = tokio::runtime::Runtime::new().unwrap();
-    rt.block_on(async {
+    let names = rt.block_on(async {
         let store = Store::open(db, StoreOptions::default()).await.unwrap();
         let names = store
             .campaigns()
@@ -77,7 +91,9 @@ fn campaign_names(db: &str) -> Vec<String> {
             .collect();
         store.close().await;
         names
-    })
+    });
+    settle(db);
+    names
 }
 
 /// Runs `campaign launch FILE --db DB`; returns (exit code, stderr).
@@ -94,11 +110,35 @@ fn launch(file: &Path, db: &str) -> (i32, String) {
     )
 }
 
+/// The files of the store `db` (the database, and its -wal and -shm when present) with their
+/// bytes.
+fn store_files(db: &str) -> Vec<(String, Option<Vec<u8>>)> {
+    ["", "-wal", "-shm"]
+        .iter()
+        .map(|suffix| {
+            let path = format!("{db}{suffix}");
+            let bytes = std::fs::read(&path).ok();
+            (path, bytes)
+        })
+        .collect()
+}
+
+/// A launch of `dir/demo.json` on the store `db` is refused with every `expected` text and
+/// leaves the store's files as they were, byte for byte.
 fn assert_refused(dir: &Path, db: &str, expected: &[&str]) {
+    let before = store_files(db);
     let (code, stderr) = launch(&dir.join("demo.json"), db);
     assert_eq!(code, 1, "{stderr}");
     for e in expected {
         assert!(stderr.contains(e), "expected '{e}' in: {stderr}");
+    }
+    for ((path, a), (_, b)) in before.iter().zip(store_files(db)) {
+        assert!(
+            *a == b,
+            "{path} changed ({:?} → {:?} bytes): {stderr}",
+            a.as_ref().map(Vec::len),
+            b.as_ref().map(Vec::len)
+        );
     }
     assert_eq!(campaign_names(db), vec!["existing".to_owned()], "{stderr}");
 }
@@ -159,6 +199,52 @@ fn profile_without_helical_layers_and_doubled_scatter_rows_are_refused() {
     lines.insert(row + 1, lines[row]);
     std::fs::write(&path, lines.join("\n") + "\n").unwrap();
     assert_refused(dir.path(), &db, &["scatter.path", "overlap"]);
+}
+
+/// The inputs that got through or aborted before (a step or a friction coefficient that makes
+/// every job fail, 2³² − 1 seeds, a repeated hot spot, cells above the year) are refused by
+/// `campaign launch` naming their field, the store left as it was byte for byte.
+#[test]
+fn inputs_that_would_fail_every_job_are_refused_before_the_store_is_touched() {
+    type Edit = fn(&mut serde_json::Value);
+    let cases: [(Edit, &[&str]); 4] = [
+        (
+            |v| v["simulation"]["time_step_s"] = serde_json::json!(1e-9),
+            &["simulation.time_step_s"],
+        ),
+        (
+            |v| v["strand"]["friction_coefficient"] = serde_json::json!(1e6),
+            &["strand.friction_coefficient"],
+        ),
+        (
+            |v| v["simulation"]["seeds_per_sea_state"] = serde_json::json!(4_294_967_295_u64),
+            &["simulation.seeds_per_sea_state"],
+        ),
+        (
+            |v| {
+                v["hot_spots"] = serde_json::json!([
+                    {"line": 1, "arc_length_m": 79.0},
+                    {"line": 1, "arc_length_m": 79.0}
+                ])
+            },
+            &["hot_spots[1]"],
+        ),
+    ];
+    for (edit, expected) in cases {
+        let dir = campaign_copy();
+        let db = existing_store(dir.path());
+        edit_json(&dir.path().join("demo.json"), edit);
+        assert_refused(dir.path(), &db, expected);
+    }
+    // the year's cells summing to more than 100 %
+    let dir = campaign_copy();
+    let db = existing_store(dir.path());
+    let path = dir.path().join("data/demo_scatter.tsv");
+    let text = std::fs::read_to_string(&path).unwrap();
+    // two cells of 60 % of the year each
+    let scaled = text.replace("1,354", "60").replace("0,423", "60");
+    std::fs::write(&path, scaled).unwrap();
+    assert_refused(dir.path(), &db, &["scatter.path"]);
 }
 
 /// Files saved by spreadsheets and some editors start with a UTF-8 byte-order mark.

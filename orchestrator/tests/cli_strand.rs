@@ -607,6 +607,13 @@ fn output_grows_with_the_solved_samples_not_with_the_sampling() {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["history"]["kept_samples"].as_u64(), Some(2));
+    // a constant load: no run-in
+    assert_eq!(
+        summary["run_in"]["stabilised"], true,
+        "{}",
+        summary["run_in"]
+    );
+    assert_eq!(summary["run_in"]["end_s"].as_f64(), Some(0.0));
     let (_, m) = csv_rows(&out.join("monitors.csv"), 0);
     assert_eq!(m.iter().map(|r| r[0]).collect::<Vec<_>>(), [0.0, 2000.0]);
     let size = |f: &str| std::fs::metadata(out.join(f)).unwrap().len();

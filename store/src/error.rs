@@ -26,6 +26,20 @@ pub enum StoreError {
         /// What the database engine said.
         reason: String,
     },
+    /// An SQLite store whose directory cannot be written: SQLite writes the store's `-wal`
+    /// and `-shm` files beside it, even to read.
+    #[error(
+        "cannot open store {path:?}: its directory {dir:?} is not writable ({source}); an \
+         SQLite store writes its -wal and -shm files beside it, even to read"
+    )]
+    Unwritable {
+        /// The database file.
+        path: PathBuf,
+        /// Its directory.
+        dir: PathBuf,
+        /// Why a file could not be created there.
+        source: std::io::Error,
+    },
     /// An SQLite store on a network file system, where its locking is unreliable.
     #[error(
         "{path:?} is on a {fs_type} network file system, where SQLite locking is unreliable: \

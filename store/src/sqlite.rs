@@ -8,7 +8,7 @@
 //! first read, so a transaction never has to upgrade (the upgrade is what fails without waiting
 //! in WAL mode). A file on a network file system is refused ([`super::filesystem`]).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use sqlx::migrate::Migrator;
@@ -89,6 +89,20 @@ pub(crate) async fn connect(path: &Path, max_connections: u32) -> Result<Pool<Db
         }
     };
     connected.map_err(|source| match &source {
+        // SQLITE_CANTOPEN: say why when it is the directory
+        sqlx::Error::Database(db) if db.code().as_deref() == Some("14") => {
+            match unwritable_directory(path) {
+                Some((dir, io)) => StoreError::Unwritable {
+                    path: path.to_path_buf(),
+                    dir,
+                    source: io,
+                },
+                None => StoreError::Database {
+                    operation: "open store",
+                    source,
+                },
+            }
+        }
         sqlx::Error::Database(db) if db.code().as_deref() == Some("26") => {
             StoreError::NotADatabase {
                 path: path.to_path_buf(),
@@ -100,6 +114,27 @@ pub(crate) async fn connect(path: &Path, max_connections: u32) -> Result<Pool<Db
             source,
         },
     })
+}
+
+/// The directory of `path` and why no file can be created in it, if none can (probed with a
+/// file of this process's own name, removed at once).
+fn unwritable_directory(path: &Path) -> Option<(PathBuf, std::io::Error)> {
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let probe = dir.join(format!(".moorfret-write-probe-{}", std::process::id()));
+    match std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+    {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+            None
+        }
+        Err(e) => Some((dir, e)),
+    }
 }
 
 /// Files whose header this process has read, kept open for the life of the process.

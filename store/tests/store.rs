@@ -1185,6 +1185,34 @@ async fn unreachable_postgres_says_why() {
     assert!(err.to_lowercase().contains("refused"), "{err}");
 }
 
+/// A store whose directory cannot be written is refused naming the directory and the reason
+/// (SQLite itself says only "unable to open database file").
+#[tokio::test]
+async fn a_store_in_an_unwritable_directory_names_the_directory() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let locked = dir.path().join("locked");
+    std::fs::create_dir(&locked).unwrap();
+    std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o555)).unwrap();
+    // the superuser writes there anyway: then a directory where nobody creates files (sysfs)
+    let target = if std::fs::write(locked.join("probe"), b"").is_ok() {
+        std::path::PathBuf::from("/sys")
+    } else {
+        locked.clone()
+    };
+    let path = target.join("campaign.sqlite");
+    match Store::open(path.to_str().unwrap(), StoreOptions::default()).await {
+        Err(e @ StoreError::Unwritable { .. }) => {
+            let text = e.to_string();
+            assert!(text.contains("not writable"), "{text}");
+            assert!(text.contains(&format!("{target:?}")), "{text}");
+        }
+        other => panic!("expected Unwritable, got {other:?}"),
+    }
+    assert!(!path.exists());
+    std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o755)).unwrap();
+}
+
 #[tokio::test]
 async fn opening_garbage_is_refused_with_a_clear_error() {
     let dir = tempfile::tempdir().unwrap();

@@ -26,10 +26,9 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use moorfret_solver::fretting::{
-    detect_set_run_in, sea_state_damage_inputs, ContactRecord, SeaStateInputs, TensionHistory,
+    sea_state_damage_inputs, ContactRecord, SeaStateInputs, TensionHistory,
 };
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
-use moorfret_solver::strand::history::monitors::{MonitorChannel, MonitorQuantity};
 use moorfret_solver::strand::history::stiffness::{samples_from_tension, SlackTension};
 use moorfret_solver::strand::history::{
     run_history_from, HistoryObserver, HistoryResult, LoadSample,
@@ -474,36 +473,8 @@ pub(crate) fn strand_results(
 fn run_in(inputs: &CampaignInputs, result: &HistoryResult) -> (usize, serde_json::Value) {
     let fatigue = &inputs.spec.fatigue;
     let dt = inputs.spec.strand.load_interval_s;
-    let slips: Vec<&MonitorChannel> = result
-        .monitors
-        .channels
-        .iter()
-        .filter(|c| c.quantity == MonitorQuantity::Slip && !c.values.is_empty())
-        .collect();
-    let set: Vec<&[f64]> = slips.iter().map(|c| c.values.as_slice()).collect();
     let fixed = fatigue.fixed_run_in_samples(dt);
-    let (detected, detection) =
-        match detect_set_run_in(&set, &fatigue.run_in_detection.params(dt)) {
-            Ok(r) => {
-                let governing = r.governing.and_then(|k| slips.get(k)).map(
-                    |c| json!({ "layer_interface": c.layer, "group": format!("{:?}", c.group) }),
-                );
-                let end_s = r.end_index.map(|e| e as f64 * dt);
-                (
-                    r.end_index,
-                    json!({
-                        "stabilised": r.end_index.is_some(),
-                        "end_s": end_s,
-                        "monitors": r.histories,
-                        "unstable_monitors": r.unstable,
-                        "governing_monitor": governing,
-                        "worst_drift_ratio": r.worst_drift_ratio,
-                    }),
-                )
-            }
-            // too short a history for the windows: nothing detected
-            Err(e) => (None, json!({ "stabilised": false, "error": e.to_string() })),
-        };
+    let (detected, detection) = fatigue.run_in_detection.detect(&result.monitors, dt);
     let too_short = detection.get("error").is_some();
     let (samples, source) = match (fixed, detected) {
         (Some(f), _) => (f, "fixed"),

@@ -41,5 +41,7 @@ pub use inputs::{
 pub use rainflow::{count_cycles, Cycle, RainflowCounter, RainflowOptions};
 pub use record::{AngularPosition, ContactClass, ContactRecord};
 pub use reversals::{extract_reversals, Reversal, ReversalDetector};
-pub use runin::{detect_run_in, detect_set_run_in, RunIn, RunInParams, SetRunIn};
+pub use runin::{
+    detect_run_in, detect_run_in_against_load, detect_set_run_in, RunIn, RunInParams, SetRunIn,
+};
 pub use streaming::{SegmentSummary, StreamingRainflow};

@@ -9,6 +9,15 @@
 //! itself, or the reference part drifts by more than the tolerance between its halves, the
 //! history never stabilised and this is reported (`end_index = None`), not hidden.
 //!
+//! Against the load ([`detect_run_in_against_load`]): a contact that sticks, or slides in
+//! stabilised loops, has a slip that follows the load, so its window means wander with the
+//! load's own (the floater's slow drift, wave groups) and the plain criterion above would call
+//! it never stabilised. The part of the slip that follows the load is therefore removed first:
+//! s(t) − Σⱼ bⱼ Lⱼ(t), with the bⱼ the least-squares slopes of s on the loads Lⱼ (axial strain,
+//! curvature) over the reference part. What is left is the slip the load does not explain,
+//! whose drift is the run-in; its band is `tolerance_sigma` standard deviations of the slip
+//! itself over the reference part.
+//!
 //! Units: those of the history (slip in m); indices are zero-based samples.
 
 use serde::{Deserialize, Serialize};
@@ -52,6 +61,16 @@ pub struct RunIn {
 
 /// Detects the end of the run-in of `history`.
 pub fn detect_run_in(history: &[f64], params: &RunInParams) -> Result<RunIn, FrettingError> {
+    detect_run_in_against_load(history, &[], params)
+}
+
+/// Detects the end of the run-in of `history` once the part of it that follows `loads` (each
+/// as long as `history`) is removed (module docs). With no loads this is [`detect_run_in`].
+pub fn detect_run_in_against_load(
+    history: &[f64],
+    loads: &[&[f64]],
+    params: &RunInParams,
+) -> Result<RunIn, FrettingError> {
     positive("window_samples", params.window_samples as f64)?;
     positive("tolerance_sigma", params.tolerance_sigma)?;
     if !(params.reference_fraction > 0.0 && params.reference_fraction < 1.0) {
@@ -64,6 +83,18 @@ pub fn detect_run_in(history: &[f64], params: &RunInParams) -> Result<RunIn, Fre
     if let Some((index, value)) = super::reversals::first_non_finite(history) {
         return Err(FrettingError::NonFiniteSample { index, value });
     }
+    for load in loads {
+        if load.len() != history.len() {
+            return Err(FrettingError::InvalidParameter {
+                field: "loads",
+                value: load.len() as f64,
+                reason: "a load series must have a sample per sample of the history",
+            });
+        }
+        if let Some((index, value)) = super::reversals::first_non_finite(load) {
+            return Err(FrettingError::NonFiniteSample { index, value });
+        }
+    }
     let w = params.window_samples;
     let windows = history.len() / w;
     // Whole windows only; the reference covers at least two of them.
@@ -75,18 +106,17 @@ pub fn detect_run_in(history: &[f64], params: &RunInParams) -> Result<RunIn, Fre
             reason: "the history is too short for the reference and one more window",
         });
     }
-    let means: Vec<f64> = (0..windows)
-        .map(|k| mean(&history[k * w..(k + 1) * w]))
-        .collect();
     let ref_start = windows - ref_windows;
-    let reference = &history[ref_start * w..windows * w];
-    let reference_mean = mean(reference);
-    let sigma = (reference
-        .iter()
-        .map(|x| (x - reference_mean).powi(2))
-        .sum::<f64>()
-        / reference.len() as f64)
-        .sqrt();
+    let reference = ref_start * w..windows * w;
+    let sigma = std_dev(&history[reference.clone()]);
+    let slopes = load_slopes(history, loads, reference.clone());
+    let series: Vec<f64> = (0..history.len())
+        .map(|i| history[i] - slopes.iter().zip(loads).map(|(b, l)| b * l[i]).sum::<f64>())
+        .collect();
+    let means: Vec<f64> = (0..windows)
+        .map(|k| mean(&series[k * w..(k + 1) * w]))
+        .collect();
+    let reference_mean = mean(&series[reference]);
     // floored at the round-off of the window means, so that a constant history (a contact
     // that stays stuck) is stabilised rather than failed by the last bits of its sums
     let tolerance = (params.tolerance_sigma * sigma).max(1e-12 * reference_mean.abs());
@@ -112,6 +142,53 @@ pub fn detect_run_in(history: &[f64], params: &RunInParams) -> Result<RunIn, Fre
     })
 }
 
+/// Least-squares slopes of `history` on `loads` over the samples `part` (centred normal
+/// equations). A load that does not vary over `part` (beyond the round-off of its mean) gets
+/// slope 0; if the loads are collinear there, every slope is 0 (the plain criterion).
+fn load_slopes(history: &[f64], loads: &[&[f64]], part: std::ops::Range<usize>) -> Vec<f64> {
+    let k = loads.len();
+    if k == 0 {
+        return Vec::new();
+    }
+    let y = &history[part.clone()];
+    let my = mean(y);
+    let centred: Vec<(f64, f64)> = loads
+        .iter()
+        .map(|l| {
+            let x = &l[part.clone()];
+            (mean(x), std_dev(x))
+        })
+        .collect();
+    // scaled loads (x − mean)/σ; a constant load is left out (σ at round-off of its mean)
+    let used: Vec<usize> = (0..k)
+        .filter(|&j| centred[j].1 > 1e-10 * centred[j].0.abs() && centred[j].1 > 0.0)
+        .collect();
+    let n = used.len();
+    let mut gram = nalgebra::DMatrix::<f64>::zeros(n, n);
+    let mut rhs = nalgebra::DVector::<f64>::zeros(n);
+    for i in part.clone() {
+        let z: Vec<f64> = used
+            .iter()
+            .map(|&j| (loads[j][i] - centred[j].0) / centred[j].1)
+            .collect();
+        for a in 0..n {
+            rhs[a] += z[a] * (history[i] - my);
+            for b in 0..n {
+                gram[(a, b)] += z[a] * z[b];
+            }
+        }
+    }
+    let mut slopes = vec![0.0; k];
+    if let Some(solution) = gram.cholesky().map(|c| c.solve(&rhs)) {
+        if solution.iter().all(|v| v.is_finite()) {
+            for (a, &j) in used.iter().enumerate() {
+                slopes[j] = solution[a] / centred[j].1;
+            }
+        }
+    }
+    slopes
+}
+
 /// Run-in of a set of histories (the slip monitors of a strand): the latest end over them.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SetRunIn {
@@ -128,13 +205,18 @@ pub struct SetRunIn {
     pub worst_drift_ratio: f64,
 }
 
-/// The run-in of every history of `set` ([`detect_run_in`] each): the set is stabilised once
-/// every history is, from the latest of their ends. A history that never moves (σ = 0, a
-/// contact that stays stuck) is stabilised from its last change.
-pub fn detect_set_run_in(set: &[&[f64]], params: &RunInParams) -> Result<SetRunIn, FrettingError> {
+/// The run-in of every history of `set` against `loads` ([`detect_run_in_against_load`]
+/// each; no loads: [`detect_run_in`]): the set is stabilised once every history is, from the
+/// latest of their ends. A history that never moves (σ = 0, a contact that stays stuck) is
+/// stabilised from its last change.
+pub fn detect_set_run_in(
+    set: &[&[f64]],
+    loads: &[&[f64]],
+    params: &RunInParams,
+) -> Result<SetRunIn, FrettingError> {
     let (mut latest, mut governing, mut unstable, mut worst) = (0, None, 0, 0.0_f64);
     for (k, history) in set.iter().enumerate() {
-        let r = detect_run_in(history, params)?;
+        let r = detect_run_in_against_load(history, loads, params)?;
         if r.tolerance > 0.0 {
             worst = worst.max(r.residual_drift / r.tolerance);
         }
@@ -165,9 +247,16 @@ fn mean(x: &[f64]) -> f64 {
     x.iter().sum::<f64>() / x.len() as f64
 }
 
+/// Population standard deviation.
+fn std_dev(x: &[f64]) -> f64 {
+    let m = mean(x);
+    (x.iter().map(|v| (v - m).powi(2)).sum::<f64>() / x.len() as f64).sqrt()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::TAU;
 
     /// Slip oscillation around a mean that relaxes exponentially from `offset` to 0.
     fn drifting(n: usize, dt: f64, tau: f64, offset: f64) -> Vec<f64> {
@@ -223,7 +312,7 @@ mod tests {
         let late = drifting(10_000, 0.1, 20.0, 3e-6);
         let stuck = vec![2e-7; 10_000];
         let set = [early.as_slice(), late.as_slice(), stuck.as_slice()];
-        let r = detect_set_run_in(&set, &params).unwrap();
+        let r = detect_set_run_in(&set, &[], &params).unwrap();
         let late_end = detect_run_in(&late, &params).unwrap().end_index;
         let early_end = detect_run_in(&early, &params).unwrap().end_index;
         assert!(early_end < late_end, "{early_end:?} {late_end:?}");
@@ -234,10 +323,90 @@ mod tests {
         // one endless drift: the set never stabilises, and that history is named
         let ramp: Vec<f64> = (0..10_000).map(|i| 1e-9 * i as f64).collect();
         let set = [early.as_slice(), ramp.as_slice(), late.as_slice()];
-        let r = detect_set_run_in(&set, &params).unwrap();
+        let r = detect_set_run_in(&set, &[], &params).unwrap();
         assert_eq!(r.end_index, None);
         assert_eq!((r.governing, r.unstable), (Some(1), 1));
         assert!(r.worst_drift_ratio > 1.0);
+    }
+
+    /// A load whose mean wanders (a 400 s swing, as a floater's slow drift) under 12 s waves,
+    /// and a slip that follows it, plus a drift that falls linearly to 0 at `stop_s`.
+    fn wandering(stop_s: f64, drift: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+        let (n, dt) = (10_000, 0.1);
+        let time = |i: usize| i as f64 * dt;
+        let strain: Vec<f64> = (0..n)
+            .map(|i| {
+                let t = time(i);
+                1e-3 + 2e-4 * (TAU * t / 400.0).sin() + 1e-4 * (TAU * t / 12.0).sin()
+            })
+            .collect();
+        let curvature: Vec<f64> = (0..n).map(|i| 3e-3 * (TAU * time(i) / 9.0).cos()).collect();
+        let slip = (0..n)
+            .map(|i| {
+                let t = time(i);
+                0.01 * strain[i] - 2e-4 * curvature[i] + drift * (1.0 - t / stop_s).max(0.0)
+            })
+            .collect();
+        (slip, strain, curvature)
+    }
+
+    #[test]
+    fn a_slip_that_follows_a_wandering_load_stabilises_where_its_own_drift_stops() {
+        let params = RunInParams {
+            window_samples: 500,
+            reference_fraction: 0.25,
+            tolerance_sigma: 0.25,
+        };
+        // a slip that only follows the load: the plain criterion calls it never stabilised
+        // (its window means swing with the load's), against the load it has no run-in
+        let (slip, strain, curvature) = wandering(1.0, 0.0);
+        let loads = [strain.as_slice(), curvature.as_slice()];
+        assert_eq!(detect_run_in(&slip, &params).unwrap().end_index, None);
+        let r = detect_run_in_against_load(&slip, &loads, &params).unwrap();
+        assert_eq!(r.end_index, Some(0));
+        assert!(r.residual_drift < 1e-6 * r.tolerance, "{r:?}");
+
+        // plus a drift of 10 bands that stops at 300 s: it leaves the band at
+        // t = 300 (1 − 1/10) = 270 s, so the run-in ends with the first window (50 s) that
+        // starts after the last one reaching into the drift above the band
+        let (plain, _, _) = wandering(1.0, 0.0);
+        let sigma = std_dev(&plain[7_500..]);
+        let drift = 10.0 * 0.25 * sigma;
+        let (slip, _, _) = wandering(300.0, drift);
+        let r = detect_run_in_against_load(&slip, &loads, &params).unwrap();
+        let end_s = r.end_index.unwrap() as f64 * 0.1;
+        assert!((250.0..=300.0).contains(&end_s), "{end_s}");
+        // the same slip without the load's part removed never stabilises
+        assert_eq!(detect_run_in(&slip, &params).unwrap().end_index, None);
+
+        // an endless drift still never stabilises, whatever the load explains
+        let ramp: Vec<f64> = slip
+            .iter()
+            .enumerate()
+            .map(|(i, x)| x + drift * i as f64 / 2_000.0)
+            .collect();
+        let r = detect_run_in_against_load(&ramp, &loads, &params).unwrap();
+        assert_eq!(r.end_index, None);
+        assert!(r.residual_drift > r.tolerance);
+    }
+
+    #[test]
+    fn constant_or_mismatched_loads() {
+        let params = RunInParams {
+            window_samples: 120,
+            ..Default::default()
+        };
+        // a constant load explains nothing: the plain result
+        let h = drifting(10_000, 0.1, 20.0, 3e-6);
+        let flat = vec![1e-3; 10_000];
+        assert_eq!(
+            detect_run_in_against_load(&h, &[flat.as_slice()], &params).unwrap(),
+            detect_run_in(&h, &params).unwrap()
+        );
+        assert!(matches!(
+            detect_run_in_against_load(&h, &[&flat[..10]], &params),
+            Err(FrettingError::InvalidParameter { field: "loads", .. })
+        ));
     }
 
     #[test]

@@ -24,7 +24,8 @@
 //!   normal force, largest slip range, counted slip cycles, position class;
 //! - `contact_records.json`: the full per-contact records with their slip cycles;
 //! - `summary.json`: model sizes, the EA used, the history statistics with the split of the
-//!   Newton work, peak slip range and normal force per layer interface, wall time;
+//!   Newton work, where the slip stops drifting against the load (run-in, the campaigns'
+//!   default detection), peak slip range and normal force per layer interface, wall time;
 //! - SVG plots as the seed's Figs. 19-22 ([`moorfret_orchestrator::plot::strand_history_svgs`]) and of the load.
 //!
 //! `--checkpoint FILE` writes the solver's full state every `--checkpoint-every` segments (temp
@@ -38,6 +39,7 @@ use std::time::Instant;
 
 use anyhow::{anyhow, bail, Context};
 use clap::Args;
+use moorfret_campaign::fatigue::RunInDetection;
 use moorfret_campaign::spec::{DEFAULT_CHECKPOINT_SEGMENTS, MAX_STRAND_THREADS};
 use moorfret_solver::contact::NormalLaw;
 use moorfret_solver::fretting::ContactRecord;
@@ -477,6 +479,9 @@ struct Summary<'a> {
     resumed_from_checkpoint: bool,
     checkpoints_written: usize,
     history: &'a HistoryStats,
+    /// Where the slip monitors stop drifting against the load (the campaigns' default
+    /// detection, `moorfret_campaign::fatigue::RunInDetection`).
+    run_in: serde_json::Value,
     peaks_by_interface: BTreeMap<String, InterfacePeaks>,
     wall_time_s: f64,
 }
@@ -595,6 +600,19 @@ fn write_contacts(path: &Path, contacts: &[ContactRecord]) -> anyhow::Result<()>
     }
     w.flush()?;
     Ok(())
+}
+
+/// The run-in of a history run by the campaigns' default detection, on windows of the load's
+/// mean sample interval.
+fn run_in_of(result: &HistoryResult) -> serde_json::Value {
+    let t = &result.monitors.time_s;
+    let dt = match t.len() {
+        0 | 1 => {
+            return serde_json::json!({ "stabilised": false, "error": "fewer than two samples" })
+        }
+        n => (t[n - 1] - t[0]) / (n - 1) as f64,
+    };
+    RunInDetection::default().detect(&result.monitors, dt).1
 }
 
 fn peaks_by_interface(contacts: &[ContactRecord]) -> BTreeMap<String, InterfacePeaks> {
@@ -925,6 +943,7 @@ pub(super) fn execute(
         resumed_from_checkpoint: resume.is_some(),
         checkpoints_written: observer.written,
         history: &result.stats,
+        run_in: run_in_of(&result),
         peaks_by_interface: peaks_by_interface(&result.contacts),
         wall_time_s: start.elapsed().as_secs_f64(),
     };
@@ -1023,8 +1042,7 @@ impl ReducedRun<'_> {
             .map_err(|e| anyhow!("{}: {e}", self.load.display()))?;
         std::fs::create_dir_all(self.out)
             .with_context(|| format!("creating {}", self.out.display()))?;
-        let turning_points =
-            reduce_history(self.samples, self.options.turning_point_tolerance)?;
+        let turning_points = reduce_history(self.samples, self.options.turning_point_tolerance)?;
         write_outputs(self.out, &result, self.table, h.monitors, &turning_points)?;
         let summary = Summary {
             model: ModelDescription::of(self.args),
@@ -1042,6 +1060,7 @@ impl ReducedRun<'_> {
             resumed_from_checkpoint: false,
             checkpoints_written: 0,
             history: &result.stats,
+            run_in: run_in_of(&result),
             peaks_by_interface: peaks_by_interface(&result.contacts),
             wall_time_s: self.start.elapsed().as_secs_f64(),
         };
