@@ -130,9 +130,7 @@ fn the_papers_line_from_a_moordyn_deck_matches_the_case_written_by_hand() {
     .unwrap();
     assert_eq!(summary["samples"].as_u64(), Some(series.len() as u64));
     assert!(monitors.len() >= 2);
-    assert!(monitors
-        .iter()
-        .all(|m| series.iter().any(|s| s[0] == m[0])));
+    assert!(monitors.iter().all(|m| series.iter().any(|s| s[0] == m[0])));
 }
 
 #[test]
