@@ -25,6 +25,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::CampaignError;
 use crate::fatigue::FatigueSpec;
 use crate::fidelity::{AutoFe, StrandFidelity};
+use crate::seeds::ExtraSeeds;
 
 /// A whole campaign.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -108,6 +109,10 @@ pub struct SimulationSpec {
     pub wave_ramp_s: Option<f64>,
     /// Random realisations per sea state.
     pub seeds_per_sea_state: u32,
+    /// More realisations for the sea states that carry most of the first seeds' damage
+    /// ([`crate::seeds`]); none when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub extra_seeds: Option<ExtraSeeds>,
     /// JONSWAP peak enhancement γ, or `"dnv"` for the DNV-RP-C205 default.
     pub gamma: GammaSpec,
     /// Wave heading (deg, from +x towards +y).
@@ -405,6 +410,9 @@ impl CampaignSpec {
                 s.seeds_per_sea_state,
                 &format!("must be from 1 to {MAX_SEEDS_PER_SEA_STATE}"),
             ));
+        }
+        if let Some(extra) = &s.extra_seeds {
+            extra.validate(s.seeds_per_sea_state)?;
         }
         if !(1..=MAX_STRAND_THREADS).contains(&s.global_threads) {
             return Err(invalid(
