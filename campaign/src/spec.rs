@@ -610,6 +610,56 @@ mod tests {
     }
 
     #[test]
+    fn the_extra_seed_rule_is_optional_checked_by_field_and_absent_from_files_without_it() {
+        let spec = demo_spec(serde_json::json!({}));
+        assert_eq!(spec.simulation.extra_seeds, None);
+        let text = serde_json::to_string(&spec).unwrap();
+        assert!(!text.contains("extra_seeds"), "{text}");
+        let with = |extra: serde_json::Value| {
+            let mut v = serde_json::to_value(&spec).unwrap();
+            v["simulation"]["extra_seeds"] = extra;
+            CampaignSpec::from_json_str(&v.to_string())
+        };
+        let ok = with(serde_json::json!({"seeds": 3, "damage_share": 0.8})).unwrap();
+        assert!(ok.validate().is_ok());
+        assert_eq!(
+            ok.simulation.extra_seeds,
+            Some(ExtraSeeds {
+                seeds: 3,
+                damage_share: 0.8
+            })
+        );
+        for (extra, field) in [
+            (
+                serde_json::json!({"seeds": 1, "damage_share": 0.8}),
+                "simulation.extra_seeds.seeds",
+            ),
+            (
+                serde_json::json!({"seeds": 3, "damage_share": 0.0}),
+                "simulation.extra_seeds.damage_share",
+            ),
+            (
+                serde_json::json!({"seeds": 3, "damage_share": 1.2}),
+                "simulation.extra_seeds.damage_share",
+            ),
+        ] {
+            match with(extra.clone()).unwrap().validate() {
+                Err(CampaignError::Invalid { field: f, .. }) => assert_eq!(f, field, "{extra}"),
+                other => panic!("{extra}: {other:?}"),
+            }
+        }
+        // both fields are required, unknown ones refused, negative counts a type error
+        for extra in [
+            serde_json::json!({"seeds": 3}),
+            serde_json::json!({"seeds": 3, "damage_share": 0.8, "share": 1}),
+            serde_json::json!({"seeds": -3, "damage_share": 0.8}),
+        ] {
+            let e = with(extra.clone()).unwrap_err().to_string();
+            assert!(e.contains("valid campaign"), "{extra}: {e}");
+        }
+    }
+
+    #[test]
     fn bad_fidelity_settings_are_refused_naming_the_field() {
         let with = |strand: serde_json::Value| {
             let mut spec = serde_json::to_value(demo_spec(serde_json::json!({}))).unwrap();

@@ -374,3 +374,40 @@ pub struct ContactRow {
     /// Statistics as stored.
     pub statistics: Value,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_band_is_two_standard_errors_wide_and_never_below_zero() {
+        // Var = 4 → SE = 2; one sea state with 3 seeds: Σ v² / (n − 1) = 16 / 2 → 2 dof
+        let b = SeedBand::new(10.0, 4.0, 8.0, 1, 2);
+        assert_eq!(
+            (
+                b.annual_damage_se,
+                b.annual_damage_low,
+                b.annual_damage_high
+            ),
+            (2.0, 6.0, 14.0)
+        );
+        assert_eq!(b.effective_dof, Some(2.0));
+        // a spread larger than half the damage: the lower end stops at zero
+        let wide = SeedBand::new(1.0, 4.0, 8.0, 1, 0);
+        assert_eq!(
+            (wide.annual_damage_low, wide.annual_damage_high),
+            (0.0, 5.0)
+        );
+        // no sea state with two seeds: no spread, no degrees of freedom
+        let none = SeedBand::new(1.0, 0.0, 0.0, 0, 3);
+        assert_eq!((none.annual_damage_se, none.effective_dof), (0.0, None));
+        assert_eq!(
+            (none.annual_damage_low, none.annual_damage_high),
+            (1.0, 1.0)
+        );
+        // round-off below zero counts as no spread
+        assert_eq!(SeedBand::new(1.0, -1e-30, 0.0, 1, 0).annual_damage_se, 0.0);
+        assert_eq!(standard_deviation(Some(9.0)), Some(3.0));
+        assert_eq!(standard_deviation(None), None);
+    }
+}
