@@ -1071,3 +1071,101 @@ fn extra_seeds_run_where_the_damage_is_and_the_rest_is_settled_at_once() {
         }
     }
 }
+
+/// `simulation.extra_seeds` with the `auto` fidelity: four short sea states, one FE sea state
+/// (`auto_fe.sea_states = 1`), two seeds in all where half the reduced first-seed damage is.
+/// The extra seeds run the reduced response only; the unselected FE jobs that were still
+/// waiting when the first FE job found the selection were settled by it without a claim (with
+/// two workers at most two FE jobs run at once, so of the three unselected at least one waits).
+#[test]
+fn auto_campaign_settles_its_unselected_fe_jobs_and_runs_extra_seeds_reduced() {
+    let _serial = serial();
+    let dir = tempfile::tempdir().unwrap();
+    let file = short_demo(
+        dir.path(),
+        "lower\tupper\t11\t12\t14\ttotal\n2\t2,5\t1,354\t0\t0\t1,354\n\
+         4\t4,5\t0\t0,423\t0\t0,423\n6\t6,5\t0\t0\t0,2\t0,2\n8\t8,5\t0,05\t0\t0\t0,05\n",
+        |spec| {
+            spec["name"] = serde_json::json!("autoseeds");
+            spec["simulation"]["extra_seeds"] =
+                serde_json::json!({ "seeds": 2, "damage_share": 0.5 });
+            spec["strand"]["fidelity"] = serde_json::json!("auto");
+            spec["strand"]["auto_fe"] = serde_json::json!({ "sea_states": 1 });
+            spec["strand"]["contact_records"] = serde_json::json!(false);
+        },
+    );
+    let db = dir
+        .path()
+        .join("autoseeds.sqlite")
+        .to_string_lossy()
+        .into_owned();
+    let file = file.to_string_lossy().into_owned();
+    let started = Instant::now();
+    let out = moorfret(&["campaign", "launch", &file, "--db", &db, "--workers", "2"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    eprintln!("auto campaign with extra seeds: {:?}", started.elapsed());
+    let id = rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let id = store.campaign_by_name("autoseeds").await.unwrap().unwrap();
+        store.close().await;
+        id
+    });
+    assert_each_done_once(&db, id);
+    rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let jobs = store.jobs_of_campaign(id).await.unwrap();
+        let count = |k: JobKind| jobs.iter().filter(|j| j.kind == k).count();
+        // first seeds: 4 global, 1 calibration, 4 reduced, 4 FE; extra: 4 global, 4 reduced
+        assert_eq!(
+            (
+                count(JobKind::Global),
+                count(JobKind::Calibrate),
+                count(JobKind::StrandReduced),
+                count(JobKind::Strand)
+            ),
+            (8, 1, 8, 4)
+        );
+        let (mut fe_ran, mut fe_settled) = (0, 0);
+        for job in jobs.iter().filter(|j| j.kind == JobKind::Strand) {
+            assert_ne!(job.payload["global"]["extra_seed"], true);
+            let result = job.result.clone().unwrap();
+            if result["selected"] == true {
+                fe_ran += 1;
+            } else if result.get("settled_by").is_some() {
+                fe_settled += 1;
+            }
+        }
+        assert_eq!(fe_ran, 1);
+        assert!(fe_settled >= 1, "no unselected FE job was settled");
+        let mut extra_cells = Vec::new();
+        for job in jobs.iter().filter(|j| j.kind == JobKind::StrandReduced) {
+            if job.payload["global"]["extra_seed"] != true {
+                continue;
+            }
+            let results = store.results_of(job.id).await.unwrap();
+            if results.result.get("selected").is_none() {
+                assert_eq!(results.result["fidelity"], "reduced");
+                assert!(!results.class_damage_inputs.is_empty());
+                extra_cells.push(job.payload["global"]["sea_state_index"].as_i64().unwrap());
+            }
+        }
+        assert!(
+            !extra_cells.is_empty() && extra_cells.len() < 4,
+            "{extra_cells:?}"
+        );
+        for c in store.sea_state_class_damage(id).await.unwrap() {
+            let extra = extra_cells.contains(&c.sea_state_index);
+            assert_eq!(c.seeds, if extra { 2 } else { 1 }, "{c:?}");
+            if extra {
+                assert!(c.fidelity == "reduced" || c.fidelity == "mixed", "{c:?}");
+            }
+        }
+        store.close().await;
+    });
+}
