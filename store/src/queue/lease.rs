@@ -1,4 +1,5 @@
-//! Leases: claim, heartbeat, completion (fresh or from the cache).
+//! Leases: claim, heartbeat, completion (fresh or from the cache); settling of unselected gated
+//! jobs, which are done without a lease.
 
 use super::results::{insert_class_damage_inputs, COPY_CLASS_DAMAGE_INPUTS};
 use super::DIALECT;
