@@ -24,6 +24,11 @@
 //!
 //! Seeds: the extra seeds' realisation seeds are drawn after every sea state's first N, so the
 //! first N seeds of every sea state are those of the same campaign without the rule.
+//!
+//! With `reduced` and `auto`, the extra seeds run through the calibration of their hot spot,
+//! fitted on the first seeds' load range widened by `strand.calibration_margin` (the extra
+//! seeds' global jobs come after it); an extra realisation that leaves that range fails its
+//! reduced job naming the range and the margin to raise.
 
 use serde::{Deserialize, Serialize};
 
