@@ -103,9 +103,10 @@ impl AutoFe {
 /// A contact class: layer interface and angular position name.
 type Class = (i64, &'static str);
 
-/// One reduced result of one contact class: the input of [`select_fe_sea_states`].
+/// One strand result of one contact class: the input of [`select_fe_sea_states`] and of the
+/// extra-seed rule (`crate::seeds`).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ReducedClassDamage {
+pub struct ClassDamageRate {
     /// Sea state index in the campaign.
     pub sea_state_index: i64,
     /// Its fraction of the year.
@@ -118,18 +119,18 @@ pub struct ReducedClassDamage {
     pub damage_rate_per_s: f64,
 }
 
-/// What [`select_fe_sea_states`] chose, and why.
+/// What a selection by damage share chose, and why.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct FeSelection {
+pub struct Selection {
     /// The governing class: layer interface and angular position.
     pub class: Option<(i64, &'static str)>,
-    /// Its reduced annual damage (1/year; occurrence-weighted, seed means).
+    /// Its annual damage (1/year; occurrence-weighted, seed means) in the rows.
     pub annual_damage: f64,
     /// The chosen sea states with their share of that damage, largest first.
     pub sea_states: Vec<(i64, f64)>,
 }
 
-impl FeSelection {
+impl Selection {
     /// Whether `sea_state_index` is among the chosen.
     pub fn contains(&self, sea_state_index: i64) -> bool {
         self.sea_states.iter().any(|&(s, _)| s == sea_state_index)
@@ -139,7 +140,21 @@ impl FeSelection {
 /// The sea states that run FE under `rule` (module docs): deterministic for given rows
 /// (ties go to the lower sea state index). Rows with a non-finite or negative rate count as
 /// zero. With no damage at all, nothing is chosen.
-pub fn select_fe_sea_states(rows: &[ReducedClassDamage], rule: &AutoFe) -> FeSelection {
+pub fn select_fe_sea_states(rows: &[ClassDamageRate], rule: &AutoFe) -> Selection {
+    select_by_damage_share(rows, rule.sea_states, rule.damage_share)
+}
+
+/// The sea states carrying the largest shares of the annual fretting damage of the governing
+/// contact class in `rows` (the class with the largest occurrence-weighted sum of seed-mean
+/// damage rates), in decreasing order of share, until `max_sea_states` are taken or their
+/// shares sum to `damage_share`, whichever comes first. Deterministic for given rows in any
+/// order (ties go to the lower sea state index, then the lower class); rows with a non-finite
+/// or negative rate count as zero; sea states without damage are never chosen.
+pub fn select_by_damage_share(
+    rows: &[ClassDamageRate],
+    max_sea_states: usize,
+    damage_share: f64,
+) -> Selection {
     // seed means per (class, sea state), then occurrence-weighted annual damage per class
     const YEAR_S: f64 = 31_557_600.0;
     // (class, sea state) → (occurrence, Σ rate over seeds, seeds)
@@ -176,7 +191,7 @@ pub fn select_fe_sea_states(rows: &[ReducedClassDamage], rule: &AutoFe) -> FeSel
             },
         );
     let Some((class, total)) = governing else {
-        return FeSelection {
+        return Selection {
             class: None,
             annual_damage: 0.0,
             sea_states: Vec::new(),
@@ -187,7 +202,7 @@ pub fn select_fe_sea_states(rows: &[ReducedClassDamage], rule: &AutoFe) -> FeSel
     let mut chosen = Vec::new();
     let mut covered = 0.0;
     for (sea_state, annual) in cells {
-        if chosen.len() >= rule.sea_states || covered >= rule.damage_share * (1.0 - 1e-12) {
+        if chosen.len() >= max_sea_states || covered >= damage_share * (1.0 - 1e-12) {
             break;
         }
         if annual <= 0.0 {
@@ -197,7 +212,7 @@ pub fn select_fe_sea_states(rows: &[ReducedClassDamage], rule: &AutoFe) -> FeSel
         covered += share;
         chosen.push((sea_state, share));
     }
-    FeSelection {
+    Selection {
         class: Some(class),
         annual_damage: total,
         sea_states: chosen,
@@ -208,14 +223,8 @@ pub fn select_fe_sea_states(rows: &[ReducedClassDamage], rule: &AutoFe) -> FeSel
 mod tests {
     use super::*;
 
-    fn row(
-        sea_state: i64,
-        occurrence: f64,
-        seed: i64,
-        class: i64,
-        rate: f64,
-    ) -> ReducedClassDamage {
-        ReducedClassDamage {
+    fn row(sea_state: i64, occurrence: f64, seed: i64, class: i64, rate: f64) -> ClassDamageRate {
+        ClassDamageRate {
             sea_state_index: sea_state,
             occurrence_fraction: occurrence,
             seed_index: seed,

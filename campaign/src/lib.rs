@@ -7,6 +7,8 @@
 //! - [`fatigue`]: the fatigue settings (run-in, T-N curves, fretting damage law);
 //! - [`fidelity`]: the strand model of the strand jobs (FE, reduced, auto) and the `auto`
 //!   selection of the sea states that also run FE;
+//! - [`seeds`]: the extra seeds of the sea states that carry most of the damage
+//!   (`simulation.extra_seeds`) and their selection;
 //! - [`resolve`]: read and hash every referenced file, parse and check them; nothing is
 //!   written anywhere for a bad campaign;
 //! - [`payload`]: the stored campaign inputs and the per-job payloads workers run from, cache
@@ -18,6 +20,7 @@ pub mod fatigue;
 pub mod fidelity;
 pub mod payload;
 pub mod resolve;
+pub mod seeds;
 pub mod spec;
 
 pub use error::CampaignError;

@@ -61,6 +61,11 @@ pub struct GlobalPayload {
     pub seed_index: usize,
     /// Seed of the wave realisation.
     pub seed: u64,
+    /// An extra seed of `simulation.extra_seeds`: this realisation and its strand jobs run
+    /// only if the first seeds' results select its sea state (`crate::seeds`), else they end
+    /// at once with no results.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub extra_seed: bool,
 }
 
 /// Input of a `strand` job: one hot spot of one global realisation.
@@ -144,13 +149,12 @@ impl CampaignInputs {
         let mut case = self.base_case.clone();
         case.name.clear();
         case.about = None;
-        let text = serde_json::to_string(&(
-            &self.spec.simulation,
-            &self.spec.hot_spots,
-            &case,
-            &self.floater,
-        ))
-        .unwrap_or_default();
+        // which sea states get extra seeds does not change any global result
+        let mut simulation = self.spec.simulation.clone();
+        simulation.extra_seeds = None;
+        let text =
+            serde_json::to_string(&(&simulation, &self.spec.hot_spots, &case, &self.floater))
+                .unwrap_or_default();
         hex::encode(Sha256::digest(text.as_bytes()))
     }
 }

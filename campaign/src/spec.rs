@@ -25,6 +25,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::CampaignError;
 use crate::fatigue::FatigueSpec;
 use crate::fidelity::{AutoFe, StrandFidelity};
+use crate::seeds::ExtraSeeds;
 
 /// A whole campaign.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -108,6 +109,10 @@ pub struct SimulationSpec {
     pub wave_ramp_s: Option<f64>,
     /// Random realisations per sea state.
     pub seeds_per_sea_state: u32,
+    /// More realisations for the sea states that carry most of the first seeds' damage
+    /// ([`crate::seeds`]); none when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub extra_seeds: Option<ExtraSeeds>,
     /// JONSWAP peak enhancement γ, or `"dnv"` for the DNV-RP-C205 default.
     pub gamma: GammaSpec,
     /// Wave heading (deg, from +x towards +y).
@@ -406,6 +411,9 @@ impl CampaignSpec {
                 &format!("must be from 1 to {MAX_SEEDS_PER_SEA_STATE}"),
             ));
         }
+        if let Some(extra) = &s.extra_seeds {
+            extra.validate(s.seeds_per_sea_state)?;
+        }
         if !(1..=MAX_STRAND_THREADS).contains(&s.global_threads) {
             return Err(invalid(
                 "simulation.global_threads",
@@ -599,6 +607,56 @@ mod tests {
             arc_length_m: 80.0,
         });
         assert!(s.validate().is_ok());
+    }
+
+    #[test]
+    fn the_extra_seed_rule_is_optional_checked_by_field_and_absent_from_files_without_it() {
+        let spec = demo_spec(serde_json::json!({}));
+        assert_eq!(spec.simulation.extra_seeds, None);
+        let text = serde_json::to_string(&spec).unwrap();
+        assert!(!text.contains("extra_seeds"), "{text}");
+        let with = |extra: serde_json::Value| {
+            let mut v = serde_json::to_value(&spec).unwrap();
+            v["simulation"]["extra_seeds"] = extra;
+            CampaignSpec::from_json_str(&v.to_string())
+        };
+        let ok = with(serde_json::json!({"seeds": 3, "damage_share": 0.8})).unwrap();
+        assert!(ok.validate().is_ok());
+        assert_eq!(
+            ok.simulation.extra_seeds,
+            Some(ExtraSeeds {
+                seeds: 3,
+                damage_share: 0.8
+            })
+        );
+        for (extra, field) in [
+            (
+                serde_json::json!({"seeds": 1, "damage_share": 0.8}),
+                "simulation.extra_seeds.seeds",
+            ),
+            (
+                serde_json::json!({"seeds": 3, "damage_share": 0.0}),
+                "simulation.extra_seeds.damage_share",
+            ),
+            (
+                serde_json::json!({"seeds": 3, "damage_share": 1.2}),
+                "simulation.extra_seeds.damage_share",
+            ),
+        ] {
+            match with(extra.clone()).unwrap().validate() {
+                Err(CampaignError::Invalid { field: f, .. }) => assert_eq!(f, field, "{extra}"),
+                other => panic!("{extra}: {other:?}"),
+            }
+        }
+        // both fields are required, unknown ones refused, negative counts a type error
+        for extra in [
+            serde_json::json!({"seeds": 3}),
+            serde_json::json!({"seeds": 3, "damage_share": 0.8, "share": 1}),
+            serde_json::json!({"seeds": -3, "damage_share": 0.8}),
+        ] {
+            let e = with(extra.clone()).unwrap_err().to_string();
+            assert!(e.contains("valid campaign"), "{extra}: {e}");
+        }
     }
 
     #[test]

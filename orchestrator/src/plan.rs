@@ -8,7 +8,9 @@
 //!
 //! Jobs: one `global` per (sea state, seed), then one `strand` per (sea state, seed, hot spot)
 //! depending on it. Strand jobs have the higher priority so that started sea states finish (and
-//! count as covered) before new ones start.
+//! count as covered) before new ones start. With `simulation.extra_seeds`, every sea state also
+//! gets the jobs of its extra seeds, gated on the first seeds' strand results
+//! (`moorfret_campaign::seeds`); their seeds are drawn after every sea state's first ones.
 //!
 //! Expected costs (s, on one core of a 2-core machine) are rough, for the scheduler only:
 //! global 0.03 s per time step (`cargo bench --bench global`: 27 ms per 0.1 s step of the
@@ -54,15 +56,19 @@ fn splitmix64(state: &mut u64) -> u64 {
 }
 
 /// The sea states of a scatter diagram: non-zero cells in table order, seeds drawn from
-/// `campaign_seed`.
+/// `campaign_seed`: first `seeds_per_sea_state` for every sea state in turn, then
+/// `extra_seeds` more for every sea state in turn (so the first seeds do not depend on them).
 pub fn sea_states(
     table: &ScatterTable,
     reading: ScatterReading,
     seeds_per_sea_state: u32,
+    extra_seeds: u32,
     campaign_seed: u64,
 ) -> Vec<NewSeaState> {
     let mut rng = campaign_seed;
-    table
+    // Seeds stay below 2^63 so they survive databases with signed 64-bit integers.
+    let mut draw = |n: u32| -> Vec<u64> { (0..n).map(|_| splitmix64(&mut rng) >> 1).collect() };
+    let mut states: Vec<NewSeaState> = table
         .cells()
         .into_iter()
         .filter(|c| c.value > 0.0)
@@ -72,12 +78,20 @@ pub fn sea_states(
             hs_m: 0.5 * (c.hs_lower_m + c.hs_upper_m),
             tp_s: c.tp_s,
             occurrence_fraction: occurrence_fraction(c.value, reading),
-            // Seeds stay below 2^63 so they survive databases with signed 64-bit integers.
-            seeds: (0..seeds_per_sea_state)
-                .map(|_| splitmix64(&mut rng) >> 1)
-                .collect(),
+            seeds: draw(seeds_per_sea_state),
         })
-        .collect()
+        .collect();
+    for state in &mut states {
+        state.seeds.extend(draw(extra_seeds));
+    }
+    states
+}
+
+/// Extra seeds per sea state of the campaign's `simulation.extra_seeds` (0 without the rule).
+pub fn extra_seeds_per_sea_state(inputs: &CampaignInputs) -> u32 {
+    let sim = &inputs.spec.simulation;
+    sim.extra_seeds
+        .map_or(0, |e| e.seeds.saturating_sub(sim.seeds_per_sea_state))
 }
 
 /// Expected cost of a global job (s).
@@ -105,6 +119,14 @@ pub fn strand_cost_s(inputs: &CampaignInputs) -> f64 {
 /// job and its hot spot's calibration. `auto`: as `reduced`, plus one FE strand job per
 /// (sea state, seed, hot spot) depending on every reduced job of its hot spot, which runs only
 /// if the reduced results select its sea state (`moorfret_campaign::fidelity`).
+///
+/// With `simulation.extra_seeds`, the seeds of a sea state beyond the first
+/// `seeds_per_sea_state` are extra seeds (`moorfret_campaign::seeds`), planned after every
+/// other job: per (sea state, extra seed) a global job depending on every first-seed strand job
+/// whose rows the selection reads (FE strand jobs with `fe`, reduced ones with `reduced` and
+/// `auto`), and per hot spot a strand job of that kind depending on it (and on its hot spot's
+/// calibration). All carry `extra_seed`; the global job's cache key is over every campaign
+/// input, as whether it runs depends on them.
 pub fn jobs(
     inputs: &CampaignInputs,
     inputs_sha256: &str,
@@ -118,16 +140,24 @@ pub fn jobs(
     let max_attempts = inputs.spec.jobs.max_attempts;
     let fidelity = inputs.spec.strand.fidelity;
     let global_sha256 = inputs.global_sha256();
+    let first_seeds = if inputs.spec.simulation.extra_seeds.is_some() {
+        inputs.spec.simulation.seeds_per_sea_state as usize
+    } else {
+        usize::MAX
+    };
     // (index in `out`, sea state id, payload, cache key) of every global job
     let mut globals = Vec::with_capacity(seeds);
+    // first-seed strand jobs whose rows select the extra seeds' sea states
+    let mut first_strand = Vec::new();
     for (sea_state, &id) in sea_states.iter().zip(ids) {
-        for (seed_index, &seed) in sea_state.seeds.iter().enumerate() {
+        for (seed_index, &seed) in sea_state.seeds.iter().enumerate().take(first_seeds) {
             let global = GlobalPayload {
                 sea_state_index: sea_state.index as usize,
                 hs_m: sea_state.hs_m,
                 tp_s: sea_state.tp_s,
                 seed_index,
                 seed,
+                extra_seed: false,
             };
             let global_json = serde_json::to_value(&global).unwrap_or_default();
             let global_key = cache_key("global", &global_sha256, &global_json.to_string());
@@ -152,6 +182,7 @@ pub fn jobs(
                     calibration_cache_key: None,
                     if_selected: false,
                 };
+                first_strand.push(out.len());
                 out.push(strand_job(
                     JobKind::Strand,
                     &strand,
@@ -165,6 +196,15 @@ pub fn jobs(
         }
     }
     if !fidelity.uses_reduced() {
+        push_extra_seeds(
+            &mut out,
+            inputs,
+            inputs_sha256,
+            sea_states,
+            ids,
+            &first_strand,
+            &[],
+        );
         return out;
     }
     let global_keys: Vec<String> = globals.iter().map(|g| g.3.clone()).collect();
@@ -201,6 +241,7 @@ pub fn jobs(
                 if_selected: false,
             };
             reduced_of_hot_spot[hot_spot_index].push(out.len());
+            first_strand.push(out.len());
             out.push(strand_job(
                 JobKind::StrandReduced,
                 &strand,
@@ -212,10 +253,37 @@ pub fn jobs(
             ));
         }
     }
-    if fidelity != StrandFidelity::Auto {
-        return out;
+    if fidelity == StrandFidelity::Auto {
+        push_auto_fe(
+            &mut out,
+            inputs,
+            inputs_sha256,
+            &globals,
+            &reduced_of_hot_spot,
+        );
     }
-    for (global_index, id, global, global_key) in &globals {
+    push_extra_seeds(
+        &mut out,
+        inputs,
+        inputs_sha256,
+        sea_states,
+        ids,
+        &first_strand,
+        &calibrations,
+    );
+    out
+}
+
+/// The FE strand jobs of an `auto` campaign (see [`jobs`]).
+fn push_auto_fe(
+    out: &mut Vec<PlannedJob>,
+    inputs: &CampaignInputs,
+    inputs_sha256: &str,
+    globals: &[(usize, SeaStateId, GlobalPayload, String)],
+    reduced_of_hot_spot: &[Vec<usize>],
+) {
+    let (strand_cost, max_attempts) = (strand_cost_s(inputs), inputs.spec.jobs.max_attempts);
+    for (global_index, id, global, global_key) in globals {
         for (hot_spot_index, reduced) in reduced_of_hot_spot.iter().enumerate() {
             let strand = StrandPayload {
                 global: global.clone(),
@@ -238,7 +306,77 @@ pub fn jobs(
             ));
         }
     }
-    out
+}
+
+/// The jobs of the extra seeds (see [`jobs`]): `first_strand` are the first-seed strand jobs
+/// the selection reads, `calibrations` the (index, cache key) of each hot spot's calibration
+/// (empty with `fe`).
+fn push_extra_seeds(
+    out: &mut Vec<PlannedJob>,
+    inputs: &CampaignInputs,
+    inputs_sha256: &str,
+    sea_states: &[NewSeaState],
+    ids: &[SeaStateId],
+    first_strand: &[usize],
+    calibrations: &[(usize, String)],
+) {
+    if inputs.spec.simulation.extra_seeds.is_none() {
+        return;
+    }
+    let first_seeds = inputs.spec.simulation.seeds_per_sea_state as usize;
+    let max_attempts = inputs.spec.jobs.max_attempts;
+    let (global_cost, strand_cost) = (global_cost_s(inputs), strand_cost_s(inputs));
+    let reduced = inputs.spec.strand.fidelity.uses_reduced();
+    for (sea_state, &id) in sea_states.iter().zip(ids) {
+        for (seed_index, &seed) in sea_state.seeds.iter().enumerate().skip(first_seeds) {
+            let global = GlobalPayload {
+                sea_state_index: sea_state.index as usize,
+                hs_m: sea_state.hs_m,
+                tp_s: sea_state.tp_s,
+                seed_index,
+                seed,
+                extra_seed: true,
+            };
+            let global_json = serde_json::to_value(&global).unwrap_or_default();
+            let global_key = cache_key("global", inputs_sha256, &global_json.to_string());
+            let global_index = out.len();
+            out.push(PlannedJob {
+                sea_state: Some(id),
+                priority: 0,
+                expected_cost_s: global_cost,
+                max_attempts,
+                cache_key: Some(global_key.clone()),
+                depends_on: first_strand.to_vec(),
+                ..PlannedJob::new(JobKind::Global, global_json)
+            });
+            for hot_spot_index in 0..inputs.spec.hot_spots.len() {
+                let calibration = calibrations.get(hot_spot_index);
+                let strand = StrandPayload {
+                    global: global.clone(),
+                    hot_spot_index,
+                    global_cache_key: global_key.clone(),
+                    calibration_cache_key: calibration.map(|c| c.1.clone()),
+                    if_selected: false,
+                };
+                let (kind, cost) = if reduced {
+                    (JobKind::StrandReduced, REDUCED_COST_FRACTION * strand_cost)
+                } else {
+                    (JobKind::Strand, strand_cost)
+                };
+                let mut depends_on = vec![global_index];
+                depends_on.extend(calibration.map(|c| c.0));
+                out.push(strand_job(
+                    kind,
+                    &strand,
+                    inputs_sha256,
+                    cost,
+                    max_attempts,
+                    Some(id),
+                    depends_on,
+                ));
+            }
+        }
+    }
 }
 
 /// A strand job (FE or reduced) of `payload`.
@@ -275,6 +413,7 @@ pub async fn create(
         &resolved.scatter,
         inputs.spec.scatter.reading,
         inputs.spec.simulation.seeds_per_sea_state,
+        extra_seeds_per_sea_state(inputs),
         inputs.spec.seed,
     );
     let inputs_sha256 = inputs.results_sha256();
@@ -299,7 +438,7 @@ mod tests {
     #[test]
     fn non_zero_cells_become_sea_states_at_bin_centres() {
         let table = ScatterTable::parse(TABLE).unwrap();
-        let states = sea_states(&table, ScatterReading::JointPercent, 2, 7);
+        let states = sea_states(&table, ScatterReading::JointPercent, 2, 0, 7);
         assert_eq!(states.len(), 2);
         assert_eq!((states[0].hs_m, states[0].tp_s), (0.5, 7.0));
         assert_eq!((states[1].hs_m, states[1].tp_s), (1.5, 5.0));
@@ -310,7 +449,7 @@ mod tests {
         // drawn once from the campaign seed: the same seed gives the same plan
         assert_eq!(
             states,
-            sea_states(&table, ScatterReading::JointPercent, 2, 7)
+            sea_states(&table, ScatterReading::JointPercent, 2, 0, 7)
         );
     }
 
@@ -331,7 +470,7 @@ mod tests {
         let mut resolved = moorfret_campaign::resolve(&path).unwrap();
         resolved.inputs.spec.strand.fidelity = fidelity;
         let inputs = &resolved.inputs;
-        let states = sea_states(&resolved.scatter, inputs.spec.scatter.reading, 2, 1);
+        let states = sea_states(&resolved.scatter, inputs.spec.scatter.reading, 2, 0, 1);
         let ids: Vec<SeaStateId> = (0..states.len() as i64).map(SeaStateId).collect();
         jobs(inputs, &inputs.results_sha256(), &states, &ids)
     }
@@ -398,6 +537,120 @@ mod tests {
         let reduced_only = planned(StrandFidelity::Reduced);
         assert_eq!(kinds(&reduced_only, JobKind::Strand), 0);
         assert_eq!(reduced_only.len(), 6 + 1 + 6);
+    }
+
+    /// The demo campaign (one seed per sea state) with `fidelity` and the extra-seed rule
+    /// `seeds` (3 in all, or none), planned: its sea states and jobs.
+    fn planned_with_extra(
+        fidelity: StrandFidelity,
+        extra: Option<u32>,
+    ) -> (Vec<NewSeaState>, Vec<PlannedJob>) {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns/demo.json");
+        let mut resolved = moorfret_campaign::resolve(&path).unwrap();
+        resolved.inputs.spec.strand.fidelity = fidelity;
+        resolved.inputs.spec.simulation.extra_seeds =
+            extra.map(|seeds| moorfret_campaign::seeds::ExtraSeeds {
+                seeds,
+                damage_share: 0.8,
+            });
+        let inputs = &resolved.inputs;
+        assert!(inputs.spec.validate().is_ok());
+        let states = sea_states(
+            &resolved.scatter,
+            inputs.spec.scatter.reading,
+            inputs.spec.simulation.seeds_per_sea_state,
+            extra_seeds_per_sea_state(inputs),
+            1,
+        );
+        let ids: Vec<SeaStateId> = (0..states.len() as i64).map(SeaStateId).collect();
+        let jobs = jobs(inputs, &inputs.results_sha256(), &states, &ids);
+        (states, jobs)
+    }
+
+    #[test]
+    fn extra_seeds_are_planned_gated_on_the_first_seeds_strand_jobs() {
+        let payload = |j: &PlannedJob| -> GlobalPayload {
+            match j.kind {
+                JobKind::Global => serde_json::from_value(j.payload.clone()).unwrap(),
+                _ => {
+                    let p: StrandPayload = serde_json::from_value(j.payload.clone()).unwrap();
+                    p.global
+                }
+            }
+        };
+        for fidelity in [
+            StrandFidelity::Fe,
+            StrandFidelity::Reduced,
+            StrandFidelity::Auto,
+        ] {
+            let (plain_states, plain) = planned_with_extra(fidelity, None);
+            let (states, jobs) = planned_with_extra(fidelity, Some(3));
+            // the first seed of every sea state is the one of the plan without the rule; two
+            // more follow
+            for (a, b) in plain_states.iter().zip(&states) {
+                assert_eq!(b.seeds.len(), 3);
+                assert_eq!(a.seeds[..], b.seeds[..1]);
+            }
+            // the plan without the rule comes first, job for job (strand keys differ: the rule
+            // is a campaign input; global keys do not)
+            assert_eq!(&jobs[..plain.len()].len(), &plain.len());
+            for (a, b) in plain.iter().zip(&jobs) {
+                assert_eq!((a.kind, &a.depends_on), (b.kind, &b.depends_on));
+                if a.kind == JobKind::Global {
+                    assert_eq!(a.cache_key, b.cache_key);
+                }
+                if b.kind != JobKind::Calibrate {
+                    assert!(!payload(b).extra_seed);
+                }
+            }
+            let first_kind = if fidelity == StrandFidelity::Fe {
+                JobKind::Strand
+            } else {
+                JobKind::StrandReduced
+            };
+            let first_strand: Vec<usize> = (0..plain.len())
+                .filter(|&i| jobs[i].kind == first_kind)
+                .collect();
+            assert_eq!(first_strand.len(), 3);
+            let extra = &jobs[plain.len()..];
+            // per sea state and extra seed: a global job and one strand job (one hot spot)
+            assert_eq!(extra.len(), 3 * 2 * 2, "{fidelity:?}");
+            let calibration = jobs.iter().position(|j| j.kind == JobKind::Calibrate);
+            for (k, pair) in extra.chunks(2).enumerate() {
+                let global_index = plain.len() + 2 * k;
+                let (g, st) = (&pair[0], &pair[1]);
+                assert_eq!(g.kind, JobKind::Global);
+                assert_eq!(g.depends_on, first_strand, "{fidelity:?}");
+                let gp = payload(g);
+                assert!(gp.extra_seed);
+                assert_eq!(gp.seed_index, 1 + k % 2);
+                assert_eq!(gp.seed, states[k / 2].seeds[gp.seed_index]);
+                assert_eq!(st.kind, first_kind, "extra seeds of auto run reduced only");
+                let sp: StrandPayload = serde_json::from_value(st.payload.clone()).unwrap();
+                assert!(sp.global.extra_seed && !sp.if_selected);
+                assert_eq!(Some(&sp.global_cache_key), g.cache_key.as_ref());
+                let mut want = vec![global_index];
+                want.extend(calibration);
+                assert_eq!(st.depends_on, want);
+                assert_eq!(
+                    sp.calibration_cache_key.is_some(),
+                    fidelity != StrandFidelity::Fe
+                );
+            }
+            // the FE jobs of auto still wait for the first seeds' reduced jobs only
+            if fidelity == StrandFidelity::Auto {
+                for j in jobs[..plain.len()]
+                    .iter()
+                    .filter(|j| j.kind == JobKind::Strand)
+                {
+                    assert!(j.depends_on[1..] == first_strand[..]);
+                }
+            }
+            let mut keys: Vec<&String> = jobs.iter().filter_map(|j| j.cache_key.as_ref()).collect();
+            keys.sort();
+            keys.dedup();
+            assert_eq!(keys.len(), jobs.len());
+        }
     }
 
     #[test]

@@ -133,7 +133,8 @@ fn job_states(db: &str, id: CampaignId) -> Vec<JobState> {
     })
 }
 
-/// Every job of the campaign is done and has exactly one `done` attempt.
+/// Every job of the campaign is done and has exactly one `done` attempt, or, an unselected
+/// gated job settled by another (`settled_by` in its result), none at all.
 fn assert_each_done_once(db: &str, id: CampaignId) {
     rt().block_on(async {
         let store = Store::open(db, StoreOptions::default()).await.unwrap();
@@ -141,9 +142,17 @@ fn assert_each_done_once(db: &str, id: CampaignId) {
         let attempts = store.attempts_of_campaign(id).await.unwrap();
         for job in &jobs {
             assert_eq!(job.state, JobState::Done, "job {}", job.id);
-            let done = attempts
-                .iter()
-                .filter(|a| a.job == job.id && a.outcome == Some(AttemptOutcome::Done))
+            let settled = job
+                .result
+                .as_ref()
+                .is_some_and(|r| r.get("settled_by").is_some());
+            let of_job = attempts.iter().filter(|a| a.job == job.id);
+            if settled {
+                assert_eq!(of_job.count(), 0, "settled job {} was claimed", job.id);
+                continue;
+            }
+            let done = of_job
+                .filter(|a| a.outcome == Some(AttemptOutcome::Done))
                 .count();
             assert_eq!(done, 1, "job {} completed {done} times", job.id);
         }
@@ -935,6 +944,228 @@ fn auto_fidelity_campaign_survives_a_killed_driver() {
         assert!(compared.iter().all(|c| c.sea_state_index == fe_sea_state));
         let progress = store.progress(id).await.unwrap();
         assert!((progress.occurrence_covered - 0.01854).abs() < 1e-12);
+        store.close().await;
+    });
+}
+
+/// `simulation.extra_seeds` end to end: three short sea states of the demo campaign (FE
+/// strand), one seed each, and two seeds in all for the sea states holding half of the
+/// governing class's first-seed fretting damage. Every job is done once (or settled); the
+/// selected sea states have two seeds in the views with a seed spread, the others one; every
+/// unselected extra-seed strand job was settled without a claim by the first extra-seed job
+/// that ran; `query seeds` and `query lifetime` show the spread and the band.
+#[test]
+fn extra_seeds_run_where_the_damage_is_and_the_rest_is_settled_at_once() {
+    let _serial = serial();
+    let dir = tempfile::tempdir().unwrap();
+    let file = short_demo(
+        dir.path(),
+        "lower\tupper\t11\t14\ttotal\n2\t2,5\t1,354\t0\t1,354\n\
+         6\t6,5\t0\t0,2\t0,2\n8\t8,5\t0,05\t0\t0,05\n",
+        |spec| {
+            spec["name"] = serde_json::json!("seeds");
+            spec["simulation"]["extra_seeds"] =
+                serde_json::json!({ "seeds": 2, "damage_share": 0.5 });
+            spec["strand"]["contact_records"] = serde_json::json!(false);
+        },
+    );
+    let db = dir
+        .path()
+        .join("seeds.sqlite")
+        .to_string_lossy()
+        .into_owned();
+    let file = file.to_string_lossy().into_owned();
+    let started = Instant::now();
+    let out = moorfret(&["campaign", "launch", &file, "--db", &db, "--workers", "2"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    eprintln!("campaign with extra seeds: {:?}", started.elapsed());
+    let id = rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let id = store.campaign_by_name("seeds").await.unwrap().unwrap();
+        store.close().await;
+        id
+    });
+    assert_each_done_once(&db, id);
+    let selected: Vec<i64> = rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let jobs = store.jobs_of_campaign(id).await.unwrap();
+        let attempts = store.attempts_of_campaign(id).await.unwrap();
+        // 3 sea states × (first + extra seed) × (global + strand)
+        assert_eq!(jobs.len(), 12);
+        let mut selected = Vec::new();
+        let mut settled = 0;
+        for job in &jobs {
+            let payload = &job.payload;
+            let extra = payload["extra_seed"] == true || payload["global"]["extra_seed"] == true;
+            if !extra {
+                continue;
+            }
+            let results = store.results_of(job.id).await.unwrap();
+            let ran = results.result.get("selected").is_none();
+            let index = payload["sea_state_index"]
+                .as_i64()
+                .or(payload["global"]["sea_state_index"].as_i64())
+                .unwrap();
+            if ran {
+                if job.kind == JobKind::Strand {
+                    assert!(!results.class_damage_inputs.is_empty());
+                    selected.push(index);
+                }
+                continue;
+            }
+            assert_eq!(results.result["selected"], false);
+            assert!(results.class_damage_inputs.is_empty() && results.artifacts.is_empty());
+            if results.result.get("settled_by").is_some() {
+                settled += 1;
+                assert!(attempts.iter().all(|a| a.job != job.id));
+            } else {
+                assert_ne!(job.kind, JobKind::Strand, "a strand job waited for a claim");
+            }
+        }
+        selected.sort();
+        // the rule keeps the sea states holding half the damage: at least one, not all here
+        assert!(!selected.is_empty() && selected.len() < 3, "{selected:?}");
+        // the unselected strand jobs at least were settled in one go
+        assert!(settled >= 3 - selected.len(), "{settled}");
+        let cells = store.sea_state_class_damage(id).await.unwrap();
+        for c in cells.iter().filter(|c| c.measure == "fretting_max") {
+            let extra = selected.contains(&c.sea_state_index);
+            assert_eq!(c.seeds, if extra { 2 } else { 1 }, "{c:?}");
+            assert_eq!(c.damage_rate_sd.is_some(), extra, "{c:?}");
+        }
+        let lifetime = store.lifetime_class_damage(id).await.unwrap();
+        for l in &lifetime {
+            assert_eq!(l.band.sea_states_with_spread, selected.len() as i64);
+            assert_eq!(l.band.sea_states_without_spread, 3 - selected.len() as i64);
+            assert!(l.band.annual_damage_se.is_finite() && l.band.annual_damage_se >= 0.0);
+            assert!(l.band.annual_damage_low <= l.annual_damage);
+            assert!(l.band.annual_damage_high >= l.annual_damage);
+        }
+        store.close().await;
+        selected
+    });
+    let query = |kind: &str| -> Vec<serde_json::Value> {
+        serde_json::from_slice(&query_output(&db, "seeds", kind, &["--format", "json"])).unwrap()
+    };
+    let seeds = query("seeds");
+    assert!(!seeds.is_empty());
+    for r in &seeds {
+        let index = r["sea_state_index"].as_i64().unwrap();
+        let n = r["seeds"].as_i64().unwrap();
+        assert_eq!(n == 2, selected.contains(&index), "{r}");
+        assert_eq!(r["annual_damage_se"].is_null(), n == 1, "{r}");
+    }
+    for r in &query("lifetime") {
+        for column in [
+            "annual_damage_se",
+            "annual_damage_low",
+            "annual_damage_high",
+        ] {
+            assert!(r[column].as_f64().is_some(), "{column}: {r}");
+        }
+    }
+}
+
+/// `simulation.extra_seeds` with the `auto` fidelity: four short sea states, one FE sea state
+/// (`auto_fe.sea_states = 1`), two seeds in all where half the reduced first-seed damage is.
+/// The extra seeds run the reduced response only; the unselected FE jobs that were still
+/// waiting when the first FE job found the selection were settled by it without a claim (with
+/// two workers at most two FE jobs run at once, so of the three unselected at least one waits).
+#[test]
+fn auto_campaign_settles_its_unselected_fe_jobs_and_runs_extra_seeds_reduced() {
+    let _serial = serial();
+    let dir = tempfile::tempdir().unwrap();
+    let file = short_demo(
+        dir.path(),
+        "lower\tupper\t11\t12\t14\ttotal\n2\t2,5\t1,354\t0\t0\t1,354\n\
+         4\t4,5\t0\t0,423\t0\t0,423\n6\t6,5\t0\t0\t0,2\t0,2\n8\t8,5\t0,05\t0\t0\t0,05\n",
+        |spec| {
+            spec["name"] = serde_json::json!("autoseeds");
+            spec["simulation"]["extra_seeds"] =
+                serde_json::json!({ "seeds": 2, "damage_share": 0.5 });
+            spec["strand"]["fidelity"] = serde_json::json!("auto");
+            spec["strand"]["auto_fe"] = serde_json::json!({ "sea_states": 1 });
+            spec["strand"]["contact_records"] = serde_json::json!(false);
+        },
+    );
+    let db = dir
+        .path()
+        .join("autoseeds.sqlite")
+        .to_string_lossy()
+        .into_owned();
+    let file = file.to_string_lossy().into_owned();
+    let started = Instant::now();
+    let out = moorfret(&["campaign", "launch", &file, "--db", &db, "--workers", "2"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    eprintln!("auto campaign with extra seeds: {:?}", started.elapsed());
+    let id = rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let id = store.campaign_by_name("autoseeds").await.unwrap().unwrap();
+        store.close().await;
+        id
+    });
+    assert_each_done_once(&db, id);
+    rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let jobs = store.jobs_of_campaign(id).await.unwrap();
+        let count = |k: JobKind| jobs.iter().filter(|j| j.kind == k).count();
+        // first seeds: 4 global, 1 calibration, 4 reduced, 4 FE; extra: 4 global, 4 reduced
+        assert_eq!(
+            (
+                count(JobKind::Global),
+                count(JobKind::Calibrate),
+                count(JobKind::StrandReduced),
+                count(JobKind::Strand)
+            ),
+            (8, 1, 8, 4)
+        );
+        let (mut fe_ran, mut fe_settled) = (0, 0);
+        for job in jobs.iter().filter(|j| j.kind == JobKind::Strand) {
+            assert_ne!(job.payload["global"]["extra_seed"], true);
+            let result = job.result.clone().unwrap();
+            if result["selected"] == true {
+                fe_ran += 1;
+            } else if result.get("settled_by").is_some() {
+                fe_settled += 1;
+            }
+        }
+        assert_eq!(fe_ran, 1);
+        assert!(fe_settled >= 1, "no unselected FE job was settled");
+        let mut extra_cells = Vec::new();
+        for job in jobs.iter().filter(|j| j.kind == JobKind::StrandReduced) {
+            if job.payload["global"]["extra_seed"] != true {
+                continue;
+            }
+            let results = store.results_of(job.id).await.unwrap();
+            if results.result.get("selected").is_none() {
+                assert_eq!(results.result["fidelity"], "reduced");
+                assert!(!results.class_damage_inputs.is_empty());
+                extra_cells.push(job.payload["global"]["sea_state_index"].as_i64().unwrap());
+            }
+        }
+        assert!(
+            !extra_cells.is_empty() && extra_cells.len() < 4,
+            "{extra_cells:?}"
+        );
+        for c in store.sea_state_class_damage(id).await.unwrap() {
+            let extra = extra_cells.contains(&c.sea_state_index);
+            assert_eq!(c.seeds, if extra { 2 } else { 1 }, "{c:?}");
+            if extra {
+                assert!(c.fidelity == "reduced" || c.fidelity == "mixed", "{c:?}");
+            }
+        }
         store.close().await;
     });
 }

@@ -446,6 +446,7 @@ fn paper_campaign_plans_every_non_zero_cell_of_the_scatter_diagram() {
         table,
         resolved.inputs.spec.scatter.reading,
         resolved.inputs.spec.simulation.seeds_per_sea_state,
+        plan::extra_seeds_per_sea_state(&resolved.inputs),
         resolved.inputs.spec.seed,
     );
     assert_eq!(states.len(), non_zero);

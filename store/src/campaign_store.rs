@@ -283,6 +283,17 @@ impl Store {
         dispatch!(self, q => q.complete(lease, results).await)
     }
 
+    /// Settles gated jobs whose gate is known to be closed, each with its result, in one
+    /// transaction: those still ready or blocked become done with no rows, and their
+    /// dependents are unblocked. Returns the jobs settled (running or finished ones are left
+    /// alone).
+    pub async fn settle(
+        &self,
+        jobs: &[(JobId, serde_json::Value)],
+    ) -> Result<Vec<JobId>, StoreError> {
+        dispatch!(self, q => q.settle(jobs).await)
+    }
+
     /// Running jobs held by worker processes registered on `host`, with each worker's pid.
     pub async fn running_on_host(&self, host: &str) -> Result<Vec<(JobId, i64)>, StoreError> {
         dispatch!(self, q => q.running_on_host(host).await)

@@ -339,6 +339,9 @@ pub struct LifetimeDamage {
     pub occurrence_covered: f64,
     /// Number of contributing sea states.
     pub sea_states: i64,
+    /// The seed band of `annual_damage`.
+    #[serde(flatten)]
+    pub band: crate::results::SeedBand,
 }
 
 /// A `campaigns` row.

@@ -170,6 +170,9 @@ pub struct SeaStateClassDamage {
     pub damage_rate_per_s: f64,
     /// Seed-mean damage over the effective duration.
     pub damage_seed_mean: f64,
+    /// Seed-to-seed standard deviation of the damage rate (1/s; n - 1 in the denominator);
+    /// `None` for a single seed.
+    pub damage_rate_sd: Option<f64>,
     /// Seed-mean stick cycles per hour.
     pub stick_cycles_per_hour: f64,
     /// Seed-mean partial-slip cycles per hour.
@@ -243,6 +246,9 @@ pub struct LifetimeClassDamage {
     pub occurrence_covered: f64,
     /// Contributing sea states.
     pub sea_states: i64,
+    /// The seed band of `annual_damage`.
+    #[serde(flatten)]
+    pub band: SeedBand,
 }
 
 /// A row of the `sea_state_damage_inputs` view (T-N and other per-hot-spot measures).
@@ -268,8 +274,65 @@ pub struct SeaStateDamage {
     pub effective_duration_s: f64,
     /// Seed-mean damage rate (1/s).
     pub damage_rate_per_s: f64,
+    /// Seed-to-seed standard deviation of the damage rate (1/s; n - 1 in the denominator);
+    /// `None` for a single seed.
+    pub damage_rate_sd: Option<f64>,
     /// The strand model of the counted results: `fe`, `reduced`, or `mixed` (seeds of both).
     pub fidelity: String,
+}
+
+/// How far the seeds leave a lifetime figure uncertain (views of migration 0004): the annual
+/// damage D = Σ_c p_c · year · mean_c over the sea states c has the standard error
+/// SE = √(Σ_c (p_c · year)² s_c² / n_c) over the sea states with n_c ≥ 2 seeds (s_c their
+/// sample standard deviation); a sea state with one seed adds no spread and is counted in
+/// `sea_states_without_spread`. The band is D ± 2 SE (the lower end floored at 0), about 95 %
+/// when the effective degrees of freedom (Welch–Satterthwaite) are large; with few, a
+/// Student-t factor above 2 applies (`effective_dof` says how many).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct SeedBand {
+    /// Standard error of the annual damage from the seed spread (1/year).
+    pub annual_damage_se: f64,
+    /// D − 2 SE, not below 0 (1/year).
+    pub annual_damage_low: f64,
+    /// D + 2 SE (1/year).
+    pub annual_damage_high: f64,
+    /// Welch–Satterthwaite degrees of freedom of SE: (Σ v_c)² / Σ v_c² / (n_c − 1) with
+    /// v_c = (p_c · year)² s_c² / n_c; `None` without spread.
+    pub effective_dof: Option<f64>,
+    /// Sea states with two seeds or more.
+    pub sea_states_with_spread: i64,
+    /// Sea states with one seed.
+    pub sea_states_without_spread: i64,
+}
+
+impl SeedBand {
+    /// The band of `annual_damage` from the view's `annual_damage_variance` (Σ v_c) and
+    /// `annual_damage_variance_dof_sum` (Σ v_c² / (n_c − 1)). A negative variance (round-off
+    /// of a zero spread) counts as zero.
+    pub fn new(
+        annual_damage: f64,
+        variance: f64,
+        dof_sum: f64,
+        sea_states_with_spread: i64,
+        sea_states_without_spread: i64,
+    ) -> Self {
+        let se = variance.max(0.0).sqrt();
+        let effective_dof =
+            (sea_states_with_spread > 0 && dof_sum > 0.0).then(|| variance * variance / dof_sum);
+        Self {
+            annual_damage_se: se,
+            annual_damage_low: (annual_damage - 2.0 * se).max(0.0),
+            annual_damage_high: annual_damage + 2.0 * se,
+            effective_dof,
+            sea_states_with_spread,
+            sea_states_without_spread,
+        }
+    }
+}
+
+/// The standard deviation of a variance column (`None` for NULL; negative round-off → 0).
+pub fn standard_deviation(variance: Option<f64>) -> Option<f64> {
+    variance.map(|v| v.max(0.0).sqrt())
 }
 
 /// A sea state of a campaign with the state of its jobs.
@@ -310,4 +373,41 @@ pub struct ContactRow {
     pub angular_position_rad: f64,
     /// Statistics as stored.
     pub statistics: Value,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_band_is_two_standard_errors_wide_and_never_below_zero() {
+        // Var = 4 → SE = 2; one sea state with 3 seeds: Σ v² / (n − 1) = 16 / 2 → 2 dof
+        let b = SeedBand::new(10.0, 4.0, 8.0, 1, 2);
+        assert_eq!(
+            (
+                b.annual_damage_se,
+                b.annual_damage_low,
+                b.annual_damage_high
+            ),
+            (2.0, 6.0, 14.0)
+        );
+        assert_eq!(b.effective_dof, Some(2.0));
+        // a spread larger than half the damage: the lower end stops at zero
+        let wide = SeedBand::new(1.0, 4.0, 8.0, 1, 0);
+        assert_eq!(
+            (wide.annual_damage_low, wide.annual_damage_high),
+            (0.0, 5.0)
+        );
+        // no sea state with two seeds: no spread, no degrees of freedom
+        let none = SeedBand::new(1.0, 0.0, 0.0, 0, 3);
+        assert_eq!((none.annual_damage_se, none.effective_dof), (0.0, None));
+        assert_eq!(
+            (none.annual_damage_low, none.annual_damage_high),
+            (1.0, 1.0)
+        );
+        // round-off below zero counts as no spread
+        assert_eq!(SeedBand::new(1.0, -1e-30, 0.0, 1, 0).annual_damage_se, 0.0);
+        assert_eq!(standard_deviation(Some(9.0)), Some(3.0));
+        assert_eq!(standard_deviation(None), None);
+    }
 }

@@ -208,6 +208,8 @@ on_both_backends!(
     newer_schema_is_refused_and_left_untouched,
     dependents_of_concurrently_completed_jobs_are_all_unblocked,
     database_clock_sets_lease_times,
+    seed_spread_and_lifetime_band_of_known_seeds,
+    settled_jobs_end_at_once_and_unblock_their_dependents,
 );
 
 async fn eight_workers_complete_a_thousand_jobs_exactly_once(backend: Backend) {
@@ -972,6 +974,247 @@ async fn lifetime_view_reproduces_the_reference_annual_damage(backend: Backend) 
     assert_eq!(lifetime[0].sea_states, 2);
     let progress = ts.store.progress(id).await.unwrap();
     assert!((progress.occurrence_covered - 0.43758).abs() < 1e-12);
+    ts.finish().await;
+}
+
+/// A class row of fretting damage rate `rate` (most damaged contact; half of it for the mean
+/// over the class).
+fn class_row(seed_index: i64, rate: f64) -> ClassDamageInput {
+    ClassDamageInput {
+        hot_spot_index: 0,
+        layer_interface: 2,
+        angular_position: AngularPosition::NeutralAxis,
+        seed_index,
+        effective_duration_s: 100.0,
+        contacts: 3,
+        fretting_damage_rate_max_per_s: rate,
+        fretting_damage_rate_mean_per_s: 0.5 * rate,
+        stick_cycles_per_hour: 0.0,
+        partial_slip_cycles_per_hour: 10.0,
+        gross_slip_cycles_per_hour: 0.0,
+        ruiz_f1_max: 1.0,
+        ruiz_f2_max: 1.0,
+        peak_pressure_max_pa: 1.0e9,
+        slip_amplitude_max_m: 1.0e-6,
+        histogram: json!({}),
+    }
+}
+
+/// Seeds of known values give the mean, standard deviation and lifetime band by hand:
+/// sea state 0 (p = 0.2) has three seeds, sea state 1 (p = 0.1) one.
+async fn seed_spread_and_lifetime_band_of_known_seeds(backend: Backend) {
+    let Some(ts) = open_store(backend, QueuePolicy::default()).await else {
+        return;
+    };
+    let id = campaign(&ts.store, "seeds").await;
+    let sea_states = ts
+        .store
+        .insert_sea_states(
+            id,
+            &[
+                NewSeaState {
+                    index: 0,
+                    hs_m: 6.25,
+                    tp_s: 14.0,
+                    occurrence_fraction: 0.2,
+                    seeds: vec![1, 2, 3],
+                },
+                NewSeaState {
+                    index: 1,
+                    hs_m: 2.25,
+                    tp_s: 8.0,
+                    occurrence_fraction: 0.1,
+                    seeds: vec![4],
+                },
+            ],
+        )
+        .await
+        .unwrap();
+    // (sea state, seed, fretting rate 1/s, T-N damage over 100 s)
+    let seeds = [
+        (0, 0, 1e-9, 1e-6),
+        (0, 1, 2e-9, 3e-6),
+        (0, 2, 6e-9, 5e-6),
+        (1, 0, 4e-9, 2e-6),
+    ];
+    let plan: Vec<PlannedJob> = seeds
+        .iter()
+        .map(|&(s, ..)| PlannedJob {
+            sea_state: Some(sea_states[s]),
+            ..PlannedJob::new(JobKind::Strand, json!({}))
+        })
+        .collect();
+    ts.store.insert_plan(id, &plan).await.unwrap();
+    let worker = ts.store.register_worker(&worker_info(1)).await.unwrap();
+    for &(_, seed, rate, tn) in &seeds {
+        let lease = ts
+            .store
+            .claim(&worker, &ClaimFilter::default())
+            .await
+            .unwrap()
+            .unwrap();
+        let results = JobResults {
+            damage_inputs: vec![DamageInput {
+                hot_spot_index: 0,
+                measure: "tn_test".into(),
+                seed_index: seed,
+                effective_duration_s: 100.0,
+                damage: tn,
+                details: json!({}),
+            }],
+            class_damage_inputs: vec![class_row(seed, rate)],
+            ..JobResults::default()
+        };
+        ts.store.complete(&lease, &results).await.unwrap();
+    }
+    let year = 31_557_600.0;
+    let close = |got: f64, want: f64| (got - want).abs() <= 1e-12 * want.abs();
+    // per sea state: fretting_max mean 3e-9, SD √7e-9 (deviations -2, -1, 3; 14 / 2);
+    // fretting_mean half of it; one seed: no SD
+    let cells = ts.store.sea_state_class_damage(id).await.unwrap();
+    assert_eq!(cells.len(), 4);
+    for c in &cells {
+        let scale = if c.measure == "fretting_max" {
+            1.0
+        } else {
+            0.5
+        };
+        if c.sea_state_index == 0 {
+            assert_eq!(c.seeds, 3);
+            assert!(close(c.damage_rate_per_s, scale * 3e-9), "{c:?}");
+            let sd = c.damage_rate_sd.unwrap();
+            assert!(close(sd, scale * 7f64.sqrt() * 1e-9), "{c:?}");
+        } else {
+            assert_eq!(c.seeds, 1);
+            assert!(close(c.damage_rate_per_s, scale * 4e-9), "{c:?}");
+            assert_eq!(c.damage_rate_sd, None);
+        }
+    }
+    // T-N rates 1e-8, 3e-8, 5e-8: mean 3e-8, SD 2e-8
+    let tn = ts.store.sea_state_damage(id).await.unwrap();
+    assert_eq!(tn.len(), 2);
+    assert!(close(tn[0].damage_rate_per_s, 3e-8));
+    assert!(close(tn[0].damage_rate_sd.unwrap(), 2e-8));
+    assert_eq!(tn[1].damage_rate_sd, None);
+    // D = year (0.2 · 3e-9 + 0.1 · 4e-9) = year · 1e-9; SE = 0.2 · year · √(7 / 3) e-9, from
+    // sea state 0 alone (two degrees of freedom); sea state 1 has no spread
+    let lifetime = ts.store.lifetime_class_damage(id).await.unwrap();
+    let max = lifetime
+        .iter()
+        .find(|l| l.measure == "fretting_max")
+        .unwrap();
+    assert!(close(max.annual_damage, year * 1e-9));
+    let se = 0.2 * year * (7.0f64 / 3.0).sqrt() * 1e-9;
+    assert!(close(max.band.annual_damage_se, se), "{max:?}");
+    assert!(close(max.band.annual_damage_high, year * 1e-9 + 2.0 * se));
+    assert!(close(max.band.annual_damage_low, year * 1e-9 - 2.0 * se));
+    assert!(close(max.band.effective_dof.unwrap(), 2.0));
+    assert_eq!(
+        (
+            max.band.sea_states_with_spread,
+            max.band.sea_states_without_spread
+        ),
+        (1, 1)
+    );
+    let mean = lifetime
+        .iter()
+        .find(|l| l.measure == "fretting_mean")
+        .unwrap();
+    assert!(close(mean.band.annual_damage_se, 0.5 * se));
+    // T-N: D = year (0.2 · 3e-8 + 0.1 · 2e-8) = 8e-9 year, SE = 0.2 · year · 2e-8 / √3
+    let tn_life = ts.store.lifetime_damage(id).await.unwrap();
+    assert_eq!(tn_life.len(), 1);
+    let (d, se) = (8e-9 * year, 0.2 * year * 2e-8 / 3f64.sqrt());
+    assert!(close(tn_life[0].annual_damage, d));
+    assert!(close(tn_life[0].band.annual_damage_se, se));
+    assert!(close(tn_life[0].band.annual_damage_low, d - 2.0 * se));
+    assert!(close(tn_life[0].band.annual_damage_high, d + 2.0 * se));
+    ts.finish().await;
+}
+
+/// Settling: listed jobs still ready or blocked become done with their result, no rows and no
+/// attempt, in one transaction, and their dependents are unblocked; a running job is left to
+/// its worker, and settling again changes nothing.
+async fn settled_jobs_end_at_once_and_unblock_their_dependents(backend: Backend) {
+    let Some(ts) = open_store(backend, QueuePolicy::default()).await else {
+        return;
+    };
+    let id = campaign(&ts.store, "settle").await;
+    // 0 ← 1 ← 2, 1 ← 4, 0 ← 3 ← 5
+    let mut plan: Vec<PlannedJob> = (0..6).map(|_| test_job(TestPayload::Succeed)).collect();
+    plan[1].depends_on = vec![0];
+    plan[2].depends_on = vec![1];
+    plan[3].depends_on = vec![0];
+    plan[4].depends_on = vec![1];
+    plan[5].depends_on = vec![3];
+    let jobs = ts.store.insert_plan(id, &plan).await.unwrap();
+    let worker = ts.store.register_worker(&worker_info(1)).await.unwrap();
+    let any = ClaimFilter::default();
+    let first = ts.store.claim(&worker, &any).await.unwrap().unwrap();
+    assert_eq!(first.job, jobs[0]);
+    ts.store
+        .complete(&first, &JobResults::default())
+        .await
+        .unwrap();
+    // 1 and 3 are ready; 1 is claimed
+    let running = ts.store.claim(&worker, &any).await.unwrap().unwrap();
+    assert_eq!(running.job, jobs[1]);
+    let result = |k: usize| json!({ "selected": false, "settled_by": k });
+    let settled = ts
+        .store
+        .settle(&[
+            (jobs[3], result(3)),
+            (jobs[1], result(1)),
+            (jobs[2], result(2)),
+        ])
+        .await
+        .unwrap();
+    // 2 waits on the running 1 but its answer is known: settled too
+    assert_eq!(settled, vec![jobs[2], jobs[3]]);
+    let states = |records: Vec<moorfret_store::JobRecord>| -> Vec<JobState> {
+        jobs.iter()
+            .map(|id| records.iter().find(|j| j.id == *id).unwrap().state)
+            .collect()
+    };
+    assert_eq!(
+        states(ts.store.jobs_of_campaign(id).await.unwrap()),
+        [
+            JobState::Done,
+            JobState::Running,
+            JobState::Done,
+            JobState::Done,
+            JobState::Blocked,
+            JobState::Ready
+        ]
+    );
+    for k in [2, 3] {
+        let results = ts.store.results_of(jobs[k]).await.unwrap();
+        assert_eq!(results.result, result(k));
+        assert!(results.class_damage_inputs.is_empty() && results.damage_inputs.is_empty());
+    }
+    let attempts = ts.store.attempts_of_campaign(id).await.unwrap();
+    assert!(attempts
+        .iter()
+        .all(|a| a.job != jobs[2] && a.job != jobs[3]));
+    // the running job completes by itself and unblocks 4; settling again changes nothing
+    ts.store
+        .complete(&running, &JobResults::default())
+        .await
+        .unwrap();
+    let again = ts
+        .store
+        .settle(&[(jobs[1], result(9)), (jobs[3], result(9))])
+        .await
+        .unwrap();
+    assert!(again.is_empty());
+    assert_eq!(
+        ts.store.results_of(jobs[3]).await.unwrap().result,
+        result(3)
+    );
+    assert_eq!(
+        states(ts.store.jobs_of_campaign(id).await.unwrap())[4],
+        JobState::Ready
+    );
     ts.finish().await;
 }
 

@@ -6,6 +6,7 @@ use serde_json::json;
 use tokio::runtime::Handle;
 
 use crate::failure::permanent;
+use crate::gate::{extra_seed_gate, GateContext};
 use crate::{global_stage, reduced_stage, strand_stage};
 use moorfret_campaign::{CalibratePayload, CampaignInputs, GlobalPayload, StrandPayload};
 use moorfret_store::{
@@ -23,7 +24,8 @@ fn decode<T: serde::de::DeserializeOwned>(lease: &Lease) -> Result<T, JobFailure
 }
 
 /// Runs the job of `lease`. `inputs` are its campaign's (absent for test jobs); `retry` is how
-/// the stage's store reads are retried.
+/// the stage's store reads are retried. A job of an extra seed first passes its gate
+/// ([`crate::gate`]) and ends at once, with no rows, if its sea state is not selected.
 pub fn execute(
     lease: &Lease,
     inputs: Option<&CampaignInputs>,
@@ -35,14 +37,35 @@ pub fn execute(
     let need_inputs = || {
         inputs.ok_or_else(|| permanent(FailureClass::BadCampaign, "campaign inputs are missing"))
     };
+    let gate = |inputs, global, hot_spot| {
+        let ctx = GateContext {
+            inputs,
+            lease,
+            store,
+            retry,
+            rt,
+        };
+        extra_seed_gate(&ctx, global, hot_spot)
+    };
     match lease.kind {
         JobKind::Test => run_test(lease),
         JobKind::Global => {
             let payload: GlobalPayload = decode(lease)?;
+            if payload.extra_seed {
+                if let Some(ended) = gate(need_inputs()?, &payload, None)? {
+                    return Ok(ended);
+                }
+            }
             global_stage::run_global(need_inputs()?, &payload, artifacts)
         }
         JobKind::Strand => {
             let payload: StrandPayload = decode(lease)?;
+            if payload.global.extra_seed {
+                let hot_spot = Some(payload.hot_spot_index);
+                if let Some(ended) = gate(need_inputs()?, &payload.global, hot_spot)? {
+                    return Ok(ended);
+                }
+            }
             strand_stage::run_strand(need_inputs()?, &payload, lease, store, retry, artifacts, rt)
         }
         JobKind::Calibrate => {
@@ -59,6 +82,12 @@ pub fn execute(
         }
         JobKind::StrandReduced => {
             let payload: StrandPayload = decode(lease)?;
+            if payload.global.extra_seed {
+                let hot_spot = Some(payload.hot_spot_index);
+                if let Some(ended) = gate(need_inputs()?, &payload.global, hot_spot)? {
+                    return Ok(ended);
+                }
+            }
             reduced_stage::run_strand_reduced(need_inputs()?, &payload, store, retry, artifacts, rt)
         }
     }

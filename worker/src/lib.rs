@@ -5,6 +5,8 @@
 //! - [`serve`]: the claim loop: cache reuse, the stage on a blocking thread with a heartbeat
 //!   task, completion guarded by the lease token, failure reports, release on shutdown;
 //! - [`execute`]: one claimed job to its stage;
+//! - [`gate`]: the gated jobs (the FE jobs of `auto` campaigns, the jobs of extra seeds): the
+//!   selection from stored results, and the settling of the unselected ones;
 //! - [`global_stage`]: floater + lines through one sea state, hot-spot series as artifacts;
 //! - [`strand_stage`]: the strand model through a hot-spot series, with checkpoints, per-contact
 //!   statistics and per-sea-state damage inputs (the FE model);
@@ -19,6 +21,7 @@
 pub mod args;
 pub mod execute;
 pub mod failure;
+pub mod gate;
 pub mod global_stage;
 pub mod process;
 pub mod reduced_stage;

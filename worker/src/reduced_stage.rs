@@ -174,8 +174,20 @@ pub fn run_strand_reduced(
     let load = strand_load(inputs, payload.hot_spot_index, series)?;
     let strand = campaign_strand(inputs)?;
     let options = inputs.spec.strand.history_options();
-    let result = run_reduced(&reduced, &load.samples, options.slip_gate_m)
-        .map_err(|e| permanent(FailureClass::StrandHistory, e))?;
+    let result = run_reduced(&reduced, &load.samples, options.slip_gate_m).map_err(|e| {
+        // an extra seed is loaded through the calibration of the first seeds' load range
+        if payload.global.extra_seed {
+            permanent(
+                FailureClass::StrandHistory,
+                format!(
+                    "{e} (an extra seed of simulation.extra_seeds, outside the first seeds' \
+                     load range: raise strand.calibration_margin)"
+                ),
+            )
+        } else {
+            permanent(FailureClass::StrandHistory, e)
+        }
+    })?;
     let floor = design_strain_floor(&reduced.range);
     let below = load.samples.iter().filter(|s| s.strain < floor).count();
     let mut results = strand_results(inputs, payload, &strand, &load, &result, artifacts)?;

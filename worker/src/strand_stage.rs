@@ -39,14 +39,14 @@ use serde_json::json;
 use tokio::runtime::Handle;
 
 use crate::failure::{permanent, transient};
+use crate::gate::{auto_fe_selection, unselected_fe_result, GateContext};
 use crate::global_stage::series_role;
 use crate::series::HotSpotSeries;
-use moorfret_campaign::fidelity::{select_fe_sea_states, FeSelection, ReducedClassDamage};
 use moorfret_campaign::resolve::hot_spot_line_type;
 use moorfret_campaign::{CampaignInputs, StrandPayload};
 use moorfret_store::{
-    damage_rows, ArtifactStore, ContactStatistics, FailureClass, JobFailure, JobKind, JobResults,
-    Lease, RetryPolicy, Store,
+    damage_rows, ArtifactStore, ContactStatistics, FailureClass, JobFailure, JobResults, Lease,
+    RetryPolicy, Store,
 };
 
 /// Loads the hot-spot series of the strand job's global job. The store reads are retried
@@ -290,8 +290,8 @@ pub(crate) fn campaign_strand(inputs: &CampaignInputs) -> Result<Strand, JobFail
 }
 
 /// Runs one FE strand job. An FE job of an `auto` campaign (`if_selected`) first asks the
-/// campaign's reduced results whether its sea state is selected, and ends at once, with no
-/// result rows, if it is not.
+/// campaign's reduced results whether its sea state is selected (settling the unselected FE
+/// jobs of its hot spot, [`crate::gate`]), and ends at once, with no result rows, if it is not.
 pub fn run_strand(
     inputs: &CampaignInputs,
     payload: &StrandPayload,
@@ -302,16 +302,17 @@ pub fn run_strand(
     rt: &Handle,
 ) -> Result<JobResults, JobFailure> {
     let selection = if payload.if_selected {
-        let selection = fe_selection(inputs, payload, lease, store, retry, rt)?;
+        let ctx = GateContext {
+            inputs,
+            lease,
+            store,
+            retry,
+            rt,
+        };
+        let selection = auto_fe_selection(&ctx, payload.hot_spot_index)?;
         if !selection.contains(payload.global.sea_state_index as i64) {
             return Ok(JobResults {
-                result: json!({
-                    "fidelity": "fe",
-                    "selected": false,
-                    "hot_spot_index": payload.hot_spot_index,
-                    "seed_index": payload.global.seed_index,
-                    "selection": selection,
-                }),
+                result: unselected_fe_result(payload, &selection),
                 ..JobResults::default()
             });
         }
@@ -365,37 +366,6 @@ pub fn run_strand(
         results.result["selection"] = json!(selection);
     }
     Ok(results)
-}
-
-/// The FE selection of an `auto` campaign for the job's hot spot, from the reduced results of
-/// every sea state (all done: the job depends on them).
-fn fe_selection(
-    inputs: &CampaignInputs,
-    payload: &StrandPayload,
-    lease: &Lease,
-    store: &Store,
-    retry: &RetryPolicy,
-    rt: &Handle,
-) -> Result<FeSelection, JobFailure> {
-    let rows = rt
-        .block_on(retry.run("read reduced results", || {
-            store.class_rows_of_kind(lease.campaign, JobKind::StrandReduced)
-        }))
-        .map_err(|e| transient(FailureClass::Store, e))?;
-    let rows: Vec<ReducedClassDamage> = rows
-        .iter()
-        .filter(|(_, _, c)| c.hot_spot_index == payload.hot_spot_index as i64)
-        .map(
-            |(sea_state_index, occurrence_fraction, c)| ReducedClassDamage {
-                sea_state_index: *sea_state_index,
-                occurrence_fraction: *occurrence_fraction,
-                seed_index: c.seed_index,
-                class: (c.layer_interface, c.angular_position.as_str()),
-                damage_rate_per_s: c.fretting_damage_rate_max_per_s,
-            },
-        )
-        .collect();
-    Ok(select_fe_sea_states(&rows, &inputs.spec.strand.auto_fe))
 }
 
 /// The results of a strand run, FE or reduced: the contact records artifact, one statistics

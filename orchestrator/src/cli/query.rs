@@ -1,4 +1,4 @@
-//! `moorfret query damage-inputs|sea-states|lifetime|contacts --campaign NAME [--db URL]
+//! `moorfret query damage-inputs|sea-states|lifetime|seeds|contacts|fidelity --campaign NAME [--db URL]
 //! [--format table|csv|json]`: a campaign's results from the store's views
 //! ([`moorfret_orchestrator::query`]).
 
@@ -24,8 +24,8 @@ pub(crate) struct QueryArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = OutputFormat::Table)]
     pub(crate) format: OutputFormat,
-    /// Fretting measure of `damage-inputs`: `fretting_max` (most damaged contact of a class)
-    /// or `fretting_mean` (mean over its contacts).
+    /// Fretting measure of `damage-inputs` and `seeds`: `fretting_max` (most damaged contact
+    /// of a class) or `fretting_mean` (mean over its contacts).
     #[arg(long, default_value = "fretting_max")]
     pub(crate) measure: String,
 }

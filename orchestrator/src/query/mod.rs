@@ -6,7 +6,12 @@
 //! - `sea-states`: the sea states with their job counts and per-hot-spot damage rates of every
 //!   other measure (T-N curves) from `sea_state_damage_inputs`;
 //! - `lifetime`: `lifetime_damage` (per hot spot and measure) and `lifetime_class_damage` (per
-//!   hot spot, contact class and fretting measure), annual damage with the covered occurrence;
+//!   hot spot, contact class and fretting measure), annual damage with the covered occurrence
+//!   and its seed band (`moorfret_store::SeedBand`: standard error, D ± 2 SE, effective degrees
+//!   of freedom, sea states with and without a seed spread), and the life with its band;
+//! - `seeds`: the seed-to-seed spread per sea state: seeds, mean and standard deviation of the
+//!   damage rate, and the sea state's annual damage with its standard error, for the contact
+//!   classes of one fretting measure and for every per-hot-spot measure;
 //! - `contacts`: the per-contact statistics rows of the done jobs;
 //! - `fidelity`: `fidelity_comparison`, the reduced against the FE strand result per sea state,
 //!   seed, hot spot and contact class where both ran, with their relative differences.
@@ -34,8 +39,10 @@ pub enum QueryKind {
     DamageInputs,
     /// Sea states, job counts and per hot spot damage rates.
     SeaStates,
-    /// Annual damage per hot spot (and contact class).
+    /// Annual damage per hot spot (and contact class), with its seed band.
     Lifetime,
+    /// Seed-to-seed spread per sea state, hot spot (and contact class) and measure.
+    Seeds,
     /// Per-contact statistics.
     Contacts,
     /// Reduced against FE strand results where both ran (`auto` fidelity).
@@ -102,6 +109,20 @@ pub async fn run(
         }
         QueryKind::SeaStates => sea_states(store, campaign).await,
         QueryKind::Lifetime => lifetime(store, campaign).await,
+        QueryKind::Seeds => {
+            let measure = if measure.is_empty() {
+                FRETTING_MEASURES[0]
+            } else {
+                measure
+            };
+            if !FRETTING_MEASURES.contains(&measure) {
+                anyhow::bail!(
+                    "--measure `{measure}` is not a fretting measure (one of {})",
+                    FRETTING_MEASURES.join(", ")
+                );
+            }
+            seeds(store, campaign, measure).await
+        }
         QueryKind::Fidelity => fidelity(store, campaign).await,
         QueryKind::Contacts => Table::from_rows(
             &[
@@ -170,22 +191,97 @@ async fn lifetime(store: &Store, campaign: CampaignId) -> anyhow::Result<Table> 
         "angular_position",
         "measure",
         "annual_damage",
+        "annual_damage_se",
+        "annual_damage_low",
+        "annual_damage_high",
         "occurrence_covered",
         "sea_states",
+        "sea_states_with_spread",
+        "sea_states_without_spread",
+        "effective_dof",
     ];
     let mut table = Table::from_rows(&columns, &store.lifetime_damage(campaign).await?)?;
     let classes = Table::from_rows(&columns, &store.lifetime_class_damage(campaign).await?)?;
     table.rows.extend(classes.rows);
-    // life in years at the annual damage (Miner, failure at D = 1); empty without damage
-    let life: Vec<Value> = table
-        .rows
-        .iter()
-        .map(|r| match r[4].as_f64() {
-            Some(d) if d > 0.0 => Value::from(1.0 / d),
-            _ => Value::Null,
-        })
+    // life in years at the annual damage (Miner, failure at D = 1), and at the band's ends;
+    // empty without damage
+    let life = |column: usize| -> Vec<Value> {
+        table
+            .rows
+            .iter()
+            .map(|r| match r[column].as_f64() {
+                Some(d) if d > 0.0 => Value::from(1.0 / d),
+                _ => Value::Null,
+            })
+            .collect()
+    };
+    let (years, shortest, longest) = (life(4), life(7), life(6));
+    table.push_column("life_years".into(), years);
+    table.push_column("life_years_low".into(), shortest);
+    table.push_column("life_years_high".into(), longest);
+    Ok(table)
+}
+
+/// The seed-to-seed spread per sea state: the class rows of `measure`, then the per-hot-spot
+/// measures; with the sea state's annual damage p · year · mean and its standard error
+/// p · year · s / √n (empty for one seed).
+async fn seeds(store: &Store, campaign: CampaignId, measure: &str) -> anyhow::Result<Table> {
+    const YEAR_S: f64 = 31_557_600.0;
+    let columns = [
+        "sea_state_index",
+        "hs_m",
+        "tp_s",
+        "occurrence_fraction",
+        "hot_spot_index",
+        "layer_interface",
+        "angular_position",
+        "measure",
+        "seeds",
+        "damage_rate_per_s",
+        "damage_rate_sd",
+        "fidelity",
+    ];
+    let classes: Vec<_> = store
+        .sea_state_class_damage(campaign)
+        .await?
+        .into_iter()
+        .filter(|r| r.measure == measure)
         .collect();
-    table.push_column("life_years".into(), life);
+    let mut table = Table::from_rows(&columns, &classes)?;
+    let per_hot_spot = Table::from_rows(&columns, &store.sea_state_damage(campaign).await?)?;
+    table.rows.extend(per_hot_spot.rows);
+    let column = |name: &str| columns.iter().position(|c| *c == name).unwrap_or(0);
+    let (p, n, mean, sd) = (
+        column("occurrence_fraction"),
+        column("seeds"),
+        column("damage_rate_per_s"),
+        column("damage_rate_sd"),
+    );
+    let mut annual = Vec::with_capacity(table.rows.len());
+    let mut se = Vec::with_capacity(table.rows.len());
+    let mut cv = Vec::with_capacity(table.rows.len());
+    for r in &table.rows {
+        let weight = r[p].as_f64().unwrap_or(f64::NAN) * YEAR_S;
+        let mean = r[mean].as_f64().unwrap_or(f64::NAN);
+        annual.push(Value::from(weight * mean));
+        match (r[sd].as_f64(), r[n].as_f64()) {
+            (Some(sd), Some(n)) if n > 1.0 => {
+                se.push(Value::from(weight * sd / n.sqrt()));
+                cv.push(if mean > 0.0 {
+                    Value::from(sd / mean)
+                } else {
+                    Value::Null
+                });
+            }
+            _ => {
+                se.push(Value::Null);
+                cv.push(Value::Null);
+            }
+        }
+    }
+    table.push_column("damage_rate_cv".into(), cv);
+    table.push_column("annual_damage".into(), annual);
+    table.push_column("annual_damage_se".into(), se);
     Ok(table)
 }
 

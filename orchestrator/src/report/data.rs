@@ -68,6 +68,9 @@ pub struct ReportData {
     pub lifetime: Table,
     /// Damage inputs of the critical class (`query damage-inputs`), largest share first.
     pub damage_inputs: Table,
+    /// Seed-to-seed spread of the critical class (`query seeds`, `fretting_max`), largest
+    /// share first.
+    pub seeds: Table,
     /// Per sea state index: the strand fidelity of its counted results (`fe`, `reduced`,
     /// `mixed`).
     pub fidelity: BTreeMap<i64, String>,
@@ -214,6 +217,10 @@ pub async fn gather(
         query::run(store, name, query::QueryKind::DamageInputs, "fretting_max").await?,
         critical.as_ref(),
     );
+    let seeds = critical_rows(
+        query::run(store, name, query::QueryKind::Seeds, "fretting_max").await?,
+        critical.as_ref(),
+    );
     let fidelity: BTreeMap<i64, String> = store
         .sea_state_class_damage(campaign)
         .await?
@@ -283,6 +290,7 @@ pub async fn gather(
         series,
         lifetime: query::run(store, name, query::QueryKind::Lifetime, "").await?,
         damage_inputs,
+        seeds,
         fidelity,
         comparison: query::run(store, name, query::QueryKind::Fidelity, "").await?,
         calibrations,

@@ -282,7 +282,10 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
              year, not renormalised by the covered occurrence; life = 1 / annual damage \
              (Miner, failure at D = 1). Fretting measures apply the DNV spiral-rope S-N curve to \
              the wire stress range of each slip cycle: an assumption of this tool, not a \
-             validated fretting law.</p>\n";
+             validated fretting law. Seed band: D ± 2 SE, SE² = Σ (occurrence × year)² × \
+             s² / n over the sea states with n ≥ 2 seeds (s their seed-to-seed standard \
+             deviation of the damage rate); sea states with one seed add no spread and are \
+             counted apart; effective_dof is the Welch–Satterthwaite count behind SE.</p>\n";
     body += &table_html(&select_columns(
         &data.lifetime,
         &[
@@ -291,12 +294,40 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
             "angular_position",
             "measure",
             "annual_damage",
+            "annual_damage_low",
+            "annual_damage_high",
             "life_years",
+            "life_years_low",
+            "life_years_high",
             "occurrence_covered",
             "sea_states",
+            "sea_states_with_spread",
+            "sea_states_without_spread",
+            "effective_dof",
         ],
     ));
     body += &fidelity_section(data);
+    body += "<h2>Seed-to-seed spread of the critical contact class, most damaging sea states \
+             (fretting_max)</h2>\n";
+    body += "<p>Per sea state: seeds run, mean and standard deviation of the damage rate, \
+             coefficient of variation, the sea state's annual damage and its standard error \
+             (occurrence × year × s / √n; empty for one seed).</p>\n";
+    body += &table_html(&select_columns(
+        &data.seeds,
+        &[
+            "sea_state_index",
+            "hs_m",
+            "tp_s",
+            "occurrence_fraction",
+            "fidelity",
+            "seeds",
+            "damage_rate_per_s",
+            "damage_rate_sd",
+            "damage_rate_cv",
+            "annual_damage",
+            "annual_damage_se",
+        ],
+    ));
     body += "<h2>Damage inputs of the critical contact class, most damaging sea states \
              (fretting_max)</h2>\n";
     body += &table_html(&select_columns(

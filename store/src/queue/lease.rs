@@ -1,4 +1,5 @@
-//! Leases: claim, heartbeat, completion (fresh or from the cache).
+//! Leases: claim, heartbeat, completion (fresh or from the cache); settling of unselected gated
+//! jobs, which are done without a lease.
 
 use super::results::{insert_class_damage_inputs, COPY_CLASS_DAMAGE_INPUTS};
 use super::DIALECT;
@@ -10,6 +11,39 @@ use crate::types::{
     WorkerId,
 };
 use sqlx::Row;
+
+/// Makes claimable the dependents of the done `job` whose every dependency is now done.
+async fn unblock_dependents(tx: &mut Tx, job: JobId, now: i64) -> Result<()> {
+    const OP: &str = "complete job";
+    // On PostgreSQL two jobs feeding one dependent may complete concurrently; locking the
+    // dependents makes the second completion wait and then see the first one's `done`.
+    if !DIALECT.row_lock_suffix.is_empty() {
+        let lock = format!(
+            "SELECT id FROM jobs WHERE id IN \
+             (SELECT job_id FROM job_dependencies WHERE depends_on = $1) \
+             ORDER BY id{}",
+            DIALECT.row_lock_suffix
+        );
+        sqlx::query(&lock)
+            .bind(job.0)
+            .fetch_all(&mut **tx)
+            .await
+            .map_err(StoreError::db(OP))?;
+    }
+    sqlx::query(
+        "UPDATE jobs SET state = 'ready', updated_at_ms = $1 \
+         WHERE state = 'blocked' \
+           AND id IN (SELECT job_id FROM job_dependencies WHERE depends_on = $2) \
+           AND NOT EXISTS (SELECT 1 FROM job_dependencies d JOIN jobs p ON p.id = d.depends_on \
+                           WHERE d.job_id = jobs.id AND p.state <> 'done')",
+    )
+    .bind(now)
+    .bind(job.0)
+    .execute(&mut **tx)
+    .await
+    .map_err(StoreError::db(OP))?;
+    Ok(())
+}
 
 impl Queue {
     pub(crate) async fn claim(
@@ -189,35 +223,53 @@ impl Queue {
             return Err(lease_lost(lease));
         }
         end_attempt(tx, lease, now, outcome, None).await?;
-        // On PostgreSQL two jobs feeding one dependent may complete concurrently; locking the
-        // dependents makes the second completion wait and then see the first one's `done`.
-        if !DIALECT.row_lock_suffix.is_empty() {
-            let lock = format!(
-                "SELECT id FROM jobs WHERE id IN \
-                 (SELECT job_id FROM job_dependencies WHERE depends_on = $1) \
-                 ORDER BY id{}",
-                DIALECT.row_lock_suffix
-            );
-            sqlx::query(&lock)
-                .bind(lease.job.0)
-                .fetch_all(&mut **tx)
-                .await
-                .map_err(StoreError::db(OP))?;
+        unblock_dependents(tx, lease.job, now).await
+    }
+
+    /// Settles gated jobs whose gate is known to be closed (`jobs`, each with its result): in
+    /// one transaction, every listed job still `ready` or `blocked` becomes `done` with its
+    /// result and no rows, and its dependents whose dependencies are all done become ready.
+    /// Jobs that are running, done, failed or cancelled are left alone (a running one reaches
+    /// the same answer itself). Returns the jobs settled.
+    pub(crate) async fn settle(&self, jobs: &[(JobId, serde_json::Value)]) -> Result<Vec<JobId>> {
+        const OP: &str = "settle gated jobs";
+        if jobs.is_empty() {
+            return Ok(Vec::new());
         }
-        // Dependents whose every dependency is now done become claimable.
-        sqlx::query(
-            "UPDATE jobs SET state = 'ready', updated_at_ms = $1 \
-             WHERE state = 'blocked' \
-               AND id IN (SELECT job_id FROM job_dependencies WHERE depends_on = $2) \
-               AND NOT EXISTS (SELECT 1 FROM job_dependencies d JOIN jobs p ON p.id = d.depends_on \
-                               WHERE d.job_id = jobs.id AND p.state <> 'done')",
-        )
-        .bind(now)
-        .bind(lease.job.0)
-        .execute(&mut **tx)
-        .await
-        .map_err(StoreError::db(OP))?;
-        Ok(())
+        // in id order, as completions lock rows, so concurrent writers never deadlock
+        let mut jobs: Vec<&(JobId, serde_json::Value)> = jobs.iter().collect();
+        jobs.sort_by_key(|j| j.0);
+        let mut texts = Vec::with_capacity(jobs.len());
+        for (_, result) in &jobs {
+            texts.push(json_text("jobs.result_json", result)?);
+        }
+        let mut tx = self.begin_write(OP).await?;
+        let now = self.now_ms(&mut tx).await?;
+        let mut settled = Vec::new();
+        for ((job, _), text) in jobs.iter().copied().zip(&texts) {
+            let updated = sqlx::query(
+                "UPDATE jobs SET state = 'done', result_json = $1, result_sha256 = $2, \
+                 lease_token = NULL, lease_expires_at_ms = NULL, error_class = NULL, \
+                 error_message = NULL, updated_at_ms = $3 \
+                 WHERE id = $4 AND state IN ('ready', 'blocked')",
+            )
+            .bind(text)
+            .bind(sha256_hex(text))
+            .bind(now)
+            .bind(job.0)
+            .execute(&mut *tx)
+            .await
+            .map_err(StoreError::db(OP))?
+            .rows_affected();
+            if updated > 0 {
+                settled.push(*job);
+            }
+        }
+        for job in &settled {
+            unblock_dependents(&mut tx, *job, now).await?;
+        }
+        tx.commit().await.map_err(StoreError::db(OP))?;
+        Ok(settled)
     }
 
     pub(crate) async fn complete(&self, lease: &Lease, results: &JobResults) -> Result<()> {

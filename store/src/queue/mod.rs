@@ -10,7 +10,8 @@
 //!
 //! - [`plan`]: campaigns, sea states, jobs with their dependencies, workers;
 //! - [`campaign`]: a whole plan in one transaction, campaign rows;
-//! - [`lease`]: claim, heartbeat, completion (fresh or from the cache);
+//! - [`lease`]: claim, heartbeat, completion (fresh or from the cache), settling of gated
+//!   jobs whose sea state is not selected;
 //! - [`recovery`]: failures, expired leases and cancellation;
 //! - [`read`]: jobs, attempts, results, progress and lifetime views;
 //! - [`results`]: per-class damage rows and the result views.

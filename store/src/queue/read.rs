@@ -1,5 +1,6 @@
 //! Reads: jobs, attempts, results, progress and lifetime views.
 
+use super::results::band_of;
 use super::{job_from_row, parse_json, Queue, Result, JOB_COLUMNS};
 use crate::error::StoreError;
 use crate::model::{
@@ -217,7 +218,9 @@ impl Queue {
     ) -> Result<Vec<LifetimeDamage>> {
         const OP: &str = "read lifetime damage";
         let rows = sqlx::query(
-            "SELECT hot_spot_index, measure, annual_damage, occurrence_covered, sea_states \
+            "SELECT hot_spot_index, measure, annual_damage, occurrence_covered, sea_states, \
+             annual_damage_variance, annual_damage_variance_dof_sum, sea_states_with_spread, \
+             sea_states_without_spread \
              FROM lifetime_damage WHERE campaign_id = $1 ORDER BY hot_spot_index, measure",
         )
         .bind(campaign.0)
@@ -226,10 +229,13 @@ impl Queue {
         .map_err(StoreError::db(OP))?;
         rows.iter()
             .map(|row| {
+                let annual_damage: f64 =
+                    row.try_get("annual_damage").map_err(StoreError::db(OP))?;
                 Ok(LifetimeDamage {
                     hot_spot_index: row.try_get("hot_spot_index").map_err(StoreError::db(OP))?,
                     measure: row.try_get("measure").map_err(StoreError::db(OP))?,
-                    annual_damage: row.try_get("annual_damage").map_err(StoreError::db(OP))?,
+                    annual_damage,
+                    band: band_of(row, annual_damage, OP)?,
                     occurrence_covered: row
                         .try_get("occurrence_covered")
                         .map_err(StoreError::db(OP))?,

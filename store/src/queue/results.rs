@@ -4,8 +4,8 @@ use super::Db;
 use super::{json_text, parse_json, Queue, Result, Tx};
 use crate::error::StoreError;
 use crate::results::{
-    parse_position, ClassDamageInput, ContactRow, FidelityComparison, LifetimeClassDamage,
-    SeaStateClassDamage, SeaStateDamage, SeaStateStatus,
+    parse_position, standard_deviation, ClassDamageInput, ContactRow, FidelityComparison,
+    LifetimeClassDamage, SeaStateClassDamage, SeaStateDamage, SeaStateStatus, SeedBand,
 };
 use crate::types::{CampaignId, JobId, JobKind};
 use sqlx::Row;
@@ -107,6 +107,21 @@ pub(super) fn class_from_row(
     })
 }
 
+/// The seed band of a lifetime view row (migration 0004).
+pub(super) fn band_of(
+    row: &<Db as sqlx::Database>::Row,
+    annual_damage: f64,
+    op: &'static str,
+) -> Result<SeedBand> {
+    Ok(SeedBand::new(
+        annual_damage,
+        get(row, "annual_damage_variance", op)?,
+        get(row, "annual_damage_variance_dof_sum", op)?,
+        get(row, "sea_states_with_spread", op)?,
+        get(row, "sea_states_without_spread", op)?,
+    ))
+}
+
 impl Queue {
     pub(crate) async fn class_damage_inputs_of(&self, job: JobId) -> Result<Vec<ClassDamageInput>> {
         const OP: &str = "read class damage inputs";
@@ -152,6 +167,7 @@ impl Queue {
                     effective_duration_s: get(row, "effective_duration_s", OP)?,
                     damage_rate_per_s: get(row, "damage_rate_per_s", OP)?,
                     damage_seed_mean: get(row, "damage_seed_mean", OP)?,
+                    damage_rate_sd: standard_deviation(get(row, "damage_rate_variance", OP)?),
                     stick_cycles_per_hour: get(row, "stick_cycles_per_hour", OP)?,
                     partial_slip_cycles_per_hour: get(row, "partial_slip_cycles_per_hour", OP)?,
                     gross_slip_cycles_per_hour: get(row, "gross_slip_cycles_per_hour", OP)?,
@@ -181,12 +197,14 @@ impl Queue {
         rows.iter()
             .map(|row| {
                 let position: String = get(row, "angular_position", OP)?;
+                let annual_damage: f64 = get(row, "annual_damage", OP)?;
                 Ok(LifetimeClassDamage {
                     hot_spot_index: get(row, "hot_spot_index", OP)?,
                     layer_interface: get(row, "layer_interface", OP)?,
                     angular_position: parse_position(&position)?,
                     measure: get(row, "measure", OP)?,
-                    annual_damage: get(row, "annual_damage", OP)?,
+                    annual_damage,
+                    band: band_of(row, annual_damage, OP)?,
                     occurrence_covered: get(row, "occurrence_covered", OP)?,
                     sea_states: get(row, "sea_states", OP)?,
                 })
@@ -220,6 +238,7 @@ impl Queue {
                     damage_seed_mean: get(row, "damage_seed_mean", OP)?,
                     effective_duration_s: get(row, "effective_duration_s", OP)?,
                     damage_rate_per_s: get(row, "damage_rate_per_s", OP)?,
+                    damage_rate_sd: standard_deviation(get(row, "damage_rate_variance", OP)?),
                     fidelity: get(row, "fidelity", OP)?,
                 })
             })

@@ -1,0 +1,244 @@
+//! Gated jobs: jobs that run only if a selection over stored results picks their sea state.
+//!
+//! Two gates, both pure functions of stored rows (no driver, no planning job):
+//!
+//! - the FE jobs of an `auto` campaign (`StrandPayload::if_selected`): selected by the reduced
+//!   first-seed results of their hot spot (`moorfret_campaign::fidelity::select_fe_sea_states`);
+//! - the jobs of an extra seed (`GlobalPayload::extra_seed`, `simulation.extra_seeds`): selected
+//!   by the first-seed strand results of the campaign, FE with `fe` and reduced with `reduced`
+//!   and `auto` (`moorfret_campaign::seeds`); a global job for any hot spot, a strand job for
+//!   its own.
+//!
+//! Every gated job depends on every job whose rows its selection reads, so all of them find
+//! the same selection. The first gated job to compute it also settles, in one store
+//! transaction ([`Store::settle`]), every job of its group that is not selected and still
+//! waits (ready or blocked): done, no rows, a result that says `selected: false` and which job
+//! settled it. The unselected jobs thus never wait in the queue behind the selected ones; one
+//! that another worker is already running reaches the same answer itself.
+
+use std::collections::BTreeMap;
+
+use serde_json::{json, Value};
+use tokio::runtime::Handle;
+
+use crate::failure::transient;
+use moorfret_campaign::fidelity::{select_fe_sea_states, ClassDamageRate, Selection};
+use moorfret_campaign::seeds::select_extra_seed_sea_states;
+use moorfret_campaign::{CampaignInputs, GlobalPayload, StrandPayload};
+use moorfret_store::{
+    FailureClass, JobFailure, JobId, JobKind, JobRecord, JobResults, JobState, Lease, RetryPolicy,
+    Store,
+};
+
+/// What a gated job needs to read and settle.
+pub(crate) struct GateContext<'a> {
+    /// The campaign's inputs.
+    pub inputs: &'a CampaignInputs,
+    /// The running job.
+    pub lease: &'a Lease,
+    /// The store.
+    pub store: &'a Store,
+    /// How store calls are retried.
+    pub retry: &'a RetryPolicy,
+    /// The runtime the store calls run on.
+    pub rt: &'a Handle,
+}
+
+impl GateContext<'_> {
+    /// The class rows of the campaign's done jobs of `kind` with seed index below the first
+    /// seeds, per hot spot.
+    fn first_seed_rows(
+        &self,
+        kind: JobKind,
+    ) -> Result<BTreeMap<i64, Vec<ClassDamageRate>>, JobFailure> {
+        let first = i64::from(self.inputs.spec.simulation.seeds_per_sea_state);
+        let rows = self
+            .rt
+            .block_on(self.retry.run("read first-seed strand results", || {
+                self.store.class_rows_of_kind(self.lease.campaign, kind)
+            }))
+            .map_err(|e| transient(FailureClass::Store, e))?;
+        let mut per_hot_spot: BTreeMap<i64, Vec<ClassDamageRate>> = BTreeMap::new();
+        for (sea_state_index, occurrence_fraction, c) in &rows {
+            if c.seed_index >= first {
+                continue;
+            }
+            per_hot_spot
+                .entry(c.hot_spot_index)
+                .or_default()
+                .push(ClassDamageRate {
+                    sea_state_index: *sea_state_index,
+                    occurrence_fraction: *occurrence_fraction,
+                    seed_index: c.seed_index,
+                    class: (c.layer_interface, c.angular_position.as_str()),
+                    damage_rate_per_s: c.fretting_damage_rate_max_per_s,
+                });
+        }
+        Ok(per_hot_spot)
+    }
+
+    /// Settles the listed jobs (module docs); logs how many.
+    fn settle(&self, jobs: Vec<(JobId, Value)>) -> Result<(), JobFailure> {
+        if jobs.is_empty() {
+            return Ok(());
+        }
+        let settled = self
+            .rt
+            .block_on(
+                self.retry
+                    .run("settle unselected jobs", || self.store.settle(&jobs)),
+            )
+            .map_err(|e| transient(FailureClass::Store, e))?;
+        tracing::info!(job = %self.lease.job, settled = settled.len(),
+            "unselected gated jobs settled");
+        Ok(())
+    }
+
+    /// The campaign's jobs that still wait (ready or blocked).
+    fn waiting_jobs(&self) -> Result<Vec<JobRecord>, JobFailure> {
+        let jobs = self
+            .rt
+            .block_on(self.retry.run("list jobs", || {
+                self.store.jobs_of_campaign(self.lease.campaign)
+            }))
+            .map_err(|e| transient(FailureClass::Store, e))?;
+        Ok(jobs
+            .into_iter()
+            .filter(|j| {
+                j.id != self.lease.job && matches!(j.state, JobState::Ready | JobState::Blocked)
+            })
+            .collect())
+    }
+}
+
+/// The FE selection of an `auto` campaign for hot spot `hot_spot_index`, from the reduced
+/// first-seed results; the unselected FE jobs of that hot spot that still wait are settled.
+pub(crate) fn auto_fe_selection(
+    ctx: &GateContext<'_>,
+    hot_spot_index: usize,
+) -> Result<Selection, JobFailure> {
+    let rows = ctx.first_seed_rows(JobKind::StrandReduced)?;
+    let rows = rows
+        .get(&(hot_spot_index as i64))
+        .map_or(&[][..], Vec::as_slice);
+    let selection = select_fe_sea_states(rows, &ctx.inputs.spec.strand.auto_fe);
+    let mut unselected = Vec::new();
+    for job in ctx.waiting_jobs()? {
+        if job.kind != JobKind::Strand {
+            continue;
+        }
+        let Ok(p) = serde_json::from_value::<StrandPayload>(job.payload.clone()) else {
+            continue;
+        };
+        if p.if_selected
+            && p.hot_spot_index == hot_spot_index
+            && !selection.contains(p.global.sea_state_index as i64)
+        {
+            let mut result = unselected_fe_result(&p, &selection);
+            result["settled_by"] = json!(ctx.lease.job.0);
+            unselected.push((job.id, result));
+        }
+    }
+    ctx.settle(unselected)?;
+    Ok(selection)
+}
+
+/// The result of an FE job of an `auto` campaign whose sea state is not selected.
+pub(crate) fn unselected_fe_result(payload: &StrandPayload, selection: &Selection) -> Value {
+    json!({
+        "fidelity": "fe",
+        "selected": false,
+        "hot_spot_index": payload.hot_spot_index,
+        "seed_index": payload.global.seed_index,
+        "selection": selection,
+    })
+}
+
+/// The extra-seed selections of every hot spot (`moorfret_campaign::seeds`).
+fn extra_seed_selections(ctx: &GateContext<'_>) -> Result<Vec<Selection>, JobFailure> {
+    let Some(rule) = &ctx.inputs.spec.simulation.extra_seeds else {
+        return Err(crate::failure::permanent(
+            FailureClass::BadPayload,
+            "an extra-seed job in a campaign without simulation.extra_seeds",
+        ));
+    };
+    let kind = if ctx.inputs.spec.strand.fidelity.uses_reduced() {
+        JobKind::StrandReduced
+    } else {
+        JobKind::Strand
+    };
+    let rows = ctx.first_seed_rows(kind)?;
+    let first = ctx.inputs.spec.simulation.seeds_per_sea_state;
+    Ok((0..ctx.inputs.spec.hot_spots.len())
+        .map(|h| {
+            let rows = rows.get(&(h as i64)).map_or(&[][..], Vec::as_slice);
+            select_extra_seed_sea_states(rows, first, rule)
+        })
+        .collect())
+}
+
+/// Whether the realisation `global` is selected: for hot spot `hot_spot` (a strand job), or for
+/// any hot spot (`None`, a global job).
+fn is_selected(selections: &[Selection], global: &GlobalPayload, hot_spot: Option<usize>) -> bool {
+    let s = global.sea_state_index as i64;
+    match hot_spot {
+        Some(h) => selections.get(h).is_some_and(|sel| sel.contains(s)),
+        None => selections.iter().any(|sel| sel.contains(s)),
+    }
+}
+
+/// The result of an extra-seed job that does not run.
+fn unselected_extra_result(
+    global: &GlobalPayload,
+    hot_spot: Option<usize>,
+    selections: &[Selection],
+) -> Value {
+    json!({
+        "selected": false,
+        "extra_seed": true,
+        "sea_state_index": global.sea_state_index,
+        "seed_index": global.seed_index,
+        "hot_spot_index": hot_spot,
+        "selection": selections,
+    })
+}
+
+/// The gate of a job of an extra seed (`global` its realisation, `hot_spot` its hot spot for a
+/// strand job): `Some(results)` to end with when its sea state is not selected, `None` to run.
+/// Either way the campaign's unselected extra-seed jobs that still wait are settled.
+pub(crate) fn extra_seed_gate(
+    ctx: &GateContext<'_>,
+    global: &GlobalPayload,
+    hot_spot: Option<usize>,
+) -> Result<Option<JobResults>, JobFailure> {
+    let selections = extra_seed_selections(ctx)?;
+    let mut unselected = Vec::new();
+    for job in ctx.waiting_jobs()? {
+        let (g, h) = match job.kind {
+            JobKind::Global => match serde_json::from_value::<GlobalPayload>(job.payload.clone()) {
+                Ok(g) => (g, None),
+                Err(_) => continue,
+            },
+            JobKind::Strand | JobKind::StrandReduced => {
+                match serde_json::from_value::<StrandPayload>(job.payload.clone()) {
+                    Ok(p) => (p.global, Some(p.hot_spot_index)),
+                    Err(_) => continue,
+                }
+            }
+            _ => continue,
+        };
+        if g.extra_seed && !is_selected(&selections, &g, h) {
+            let mut result = unselected_extra_result(&g, h, &selections);
+            result["settled_by"] = json!(ctx.lease.job.0);
+            unselected.push((job.id, result));
+        }
+    }
+    ctx.settle(unselected)?;
+    if is_selected(&selections, global, hot_spot) {
+        return Ok(None);
+    }
+    Ok(Some(JobResults {
+        result: unselected_extra_result(global, hot_spot, &selections),
+        ..JobResults::default()
+    }))
+}
