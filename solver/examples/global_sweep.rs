@@ -5,7 +5,8 @@
 //! its column value, the given γ and seed; the case file supplies everything else (its own
 //! `sea_state` is replaced). Per cell it prints Hs, Tp, the wall time of the whole run
 //! (precomputation, statics and dynamics) and its CPU time (`/proc/self/stat`, Linux), time
-//! steps, coupling passes, coupled step cuts, the
+//! steps, coupling passes, coupled step cuts, the lines' Newton iterations, factorisations,
+//! step cuts and stalled attempts, the
 //! high-frequency cut-off the stage chose, and the outcome (`ok`, the error, or `PANIC` and its
 //! message); then the median, p90 and worst wall times of the completed cells and the ratio of
 //! the worst to the median.
@@ -135,6 +136,9 @@ struct CellOutcome {
     steps: usize,
     passes: usize,
     cuts: usize,
+    /// Line Newton iterations, factorisations, step cuts and attempts given up for lack of
+    /// progress, over all lines.
+    line_work: (usize, usize, usize, usize),
     cut_off: String,
     /// Standard deviations of tension (N) and curvature (1/m) at the first hot spot.
     hot_spot_std: (f64, f64),
@@ -191,6 +195,7 @@ fn run_cell(case: &CaseSpec, floater: &FloaterInput, v: Variant) -> CellOutcome 
         steps: 0,
         passes: 0,
         cuts: 0,
+        line_work: (0, 0, 0, 0),
         cut_off: String::new(),
         hot_spot_std: (f64::NAN, f64::NAN),
         outcome,
@@ -202,6 +207,12 @@ fn run_cell(case: &CaseSpec, floater: &FloaterInput, v: Variant) -> CellOutcome 
             steps: r.stats.steps,
             passes: r.stats.coupling_iterations,
             cuts: r.stats.cut_coupled_steps,
+            line_work: (
+                r.stats.line_iterations,
+                r.stats.line_factorizations,
+                r.stats.cut_steps,
+                r.stats.line_stalled_attempts,
+            ),
             cut_off,
             hot_spot_std: r.hot_spots.first().map_or((f64::NAN, f64::NAN), |h| {
                 (
@@ -263,7 +274,7 @@ fn main() -> Result<(), String> {
         o.seed
     );
     println!(
-        "{:>6} {:>6} {:>9} {:>8} {:>7} {:>8} {:>6} {:>10} {:>10}  {:<40} outcome",
+        "{:>6} {:>6} {:>9} {:>8} {:>7} {:>8} {:>6} {:>8} {:>8} {:>6} {:>6} {:>10} {:>10}  {:<40} outcome",
         "Hs m",
         "Tp s",
         "wall s",
@@ -271,6 +282,10 @@ fn main() -> Result<(), String> {
         "steps",
         "passes",
         "cuts",
+        "line it",
+        "factors",
+        "l cuts",
+        "stalls",
         "T std N",
         "k std 1/m",
         "wave band"
@@ -287,7 +302,7 @@ fn main() -> Result<(), String> {
         case.name = format!("hs{hs}_tp{tp}");
         let c = run_cell(&case, &floater, o.variant);
         println!(
-            "{:>6.2} {:>6.1} {:>9.2} {:>8.2} {:>7} {:>8} {:>6} {:>10.1} {:>10.3e}  {:<40} {}",
+            "{:>6.2} {:>6.1} {:>9.2} {:>8.2} {:>7} {:>8} {:>6} {:>8} {:>8} {:>6} {:>6} {:>10.1} {:>10.3e}  {:<40} {}",
             hs,
             tp,
             c.wall_s,
@@ -295,6 +310,10 @@ fn main() -> Result<(), String> {
             c.steps,
             c.passes,
             c.cuts,
+            c.line_work.0,
+            c.line_work.1,
+            c.line_work.2,
+            c.line_work.3,
             c.hot_spot_std.0,
             c.hot_spot_std.1,
             c.cut_off,

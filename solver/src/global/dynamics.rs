@@ -326,6 +326,7 @@ pub fn run_dynamics(
     for run in &runs {
         let line = run.integrator.stats();
         stats.cut_steps += line.cut_steps;
+        stats.line_stalled_attempts += line.stalled_attempts;
         stats.line_factorizations += line.factorizations;
         stats.line_assemblies += line.assemblies;
     }

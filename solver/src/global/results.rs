@@ -73,6 +73,8 @@ pub struct RunStats {
     pub line_assemblies: usize,
     /// Line steps that had to be cut.
     pub cut_steps: usize,
+    /// Line Newton attempts given up for lack of progress (each followed by a step cut).
+    pub line_stalled_attempts: usize,
     /// Coupled steps that failed and were retried with half the step.
     pub cut_coupled_steps: usize,
     /// Deepest coupled step cut reached (the step was Δt / 2^deepest_cut).

@@ -30,7 +30,11 @@
 //! Newton corrections of the nodal gradients are limited to 0.5 per iteration (a full
 //! correction can flip a gradient and converge to a looped, spurious cable shape), and a
 //! correction that increases ‖R‖₂ after the second iteration is halved back (contact and
-//! slack chain make R only piecewise smooth).
+//! slack chain make R only piecewise smooth). An attempt whose ‖R‖₂ has not fallen below
+//! 0.9 of its best value for six iterations is given up and the step cut at once: across a
+//! slack–taut or touch-down kink Newton can settle into a cycle between two states (its
+//! direction at one of them is no descent direction, so the halvings cannot break it) that
+//! the iteration limit would only end much later.
 //!
 //! After each step the integrator exposes the force of the line on the floater at the fairlead
 //! and the condensed fairlead stiffness of S, taken from the most recent factorisation (what a
@@ -213,6 +217,8 @@ pub struct DynamicStats {
     pub assemblies: usize,
     /// Steps that had to be cut.
     pub cut_steps: usize,
+    /// Newton attempts given up for lack of progress (each followed by a shorter step).
+    pub stalled_attempts: usize,
 }
 
 /// The generalised-α integrator of one line: model, settings, workspace and counters.
@@ -497,6 +503,7 @@ impl<'m> LineIntegrator<'m> {
         // measure found a poor contraction.
         let mut measure_fresh = false;
         let mut poor_fresh = false;
+        let mut progress = Progress::new();
         loop {
             let refresh = !have_factor || poor_fresh;
             let view = StateView {
@@ -535,6 +542,15 @@ impl<'m> LineIntegrator<'m> {
             if measure_fresh {
                 measure_fresh = false;
                 poor_fresh = norm > REUSE_CONTRACTION * previous_norm;
+            }
+            if progress.stalled(norm, iterations) {
+                // No progress for several iterations: a cycle across a kink of R. A shorter
+                // step starts closer to the solution on the far side of the kink.
+                self.stats.stalled_attempts += 1;
+                return Err(SubstepFailure {
+                    residual: rmax,
+                    dof,
+                });
             }
             if !refresh {
                 if !last_correction_fresh && norm > previous_norm {
@@ -631,6 +647,38 @@ const REUSE_CONTRACTION: f64 = 0.1;
 /// Backtracking halvings allowed per step.
 const MAX_BACKTRACKS: usize = 6;
 
+/// An attempt is given up when ‖R‖₂ has not fallen below `STALL_REDUCTION` times its best
+/// value of the attempt for `STALL_ITERATIONS` Newton iterations.
+const STALL_ITERATIONS: usize = 6;
+const STALL_REDUCTION: f64 = 0.9;
+
+/// Progress of one Newton attempt: its smallest ‖R‖₂ so far and the iteration that reached it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Progress {
+    best_norm: f64,
+    best_iteration: usize,
+}
+
+impl Progress {
+    fn new() -> Self {
+        Progress {
+            best_norm: f64::INFINITY,
+            best_iteration: 0,
+        }
+    }
+
+    /// Records ‖R‖₂ = `norm` after `iterations` corrections; true when the attempt has stalled.
+    fn stalled(&mut self, norm: f64, iterations: usize) -> bool {
+        if norm < STALL_REDUCTION * self.best_norm {
+            self.best_norm = norm;
+            self.best_iteration = iterations;
+            false
+        } else {
+            iterations >= self.best_iteration + STALL_ITERATIONS
+        }
+    }
+}
+
 fn free_norm(model: &LineModel, r: &[f64]) -> f64 {
     r.iter()
         .enumerate()
@@ -638,4 +686,50 @@ fn free_norm(model: &LineModel, r: &[f64]) -> f64 {
         .map(|(_, x)| x * x)
         .sum::<f64>()
         .sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cycle_between_two_states_is_found_stalled_six_iterations_after_its_best() {
+        // Shaped as a traced attempt (line 3, t = 193.6 s of the 1000 s paper case): ‖R‖₂
+        // falls, then alternates between 292.4 N and 14.16 N.
+        let mut p = Progress::new();
+        let start = [3.5e5, 4.1e4, 2.9e3, 2.8e2, 27.7, 29.7, 14.29];
+        for (it, n) in start.iter().enumerate() {
+            assert!(!p.stalled(*n, it));
+        }
+        let mut stalled_at = None;
+        for it in start.len()..30 {
+            let n = if it % 2 == 0 { 292.4 } else { 14.16 };
+            if p.stalled(n, it) {
+                stalled_at = Some(it);
+                break;
+            }
+        }
+        assert_eq!(stalled_at, Some(start.len() - 1 + STALL_ITERATIONS));
+    }
+
+    #[test]
+    fn an_attempt_that_halves_its_residual_every_iteration_never_stalls() {
+        // Damped Newton across a kink: every correction taken half back, ‖R‖₂ halved.
+        let mut p = Progress::new();
+        for it in 0..30 {
+            let n = 1.1e4 * 0.5f64.powi(it as i32);
+            assert!(!p.stalled(n, it), "iteration {it}");
+        }
+    }
+
+    #[test]
+    fn progress_of_less_than_ten_percent_per_iteration_counts_as_none() {
+        let mut p = Progress::new();
+        assert!(!p.stalled(100.0, 0));
+        let stalled: Vec<bool> = (1..=STALL_ITERATIONS)
+            .map(|it| p.stalled(100.0 * 0.95f64.powi(it as i32 % 2), it))
+            .collect();
+        assert_eq!(stalled.iter().filter(|s| **s).count(), 1);
+        assert!(stalled[STALL_ITERATIONS - 1]);
+    }
 }
