@@ -948,30 +948,21 @@ fn auto_fidelity_campaign_survives_a_killed_driver() {
     });
 }
 
-/// `simulation.extra_seeds` end to end: three short sea states of the demo campaign (FE
-/// strand), one seed each, and two seeds in all for the sea states holding half of the
-/// governing class's first-seed fretting damage. Every job is done once (or settled); the
-/// selected sea states have two seeds in the views with a seed spread, the others one; every
-/// unselected extra-seed strand job was settled without a claim by the first extra-seed job
-/// that ran; `query seeds` and `query lifetime` show the spread and the band.
-#[test]
-fn extra_seeds_run_where_the_damage_is_and_the_rest_is_settled_at_once() {
-    let _serial = serial();
-    let dir = tempfile::tempdir().unwrap();
-    let file = short_demo(
-        dir.path(),
-        "lower\tupper\t11\t14\ttotal\n2\t2,5\t1,354\t0\t1,354\n\
-         6\t6,5\t0\t0,2\t0,2\n8\t8,5\t0,05\t0\t0,05\n",
-        |spec| {
-            spec["name"] = serde_json::json!("seeds");
-            spec["simulation"]["extra_seeds"] =
-                serde_json::json!({ "seeds": 2, "damage_share": 0.5 });
-            spec["strand"]["contact_records"] = serde_json::json!(false);
-        },
-    );
+/// Launches the short demo campaign `name` of `scatter`, edited by `edit`, on two workers in a
+/// store of `dir`, to its end; checks that every job is done once and returns the store and
+/// the campaign.
+fn launch_to_end(
+    dir: &Path,
+    name: &str,
+    scatter: &str,
+    edit: impl FnOnce(&mut serde_json::Value),
+) -> (String, CampaignId) {
+    let file = short_demo(dir, scatter, |spec| {
+        spec["name"] = serde_json::json!(name);
+        edit(spec);
+    });
     let db = dir
-        .path()
-        .join("seeds.sqlite")
+        .join(format!("{name}.sqlite"))
         .to_string_lossy()
         .into_owned();
     let file = file.to_string_lossy().into_owned();
@@ -984,14 +975,38 @@ fn extra_seeds_run_where_the_damage_is_and_the_rest_is_settled_at_once() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    eprintln!("campaign with extra seeds: {:?}", started.elapsed());
+    eprintln!("campaign {name}: {:?}", started.elapsed());
     let id = rt().block_on(async {
         let store = Store::open(&db, StoreOptions::default()).await.unwrap();
-        let id = store.campaign_by_name("seeds").await.unwrap().unwrap();
+        let id = store.campaign_by_name(name).await.unwrap().unwrap();
         store.close().await;
         id
     });
     assert_each_done_once(&db, id);
+    (db, id)
+}
+
+/// `simulation.extra_seeds` end to end: three short sea states of the demo campaign (FE
+/// strand), one seed each, and two seeds in all for the sea states holding half of the
+/// governing class's first-seed fretting damage. Every job is done once (or settled); the
+/// selected sea states have two seeds in the views with a seed spread, the others one; every
+/// unselected extra-seed strand job was settled without a claim by the first extra-seed job
+/// that ran; `query seeds` and `query lifetime` show the spread and the band.
+#[test]
+fn extra_seeds_run_where_the_damage_is_and_the_rest_is_settled_at_once() {
+    let _serial = serial();
+    let dir = tempfile::tempdir().unwrap();
+    let (db, id) = launch_to_end(
+        dir.path(),
+        "seeds",
+        "lower\tupper\t11\t14\ttotal\n2\t2,5\t1,354\t0\t1,354\n\
+         6\t6,5\t0\t0,2\t0,2\n8\t8,5\t0,05\t0\t0,05\n",
+        |spec| {
+            spec["simulation"]["extra_seeds"] =
+                serde_json::json!({ "seeds": 2, "damage_share": 0.5 });
+            spec["strand"]["contact_records"] = serde_json::json!(false);
+        },
+    );
     let selected: Vec<i64> = rt().block_on(async {
         let store = Store::open(&db, StoreOptions::default()).await.unwrap();
         let jobs = store.jobs_of_campaign(id).await.unwrap();
@@ -1081,12 +1096,12 @@ fn extra_seeds_run_where_the_damage_is_and_the_rest_is_settled_at_once() {
 fn auto_campaign_settles_its_unselected_fe_jobs_and_runs_extra_seeds_reduced() {
     let _serial = serial();
     let dir = tempfile::tempdir().unwrap();
-    let file = short_demo(
+    let (db, id) = launch_to_end(
         dir.path(),
+        "autoseeds",
         "lower\tupper\t11\t12\t14\ttotal\n2\t2,5\t1,354\t0\t0\t1,354\n\
          4\t4,5\t0\t0,423\t0\t0,423\n6\t6,5\t0\t0\t0,2\t0,2\n8\t8,5\t0,05\t0\t0\t0,05\n",
         |spec| {
-            spec["name"] = serde_json::json!("autoseeds");
             spec["simulation"]["extra_seeds"] =
                 serde_json::json!({ "seeds": 2, "damage_share": 0.5 });
             spec["strand"]["fidelity"] = serde_json::json!("auto");
@@ -1094,29 +1109,6 @@ fn auto_campaign_settles_its_unselected_fe_jobs_and_runs_extra_seeds_reduced() {
             spec["strand"]["contact_records"] = serde_json::json!(false);
         },
     );
-    let db = dir
-        .path()
-        .join("autoseeds.sqlite")
-        .to_string_lossy()
-        .into_owned();
-    let file = file.to_string_lossy().into_owned();
-    let started = Instant::now();
-    let out = moorfret(&["campaign", "launch", &file, "--db", &db, "--workers", "2"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    eprintln!("auto campaign with extra seeds: {:?}", started.elapsed());
-    let id = rt().block_on(async {
-        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
-        let id = store.campaign_by_name("autoseeds").await.unwrap().unwrap();
-        store.close().await;
-        id
-    });
-    assert_each_done_once(&db, id);
     rt().block_on(async {
         let store = Store::open(&db, StoreOptions::default()).await.unwrap();
         let jobs = store.jobs_of_campaign(id).await.unwrap();
