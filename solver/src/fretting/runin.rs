@@ -166,11 +166,11 @@ fn load_slopes(history: &[f64], loads: &[&[f64]], part: std::ops::Range<usize>) 
     let n = used.len();
     let mut gram = nalgebra::DMatrix::<f64>::zeros(n, n);
     let mut rhs = nalgebra::DVector::<f64>::zeros(n);
+    let mut z = vec![0.0; n];
     for i in part.clone() {
-        let z: Vec<f64> = used
-            .iter()
-            .map(|&j| (loads[j][i] - centred[j].0) / centred[j].1)
-            .collect();
+        for (zj, &j) in z.iter_mut().zip(&used) {
+            *zj = (loads[j][i] - centred[j].0) / centred[j].1;
+        }
         for a in 0..n {
             rhs[a] += z[a] * (history[i] - my);
             for b in 0..n {
