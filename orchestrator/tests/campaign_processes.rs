@@ -794,10 +794,12 @@ fn assert_same_results(got: &CampaignResults, want: &CampaignResults) {
 /// The `auto` strand fidelity end to end on a reduced copy of the paper campaign's layout: two
 /// short sea states of the demo campaign (the 1+6+1 strand), planned as two global jobs, one
 /// calibration, two reduced strand jobs and two FE strand jobs of which the rule runs one
-/// (`auto_fe.sea_states = 1`). The driver and its workers are killed with SIGKILL once the
-/// calibration is done, and `campaign resume` finishes: every job done exactly once, the FE
-/// result counted for the selected sea state and the reduced one for the other, the pair
-/// compared, the diagram's occurrence covered.
+/// (`auto_fe.sea_states = 1`), and a second seed where half the first-seed damage is
+/// (`extra_seeds`: two more global and reduced jobs, gated). The driver and its workers are
+/// killed with SIGKILL once the first seeds' reduced jobs are done, while the gated jobs decide,
+/// and `campaign resume` finishes: every job done exactly once (or settled), the FE result
+/// counted for the selected sea state and the reduced one for the other, the pair compared, the
+/// selected sea states with two seeds and a spread, the diagram's occurrence covered.
 #[test]
 fn auto_fidelity_campaign_survives_a_killed_driver() {
     let _serial = serial();
@@ -811,6 +813,8 @@ fn auto_fidelity_campaign_survives_a_killed_driver() {
             spec["strand"]["fidelity"] = serde_json::json!("auto");
             spec["strand"]["auto_fe"] = serde_json::json!({ "sea_states": 1 });
             spec["strand"]["contact_records"] = serde_json::json!(false);
+            spec["simulation"]["extra_seeds"] =
+                serde_json::json!({ "seeds": 2, "damage_share": 0.5 });
         },
     );
     let db = dir
@@ -859,8 +863,8 @@ fn auto_fidelity_campaign_survives_a_killed_driver() {
     };
     wait_until(
         &db,
-        "the globals and the calibration done",
-        |s| s.iter().filter(|&&x| x == JobState::Done).count() >= 3,
+        "the first seeds' globals, calibration and reduced jobs done",
+        |s| s.iter().filter(|&&x| x == JobState::Done).count() >= 5,
         id,
         None,
     );
@@ -894,9 +898,10 @@ fn auto_fidelity_campaign_survives_a_killed_driver() {
         let store = Store::open(&db, StoreOptions::default()).await.unwrap();
         let jobs = store.jobs_of_campaign(id).await.unwrap();
         let count = |k: JobKind| jobs.iter().filter(|j| j.kind == k).count();
-        assert_eq!(count(JobKind::Global), 2);
+        // first seeds: 2 global, 1 calibration, 2 reduced, 2 FE; extra: 2 global, 2 reduced
+        assert_eq!(count(JobKind::Global), 4);
         assert_eq!(count(JobKind::Calibrate), 1);
-        assert_eq!(count(JobKind::StrandReduced), 2);
+        assert_eq!(count(JobKind::StrandReduced), 4);
         assert_eq!(count(JobKind::Strand), 2);
         // one FE job ran (the selected sea state), the other ended without results
         let mut selected = Vec::new();
@@ -910,8 +915,16 @@ fn auto_fidelity_campaign_survives_a_killed_driver() {
             }
         }
         assert_eq!(selected.len(), 1, "exactly one sea state runs FE");
+        let mut extra_cells = Vec::new();
         for job in jobs.iter().filter(|j| j.kind == JobKind::StrandReduced) {
             let results = store.results_of(job.id).await.unwrap();
+            if job.payload["global"]["extra_seed"] == true {
+                if results.result["selected"] == false {
+                    assert!(results.class_damage_inputs.is_empty());
+                    continue;
+                }
+                extra_cells.push(job.payload["global"]["sea_state_index"].as_i64().unwrap());
+            }
             assert_eq!(results.result["fidelity"], "reduced");
             assert!(!results.class_damage_inputs.is_empty());
             // `contact_records: false`: rows only, no records artifact
@@ -933,12 +946,21 @@ fn auto_fidelity_campaign_survives_a_killed_driver() {
             f.dedup();
             f
         };
+        // half the damage: one sea state or both get the second seed
+        assert!(!extra_cells.is_empty(), "no extra seed ran");
+        for c in rows.iter().filter(|r| r.measure == "fretting_max") {
+            let extra = extra_cells.contains(&c.sea_state_index);
+            assert_eq!(c.seeds, if extra { 2 } else { 1 }, "{c:?}");
+            assert_eq!(c.damage_rate_sd.is_some(), extra, "{c:?}");
+        }
+        // the FE sea state counts its FE first seed (with a reduced second seed: `mixed`)
+        let fe_like = |f: &[&str]| f == ["fe"] || f == ["mixed"];
         let (a, b) = (fidelity(0), fidelity(1));
         assert!(
-            (a == ["fe"] && b == ["reduced"]) || (a == ["reduced"] && b == ["fe"]),
+            (fe_like(&a) && b == ["reduced"]) || (a == ["reduced"] && fe_like(&b)),
             "{a:?} {b:?}"
         );
-        let fe_sea_state = if a == ["fe"] { 0 } else { 1 };
+        let fe_sea_state = if fe_like(&a) { 0 } else { 1 };
         let compared = store.fidelity_comparison(id).await.unwrap();
         assert!(!compared.is_empty());
         assert!(compared.iter().all(|c| c.sea_state_index == fe_sea_state));
