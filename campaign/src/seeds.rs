@@ -34,7 +34,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::CampaignError;
 use crate::fidelity::{select_by_damage_share, ClassDamageRate, Selection};
-use crate::spec::MAX_SEEDS_PER_SEA_STATE;
+
+/// Most realisations per sea state (each one a global and a strand job per hot spot).
+pub const MAX_SEEDS_PER_SEA_STATE: u32 = 1000;
 
 /// `simulation.extra_seeds` (module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -5,8 +5,9 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use moorfret_solver::floater::FloaterSpec;
-use moorfret_solver::global::dynamics::{run_dynamics, DynamicsParams};
+use moorfret_solver::global::dynamics::run_dynamics;
 use moorfret_solver::global::system::{solve_coupled_statics, StaticsParams};
+use moorfret_solver::global::DynamicsParams;
 use moorfret_solver::global::{CaseSpec, FloaterInput, GlobalModel};
 
 const CASE: &str = include_str!("../../campaigns/paper_case.json");

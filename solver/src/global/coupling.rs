@@ -25,9 +25,9 @@
 
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
-use super::dynamics::DynamicsParams;
 use super::error::GlobalError;
 use super::motion::StepMotion;
+use super::params::DynamicsParams;
 use super::results::RunStats;
 use super::sea::{LineSeaCache, PassSea, RampedSea};
 use super::system::{FloaterModel, GlobalModel};

@@ -17,6 +17,7 @@ mod coupling;
 pub mod dynamics;
 pub mod error;
 pub mod motion;
+pub mod params;
 pub mod resolution;
 pub mod results;
 pub mod run;
@@ -25,6 +26,7 @@ pub mod system;
 
 pub use case::CaseSpec;
 pub use error::GlobalError;
+pub use params::DynamicsParams;
 pub use resolution::{CutOffLimit, WaveCutOff, WaveResolution};
 pub use results::{GlobalResult, GlobalSummary};
 pub use run::{run, RunParams};

@@ -3,8 +3,9 @@
 
 use std::time::Instant;
 
-use super::dynamics::{run_dynamics, DynamicsParams};
+use super::dynamics::run_dynamics;
 use super::error::GlobalError;
+use super::params::DynamicsParams;
 use super::results::GlobalResult;
 use super::system::{line_pool, solve_coupled_statics, GlobalModel, StaticsParams};
 

@@ -90,7 +90,7 @@ impl GlobalModel {
     /// Builds the model of `case` (validated here) with the floater content `floater`; the sea
     /// is realised for the case's transient plus duration, or `duration_s` when given, and cut
     /// off at the highest frequency that the case's time step and the default floater table
-    /// ([`TableParams::default`], as in [`super::dynamics::DynamicsParams::default`]) resolve
+    /// ([`TableParams::default`], as in [`super::params::DynamicsParams::default`]) resolve
     /// ([`WaveResolution::default`], see [`super::resolution`]).
     pub fn new(
         case: &CaseSpec,
