@@ -9,6 +9,7 @@
 //!   selection of the sea states that also run FE;
 //! - [`seeds`]: the extra seeds of the sea states that carry most of the damage
 //!   (`simulation.extra_seeds`) and their selection;
+//! - [`stiffness`]: the EA of the strand jobs' tension → strain conversion and its cache;
 //! - [`resolve`]: read and hash every referenced file, parse and check them; nothing is
 //!   written anywhere for a bad campaign;
 //! - [`payload`]: the stored campaign inputs and the per-job payloads workers run from, cache
@@ -22,6 +23,7 @@ pub mod payload;
 pub mod resolve;
 pub mod seeds;
 pub mod spec;
+pub mod stiffness;
 
 pub use error::CampaignError;
 pub use payload::{CalibratePayload, CampaignInputs, GlobalPayload, StrandPayload};

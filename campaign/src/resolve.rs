@@ -23,6 +23,7 @@ use crate::error::CampaignError;
 use crate::fatigue::interface_geometry;
 use crate::payload::{CampaignInputs, FloaterContent, SOLVER_VERSION};
 use crate::spec::CampaignSpec;
+use crate::stiffness::AxialStiffnessRule;
 
 /// A referenced file as read.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
@@ -133,8 +134,12 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     let (_, text, campaign_file) = read_file(base, "campaign file", &name)?;
-    let spec = CampaignSpec::from_json_str(&text)?;
+    let mut spec = CampaignSpec::from_json_str(&text)?;
     spec.validate()?;
+    // the default rule is stored with the campaign (`StrandSpec::axial_stiffness`)
+    spec.strand
+        .axial_stiffness
+        .get_or_insert(AxialStiffnessRule::StrandModel);
     let mut files = vec![campaign_file];
 
     let (scatter_path, text, file) = read_file(base, "scatter.path", &spec.scatter.path)?;

@@ -25,7 +25,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::CampaignError;
 use crate::fatigue::FatigueSpec;
 use crate::fidelity::{AutoFe, StrandFidelity};
-use crate::seeds::ExtraSeeds;
+use crate::seeds::{ExtraSeeds, MAX_SEEDS_PER_SEA_STATE};
+use crate::stiffness::AxialStiffnessRule;
 
 /// A whole campaign.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -190,6 +191,13 @@ pub struct StrandSpec {
         skip_serializing_if = "is_default_calibration_margin"
     )]
     pub calibration_margin: f64,
+    /// EA of the tension → strain conversion ([`crate::stiffness`]): `strand_model` or
+    /// `line_type`. A campaign file without it takes `strand_model`, and the resolved campaign
+    /// stores that choice; stored inputs without it belong to campaigns planned before the
+    /// setting existed, which converted with the line type's EA
+    /// ([`StrandSpec::axial_stiffness_rule`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axial_stiffness: Option<AxialStiffnessRule>,
 }
 
 fn yes() -> bool {
@@ -220,6 +228,12 @@ pub enum StrandEnds {
 }
 
 impl StrandSpec {
+    /// The tension → strain rule of a strand job: as the campaign stored it, or `line_type`
+    /// for a campaign planned before the setting existed (see `axial_stiffness`).
+    pub fn axial_stiffness_rule(&self) -> AxialStiffnessRule {
+        self.axial_stiffness.unwrap_or(AxialStiffnessRule::LineType)
+    }
+
     /// The solver settings of a strand job's history run.
     pub fn history_options(&self) -> HistoryOptions {
         let defaults = HistoryOptions::default();
@@ -263,9 +277,6 @@ fn is_default_checkpoint_segments(n: &usize) -> bool {
 fn is_one(n: &usize) -> bool {
     *n == 1
 }
-
-/// Most realisations per sea state (each one a global and a strand job per hot spot).
-pub const MAX_SEEDS_PER_SEA_STATE: u32 = 1000;
 
 /// Most threads a strand job or `run strand` uses.
 pub const MAX_STRAND_THREADS: usize = 256;

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use moorfret_campaign::resolve;
+use moorfret_campaign::stiffness::AxialStiffnessRule;
 use moorfret_orchestrator::plan;
 use moorfret_store::{NewCampaign, Store, StoreOptions};
 
@@ -460,4 +461,54 @@ fn paper_campaign_plans_every_non_zero_cell_of_the_scatter_diagram() {
     assert!(fields.contains(&"scatter.path"));
     assert!(fields.contains(&"strand.profiles_path"));
     assert_eq!(resolved.inputs.hot_spot_axial_stiffness_n, vec![3.6e8]);
+    assert_eq!(
+        resolved.inputs.spec.strand.axial_stiffness,
+        Some(AxialStiffnessRule::StrandModel)
+    );
+}
+
+/// A campaign file without `strand.axial_stiffness` takes the strand model's EA and stores that
+/// choice, so its jobs' cache keys say it; the demo's stand-in strand keeps the line type's;
+/// stored inputs without the setting (campaigns planned before it) keep the line type's EA
+/// they were planned with.
+#[test]
+fn the_tension_to_strain_rule_is_stored_with_the_campaign() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = campaigns_dir();
+    for sub in ["data", "benchmarks"] {
+        std::fs::create_dir(dir.path().join(sub)).unwrap();
+    }
+    for name in [
+        "paper.json",
+        "paper_case.json",
+        "data/wsd_argoss_sector.tsv",
+        "data/oc4_semi_floater.json",
+        "data/strand_profiles.json",
+    ] {
+        std::fs::copy(src.join(name), dir.path().join(name)).unwrap();
+    }
+    let file = dir.path().join("paper.json");
+    let mut spec: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    spec["strand"]
+        .as_object_mut()
+        .unwrap()
+        .remove("axial_stiffness");
+    std::fs::write(&file, spec.to_string()).unwrap();
+    let resolved = resolve(&file).unwrap();
+    let stored = serde_json::to_value(&resolved.inputs).unwrap();
+    assert_eq!(stored["spec"]["strand"]["axial_stiffness"], "strand_model");
+
+    let demo = resolve(&src.join("demo.json")).unwrap();
+    assert_eq!(
+        demo.inputs.spec.strand.axial_stiffness_rule(),
+        AxialStiffnessRule::LineType
+    );
+
+    let mut before: moorfret_campaign::CampaignInputs = serde_json::from_value(stored).unwrap();
+    before.spec.strand.axial_stiffness = None;
+    assert_eq!(
+        before.spec.strand.axial_stiffness_rule(),
+        AxialStiffnessRule::LineType
+    );
 }

@@ -3,7 +3,8 @@
 //!
 //! - `calibrate` (one job per hot spot, after every global job): the load range of the hot
 //!   spot over every global job of the campaign (ε = T / EA and κ, as the strand jobs load
-//!   them), widened by `strand.calibration_margin` on each side, and the reduced response
+//!   them; under the `strand_model` rule this job measures EA first and caches it for the
+//!   reduced and FE jobs), widened by `strand.calibration_margin` on each side, and the reduced response
 //!   calibrated on the campaign's FE strand model over it. The calibration is stored as a
 //!   content-addressed artifact (`reduced_strand`); its job result holds the range, the
 //!   calibration's own report and its cost. The FE run of the calibration uses every core of
@@ -25,8 +26,8 @@ use tokio::runtime::Handle;
 
 use crate::failure::{permanent, transient};
 use crate::strand_stage::{
-    campaign_strand, model_parameters, series_of, strand_load, strand_results, upstream_series,
-    Upstream,
+    axial_stiffness, campaign_strand, model_parameters, series_of, strand_load, strand_results,
+    upstream_series, Upstream,
 };
 use moorfret_campaign::{CalibratePayload, CampaignInputs, StrandPayload};
 use moorfret_store::{
@@ -76,10 +77,15 @@ pub fn run_calibrate(
     artifacts: &ArtifactStore,
     rt: &Handle,
 ) -> Result<JobResults, JobFailure> {
+    let strand = campaign_strand(inputs)?;
+    let params = model_parameters(inputs);
+    let model = StrandModel::new(&strand, &params)
+        .map_err(|e| permanent(FailureClass::InvalidStrand, e))?;
+    let stiffness = axial_stiffness(inputs, payload.hot_spot_index, artifacts, Some(&model))?;
     let mut loads: Option<LoadRange> = None;
     for key in &payload.global_cache_keys {
         let series = series_of(key, payload.hot_spot_index, store, retry, artifacts, rt)?;
-        let load = strand_load(inputs, payload.hot_spot_index, series)?;
+        let load = strand_load(inputs, series, stiffness)?;
         if let Some(r) = LoadRange::of(&load.samples) {
             loads = Some(loads.map_or(r, |l| l.union(r)));
         }
@@ -91,10 +97,6 @@ pub fn run_calibrate(
         )
     })?;
     let range = loads.widened(inputs.spec.strand.calibration_margin);
-    let strand = campaign_strand(inputs)?;
-    let params = model_parameters(inputs);
-    let model = StrandModel::new(&strand, &params)
-        .map_err(|e| permanent(FailureClass::InvalidStrand, e))?;
     let options = calibration_options(inputs);
     tracing::info!(job = %lease.job, strain = ?range.strain, curvature_per_m = ?range.curvature_per_m,
         threads = options.history.threads, "calibrating the reduced strand response");
@@ -115,6 +117,7 @@ pub fn run_calibrate(
         result: json!({
             "hot_spot_index": payload.hot_spot_index,
             "global_jobs": payload.global_cache_keys.len(),
+            "axial_stiffness": stiffness,
             "load_range": loads,
             "calibrated_range": reduced.range,
             "design_strain_floor": design_strain_floor(&reduced.range),
@@ -171,7 +174,8 @@ pub fn run_strand_reduced(
     })?;
     let reduced = calibration_of(key, store, retry, artifacts, rt)?;
     let series = upstream_series(payload, store, retry, artifacts, rt)?;
-    let load = strand_load(inputs, payload.hot_spot_index, series)?;
+    let stiffness = axial_stiffness(inputs, payload.hot_spot_index, artifacts, None)?;
+    let load = strand_load(inputs, series, stiffness)?;
     let strand = campaign_strand(inputs)?;
     let options = inputs.spec.strand.history_options();
     let result = run_reduced(&reduced, &load.samples, options.slip_gate_m).map_err(|e| {

@@ -1,8 +1,11 @@
 //! The `strand` stage of a job: load the hot-spot series of its global job (found by that
 //! job's cache key, so a global result shared from another campaign serves as well), convert
-//! it to the strand load ε(t) = T(t) / EA with EA of the rope at the hot spot and κ(t)
-//! (DESIGN §4.4), sampled every `load_stride` global output samples, and drive the detailed
-//! strand model through it (`moorfret_solver::strand::history`).
+//! it to the strand load ε(t) = T(t) / EA and κ(t) (DESIGN §4.4), sampled every `load_stride`
+//! global output samples, and drive the detailed strand model through it
+//! (`moorfret_solver::strand::history`). EA follows the campaign's rule
+//! (`moorfret_campaign::stiffness`): measured on the strand model, once per model and artifact
+//! directory (the first job to need it measures it, the others read it back), or the line
+//! type's; the job result gives both.
 //!
 //! Results: the full per-contact records ([`ContactRecord`]: position, largest normal force,
 //! rainflow slip cycles with their forces) as one content-addressed JSON artifact
@@ -29,12 +32,15 @@ use moorfret_solver::fretting::{
     sea_state_damage_inputs, ContactRecord, SeaStateInputs, TensionHistory,
 };
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
-use moorfret_solver::strand::history::stiffness::{samples_from_tension, SlackTension};
+use moorfret_solver::strand::history::stiffness::{
+    measure_axial_stiffness_n, samples_from_tension, SlackTension,
+};
 use moorfret_solver::strand::history::{
     run_history_from, HistoryObserver, HistoryResult, LoadSample,
 };
 use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::Strand;
+use serde::Serialize;
 use serde_json::json;
 use tokio::runtime::Handle;
 
@@ -43,6 +49,7 @@ use crate::gate::{auto_fe_selection, unselected_fe_result, GateContext};
 use crate::global_stage::series_role;
 use crate::series::HotSpotSeries;
 use moorfret_campaign::resolve::hot_spot_line_type;
+use moorfret_campaign::stiffness::{AxialStiffnessRule, StiffnessCache, STIFFNESS_STRAIN};
 use moorfret_campaign::{CampaignInputs, StrandPayload};
 use moorfret_store::{
     damage_rows, ArtifactStore, ContactStatistics, FailureClass, JobFailure, JobResults, Lease,
@@ -239,6 +246,90 @@ fn contact_row(hot_spot_index: usize, index: usize, c: &ContactRecord) -> Contac
     }
 }
 
+/// The EA of a strand job's tension → strain conversion under the campaign's rule
+/// (`moorfret_campaign::stiffness`), with the line type's beside it.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub(crate) struct AxialStiffness {
+    /// The rule applied.
+    pub rule: AxialStiffnessRule,
+    /// EA of ε = T / EA and of the fretting stress's metallic area EA / E (N).
+    pub ea_n: f64,
+    /// Where `ea_n` comes from: `line_type`, `measured` (by this job) or `cached` (measured
+    /// by an earlier job on the same model).
+    pub source: &'static str,
+    /// EA of the global line type at the hot spot (N).
+    pub line_type_ea_n: f64,
+    /// EA measured on the strand model (N), under the `strand_model` rule.
+    pub strand_model_ea_n: Option<f64>,
+}
+
+/// The EA of hot spot `hot_spot_index` (module docs). Under the `strand_model` rule it is read
+/// from the artifact directory's cache or measured on `model` (built here when `None`) and
+/// cached.
+pub(crate) fn axial_stiffness(
+    inputs: &CampaignInputs,
+    hot_spot_index: usize,
+    artifacts: &ArtifactStore,
+    model: Option<&StrandModel>,
+) -> Result<AxialStiffness, JobFailure> {
+    let line_type_ea_n = inputs
+        .hot_spot_axial_stiffness_n
+        .get(hot_spot_index)
+        .copied()
+        .ok_or_else(|| permanent(FailureClass::BadPayload, "hot spot index out of range"))?;
+    let rule = inputs.spec.strand.axial_stiffness_rule();
+    if rule == AxialStiffnessRule::LineType {
+        return Ok(AxialStiffness {
+            rule,
+            ea_n: line_type_ea_n,
+            source: "line_type",
+            line_type_ea_n,
+            strand_model_ea_n: None,
+        });
+    }
+    let strand = campaign_strand(inputs)?;
+    let params = model_parameters(inputs);
+    let options = inputs.spec.strand.history_options();
+    let cache = StiffnessCache::new(
+        artifacts.dir(),
+        &strand,
+        &params,
+        STIFFNESS_STRAIN,
+        &options.initialisation_newton(),
+    );
+    let (ea_n, source) = match cache.get() {
+        Some(ea) => (ea, "cached"),
+        None => {
+            let built;
+            let model = match model {
+                Some(m) => m,
+                None => {
+                    built = StrandModel::new(&strand, &params)
+                        .map_err(|e| permanent(FailureClass::InvalidStrand, e))?;
+                    &built
+                }
+            };
+            let ea = measure_axial_stiffness_n(model, STIFFNESS_STRAIN, &options).map_err(|e| {
+                permanent(
+                    FailureClass::StrandHistory,
+                    format!("measuring the axial stiffness EA of the strand model: {e}"),
+                )
+            })?;
+            if let Err(e) = cache.put(ea, STIFFNESS_STRAIN) {
+                tracing::warn!(error = %e, file = %cache.file().display(), "EA not cached");
+            }
+            (ea, "measured")
+        }
+    };
+    Ok(AxialStiffness {
+        rule,
+        ea_n,
+        source,
+        line_type_ea_n,
+        strand_model_ea_n: Some(ea_n),
+    })
+}
+
 /// The strand load of a strand job: its global job's hot-spot series and the strand samples.
 pub(crate) struct StrandLoad {
     /// The hot-spot series of the global job.
@@ -249,26 +340,24 @@ pub(crate) struct StrandLoad {
     pub slack_samples: usize,
     /// Series samples per load sample.
     pub stride: usize,
+    /// The EA of ε = T / EA.
+    pub axial_stiffness: AxialStiffness,
 }
 
-/// The strand load of `series` under the campaign's settings (module docs).
+/// The strand load of `series` under the campaign's settings, with EA from `axial_stiffness`
+/// (module docs).
 pub(crate) fn strand_load(
     inputs: &CampaignInputs,
-    hot_spot_index: usize,
     series: HotSpotSeries,
+    axial_stiffness: AxialStiffness,
 ) -> Result<StrandLoad, JobFailure> {
-    let ea = inputs
-        .hot_spot_axial_stiffness_n
-        .get(hot_spot_index)
-        .copied()
-        .ok_or_else(|| permanent(FailureClass::BadPayload, "hot spot index out of range"))?;
     let stride = (inputs.spec.strand.load_interval_s / inputs.spec.simulation.output_interval_s)
         .round() as usize;
     let (samples, slack_samples) = samples_from_tension(
         &series.time_s,
         &series.tension_n,
         &series.curvature_per_m,
-        ea,
+        axial_stiffness.ea_n,
         stride,
         SlackTension::AsZero,
     )
@@ -278,6 +367,7 @@ pub(crate) fn strand_load(
         samples,
         slack_samples,
         stride,
+        axial_stiffness,
     })
 }
 
@@ -321,10 +411,11 @@ pub fn run_strand(
         None
     };
     let series = upstream_series(payload, store, retry, artifacts, rt)?;
-    let load = strand_load(inputs, payload.hot_spot_index, series)?;
     let strand = campaign_strand(inputs)?;
     let model = StrandModel::new(&strand, &model_parameters(inputs))
         .map_err(|e| permanent(FailureClass::InvalidStrand, e))?;
+    let stiffness = axial_stiffness(inputs, payload.hot_spot_index, artifacts, Some(&model))?;
+    let load = strand_load(inputs, series, stiffness)?;
     let options = inputs.spec.strand.history_options();
     let pointer = lease
         .cache_key
@@ -417,6 +508,7 @@ pub(crate) fn strand_results(
             "seed_index": payload.global.seed_index,
             "samples": load.samples.len(),
             "slack_samples": load.slack_samples,
+            "axial_stiffness": load.axial_stiffness,
             "contacts": result.contacts.len(),
             "contact_records_sha256": artifact.as_ref().map(|a| a.sha256.clone()),
             "effective_duration_s": damage.effective_duration_s,
@@ -486,8 +578,9 @@ fn damage_inputs(
                 "the hot spot lies on no defined line type",
             )
         })?;
-    let ea = inputs.hot_spot_axial_stiffness_n[payload.hot_spot_index];
-    let config = spec.fatigue.damage_config(strand, line_type, ea);
+    let config = spec
+        .fatigue
+        .damage_config(strand, line_type, load.axial_stiffness.ea_n);
     let stride = load.stride.max(1);
     let tension: Vec<f64> = load
         .series
@@ -508,6 +601,49 @@ fn damage_inputs(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use moorfret_solver::strand::history::stiffness::straight_strand_stiffness;
+
+    /// The `strand_model` rule measures EA on the campaign's strand model once per artifact
+    /// directory and the next job reads it back, to the bit; `line_type` takes the line type's
+    /// EA. On the demo's 1+6+1 strand, whose contacts carry little, the measured EA lies just
+    /// below the straight-strand estimate E (A_core + Σ n A cos³β) (docs/strand-runs.md: −0.8 %).
+    #[test]
+    fn the_strand_model_rule_measures_ea_once_and_line_type_takes_the_line_types() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns/demo.json");
+        let mut inputs = moorfret_campaign::resolve(&path).unwrap().inputs;
+        let dir = tempfile::tempdir().unwrap();
+        let artifacts = ArtifactStore::open(dir.path()).unwrap();
+
+        let line = axial_stiffness(&inputs, 0, &artifacts, None).unwrap();
+        assert_eq!(line.rule, AxialStiffnessRule::LineType);
+        assert_eq!((line.ea_n, line.source), (3.6e8, "line_type"));
+        assert_eq!(line.strand_model_ea_n, None);
+
+        inputs.spec.strand.axial_stiffness = Some(AxialStiffnessRule::StrandModel);
+        let first = axial_stiffness(&inputs, 0, &artifacts, None).unwrap();
+        assert_eq!(first.source, "measured");
+        assert_eq!(first.line_type_ea_n, 3.6e8);
+        assert_eq!(first.strand_model_ea_n, Some(first.ea_n));
+        let strand = campaign_strand(&inputs).unwrap();
+        let estimate = straight_strand_stiffness(&strand).simple_n;
+        let relative = (first.ea_n - estimate) / estimate;
+        assert!(
+            (-0.02..0.0).contains(&relative),
+            "EA {} N against the estimate {estimate} N",
+            first.ea_n
+        );
+        let model = StrandModel::new(&strand, &model_parameters(&inputs)).unwrap();
+        let options = inputs.spec.strand.history_options();
+        let direct = measure_axial_stiffness_n(&model, STIFFNESS_STRAIN, &options).unwrap();
+        assert_eq!(first.ea_n, direct);
+
+        let second = axial_stiffness(&inputs, 0, &artifacts, Some(&model)).unwrap();
+        assert_eq!((second.ea_n, second.source), (first.ea_n, "cached"));
+
+        let e = axial_stiffness(&inputs, 3, &artifacts, None).unwrap_err();
+        assert_eq!(e.error_class, FailureClass::BadPayload);
+        assert!(e.message.contains("hot spot index"), "{}", e.message);
+    }
 
     #[test]
     fn no_checkpoint_without_a_pointer_or_with_a_pointer_to_an_unreadable_one() {

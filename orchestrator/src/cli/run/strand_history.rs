@@ -6,8 +6,9 @@
 //! (`time_s`, then `tension_n_K`, `curvature_per_m_K` per hot spot K), read at hot spot
 //! `--hot-spot K` (0 by default). A tension history becomes the axial strain
 //! ε = T / EA with EA measured on the model itself by a tension step
-//! (`measure_axial_stiffness_n`, at `--stiffness-strain`; kept in a cache per model, see
-//! [`StiffnessCache`], or given by `--axial-stiffness-n`); slack samples (T < 0) are refused
+//! (`measure_axial_stiffness_n`, at `--stiffness-strain`; kept in a cache per model,
+//! [`StiffnessCache`], or given by `--axial-stiffness-n`): the rule of a campaign's strand
+//! jobs too (`moorfret_campaign::stiffness`); slack samples (T < 0) are refused
 //! unless `--slack-as-zero` loads them as ε = 0. The whole history is checked before anything
 //! is solved or written: an unknown or missing column, a value that is not a finite number,
 //! a time that does not increase, a negative load or a curvature beyond the strand's
@@ -41,9 +42,9 @@ use anyhow::{anyhow, bail, Context};
 use clap::Args;
 use moorfret_campaign::fatigue::RunInDetection;
 use moorfret_campaign::spec::{DEFAULT_CHECKPOINT_SEGMENTS, MAX_STRAND_THREADS};
+use moorfret_campaign::stiffness::{StiffnessCache, STIFFNESS_STRAIN};
 use moorfret_solver::contact::NormalLaw;
 use moorfret_solver::fretting::ContactRecord;
-use moorfret_solver::linalg::NewtonParams;
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
 use moorfret_solver::strand::history::monitors::{MonitorChannel, MonitorGroup, MonitorTarget};
 use moorfret_solver::strand::history::reduce::reduce_history;
@@ -57,7 +58,6 @@ use moorfret_solver::strand::history::{
 };
 use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
 use serde::Serialize;
-use sha2::{Digest, Sha256};
 
 use super::strand_model::{load_strand, ModelArgs, ModelSizes};
 use super::strand_reduced::{
@@ -122,7 +122,7 @@ pub(crate) enum MonitorRows {
 #[derive(Debug, Args)]
 pub(crate) struct StiffnessArgs {
     /// Axial strain of the tension step that measures EA.
-    #[arg(long, default_value_t = 1e-3)]
+    #[arg(long, default_value_t = STIFFNESS_STRAIN)]
     pub(crate) stiffness_strain: f64,
     /// EA (N) for ε = T / EA instead of measuring it, e.g. the `axial_stiffness.ea_n` of an
     /// earlier run's summary on the same model (saves the tension step).
@@ -637,78 +637,6 @@ fn replace_file(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     std::fs::rename(&tmp, path)
 }
 
-/// Cache of EA values measured on strand models ([`measure_axial_stiffness_n`]): one small JSON
-/// file per (model, measuring strain, Newton settings), named by the SHA-256 of their
-/// description, written by temp file and rename. A changed profile, regularisation, end
-/// condition, measuring strain or program version is a different key: a stale value is never
-/// used, at worst EA is measured again.
-struct StiffnessCache {
-    file: PathBuf,
-    /// What the key hashes.
-    description: String,
-}
-
-#[derive(Debug, Serialize, serde::Deserialize)]
-struct CachedStiffness {
-    ea_n: f64,
-    measured_at_strain: f64,
-    /// What the key hashes, for a reader of the cache.
-    model: String,
-}
-
-impl StiffnessCache {
-    /// The cache entry of `model` (built with `params`) measured at `strain` with `newton`;
-    /// `None` when no cache directory is known.
-    fn new(
-        dir: Option<&Path>,
-        strand: &Strand,
-        params: &StrandModelParameters,
-        strain: f64,
-        newton: &NewtonParams,
-    ) -> Option<Self> {
-        let dir = cache_root(dir)?;
-        let description = format!(
-            "moorfret {} axial stiffness; strand {:?}; model {:?}; strain {:e}; newton {:?}",
-            env!("CARGO_PKG_VERSION"),
-            strand,
-            params,
-            strain,
-            newton
-        );
-        let key: String = Sha256::digest(description.as_bytes())
-            .iter()
-            .map(|b| format!("{b:02x}"))
-            .collect();
-        let file = dir.join("axial_stiffness").join(format!("{key}.json"));
-        Some(Self { file, description })
-    }
-
-    /// The cached EA, if the entry exists and reads back as a finite positive value.
-    fn get(&self) -> Option<f64> {
-        let text = std::fs::read_to_string(&self.file).ok()?;
-        let entry: CachedStiffness = serde_json::from_str(&text).ok()?;
-        (entry.ea_n.is_finite() && entry.ea_n > 0.0).then_some(entry.ea_n)
-    }
-
-    /// Stores `ea_n` measured at `strain`; a cache that cannot be written only costs a
-    /// measurement next time.
-    fn put(&self, ea_n: f64, strain: f64) {
-        let entry = CachedStiffness {
-            ea_n,
-            measured_at_strain: strain,
-            model: self.description.clone(),
-        };
-        let written = self
-            .file
-            .parent()
-            .map_or(Ok(()), std::fs::create_dir_all)
-            .and_then(|()| replace_file(&self.file, &serde_json::to_vec_pretty(&entry)?));
-        if let Err(e) = written {
-            tracing::warn!(error = %e, file = %self.file.display(), "EA not cached");
-        }
-    }
-}
-
 /// EA for a tension history: given (`--axial-stiffness-n`), from the cache, or measured on
 /// `model` (and cached); with its source and the measuring strain (none when given).
 fn axial_stiffness_n(
@@ -723,13 +651,15 @@ fn axial_stiffness_n(
         return Ok((ea, "given", None));
     }
     let strain = args.stiffness_strain;
-    let cache = StiffnessCache::new(
-        args.cache_dir.as_deref(),
-        lazy.strand,
-        lazy.params,
-        strain,
-        &options.initialisation_newton(),
-    );
+    let cache = cache_root(args.cache_dir.as_deref()).map(|dir| {
+        StiffnessCache::new(
+            &dir,
+            lazy.strand,
+            lazy.params,
+            strain,
+            &options.initialisation_newton(),
+        )
+    });
     if let Some(ea) = cache
         .as_ref()
         .filter(|_| !args.no_cache)
@@ -740,7 +670,10 @@ fn axial_stiffness_n(
     let ea = measure_axial_stiffness_n(lazy.get()?, strain, options)
         .context("measuring the axial stiffness EA of the strand model")?;
     if let Some(c) = &cache {
-        c.put(ea, strain);
+        // a cache that cannot be written only costs a measurement next time
+        if let Err(e) = c.put(ea, strain) {
+            tracing::warn!(error = %e, file = %c.file().display(), "EA not cached");
+        }
     }
     Ok((ea, "measured", Some(strain)))
 }

@@ -1,7 +1,6 @@
 //! Tension → strain: the strand's axial stiffness EA measured on the model itself by a tension
-//! step, cached per profile, and the conversion of a tension history ε = T / EA.
-
-use std::collections::BTreeMap;
+//! step (which EA a run uses, and its cache: `moorfret_campaign::stiffness`), and the
+//! conversion of a tension history ε = T / EA.
 
 use serde::{Deserialize, Serialize};
 
@@ -62,32 +61,6 @@ pub fn measure_axial_stiffness_n(
     })?;
     let force = section_force_n(model, problem.state(), 0.5 * model.strand.model_length_m)?;
     Ok(force / strain)
-}
-
-/// Measured axial stiffnesses by profile name (N), serialisable so that a campaign measures
-/// each profile once.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct AxialStiffnessCache {
-    /// EA by profile name (N).
-    pub entries: BTreeMap<String, f64>,
-}
-
-impl AxialStiffnessCache {
-    /// EA of profile `name`, measured on `model` at `strain` if not cached yet.
-    pub fn get_or_measure(
-        &mut self,
-        name: &str,
-        model: &StrandModel,
-        strain: f64,
-        options: &HistoryOptions,
-    ) -> Result<f64, HistoryError> {
-        if let Some(&ea) = self.entries.get(name) {
-            return Ok(ea);
-        }
-        let ea = measure_axial_stiffness_n(model, strain, options)?;
-        self.entries.insert(name.to_string(), ea);
-        Ok(ea)
-    }
 }
 
 /// What a negative tension sample means in [`samples_from_tension`].
