@@ -28,14 +28,9 @@ use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters
 use moorfret_solver::strand::problem::StrandProblem;
 use moorfret_solver::strand::profile::profiles_from_json;
 
-#[path = "support/directional.rs"]
-mod directional;
-#[path = "support/irregular.rs"]
-mod irregular;
-#[path = "support/logging.rs"]
-mod logging;
-use directional::{directional_check, norm, statuses};
-use irregular::irregular_history;
+use moorfret_studies::directional::{directional_check, norm, statuses};
+use moorfret_studies::irregular::irregular_history;
+use moorfret_studies::logging;
 
 const PROFILES: &str = include_str!(concat!(
     env!("CARGO_MANIFEST_DIR"),

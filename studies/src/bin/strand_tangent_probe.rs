@@ -19,9 +19,7 @@ use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters
 use moorfret_solver::strand::problem::StrandProblem;
 use moorfret_solver::strand::profile::profile_from_json;
 
-#[path = "support/directional.rs"]
-mod directional;
-use directional::{directional_check, norm, statuses, DirectionalCheck};
+use moorfret_studies::directional::{directional_check, norm, statuses, DirectionalCheck};
 
 const BENCHMARK: &str = include_str!(concat!(
     env!("CARGO_MANIFEST_DIR"),

@@ -34,8 +34,8 @@ use moorfret_solver::floater::FloaterSpec;
 use moorfret_solver::global::results::SeriesSummary;
 use moorfret_solver::global::{run, CaseSpec, FloaterInput, GlobalModel, GlobalResult, RunParams};
 
-const CASE: &str = include_str!("../../campaigns/paper_case.json");
-const FLOATER: &str = include_str!("../../campaigns/data/oc4_semi_floater.json");
+const CASE: &str = include_str!("../../../campaigns/paper_case.json");
+const FLOATER: &str = include_str!("../../../campaigns/data/oc4_semi_floater.json");
 
 struct Options {
     duration_s: f64,

@@ -38,11 +38,8 @@ use moorfret_solver::strand::history::{
 use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::{profile_from_json, profiles_from_json};
 
-#[path = "support/irregular.rs"]
-mod irregular;
-#[path = "support/logging.rs"]
-mod logging;
-use irregular::irregular_history;
+use moorfret_studies::irregular::irregular_history;
+use moorfret_studies::logging;
 
 const BENCHMARK: &str = include_str!(concat!(
     env!("CARGO_MANIFEST_DIR"),
