@@ -35,7 +35,7 @@ pub use super::error::StrandModelError;
 /// GMRES iterations a reused preconditioner may cost beyond a fresh one before the solver
 /// refactorises ([`GmresParams::reuse_margin`]): one LDLᵀ factorisation costs about as much as
 /// 20 preconditioned GMRES iterations on both the 1+6+1 and the six-layer strand
-/// (`solver/examples/linear_solver_study.rs`), so ten extra iterations per solve are cheaper
+/// (`studies/src/bin/linear_solver_study.rs`), so ten extra iterations per solve are cheaper
 /// than refactorising as long as the pattern of stick and slip holds.
 pub const PRECONDITIONER_REUSE_MARGIN: usize = 10;
 

@@ -14,7 +14,7 @@
 //!   variants run by default).
 //!
 //! ```text
-//! cargo run --release -p moorfret-solver --example global_convergence -- \
+//! cargo run --release -p moorfret-studies --bin global_convergence -- \
 //!     [--duration-s 300] [--transient-s 50] [--repeat 1] [--sea-duration-s S] [base dt mesh tight]
 //! ```
 //!

@@ -23,7 +23,7 @@
 //! or `double` the precision of the LDLᵀ preconditioner's solves
 //! ([`moorfret_solver::strand::history::HistoryOptions::preconditioner_precision`]).
 //!
-//! Run: `cargo run --release -p moorfret-solver --example strand_history_tolerance [-- tol]`, or
+//! Run: `cargo run --release -p moorfret-studies --bin strand_history_tolerance [-- tol]`, or
 //! `… -- --six-layer LOAD.csv [--from-s A] [--to-s B] [--ea N] [--threads N] tol_ref tol…`.
 
 use std::time::Instant;

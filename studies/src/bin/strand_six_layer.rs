@@ -3,7 +3,7 @@
 //! straight-strand estimates) and bending steps at increasing curvature (section moment against
 //! EI_min / EI_max), with the wall-time split of every step.
 //!
-//! Run (release): `cargo run --release -p moorfret-solver --example strand_six_layer -- \
+//! Run (release): `cargo run --release -p moorfret-studies --bin strand_six_layer -- \
 //!   [strain] [curvature 1/m ...]` (defaults: 2.5e-3, then 2e-3 5e-3 1e-2 2e-2 4e-2).
 //! Contact regularisation: the paper campaign's set (ε_N = 2e8 N/m, γ_e = 1e-5 m) unless
 //! `STRAND_CONTACT=ε_N,γ_e` gives another. `STRAND_LOAD_INCREMENT=Δλ` sets the first load increment of every step (default 1);
