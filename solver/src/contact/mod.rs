@@ -10,10 +10,10 @@
 //! Contact pairing is fixed for the whole analysis; the history changes only when the caller
 //! accepts a step.
 
-pub mod element;
+pub(crate) mod element;
 pub mod hertz;
-pub mod laws;
-pub mod scalar;
+pub(crate) mod laws;
+pub(crate) mod scalar;
 
 #[cfg(test)]
 mod element_tests;

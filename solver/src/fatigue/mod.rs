@@ -8,10 +8,10 @@
 //!
 //! Units: N, m², s; damage is dimensionless.
 
-pub mod error;
-pub mod lifetime;
-pub mod miner;
-pub mod tn;
+pub(crate) mod error;
+pub(crate) mod lifetime;
+pub(crate) mod miner;
+pub(crate) mod tn;
 
 pub use error::FatigueError;
 pub use lifetime::{lifetime_damage, LifetimeDamage, SeaStateDamage, SeedDamage, SECONDS_PER_YEAR};

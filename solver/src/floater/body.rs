@@ -89,7 +89,7 @@ pub struct PointKinematics {
 
 /// Kinematics of the body point `body_point` (body axes, m) for the state and the generalised
 /// acceleration (a, α) (global axes).
-pub fn point_kinematics(
+pub(crate) fn point_kinematics(
     state: &BodyState,
     acceleration: &Vector6<f64>,
     body_point: &Vector3<f64>,

@@ -14,15 +14,15 @@
 //! Units SI; global frame z up, still water level z = 0; rotations follow
 //! [`crate::beam::rotation`] (Λ ← exp(θ̂) Λ, spatial increments).
 
-pub mod body;
+pub(crate) mod body;
 pub mod diffraction;
 pub mod dynamics;
-pub mod error;
-pub mod hydrostatics;
-pub mod members;
-pub mod model;
+pub(crate) mod error;
+pub(crate) mod hydrostatics;
+pub(crate) mod members;
+pub(crate) mod model;
 pub mod prescribed;
-pub mod spec;
+pub(crate) mod spec;
 
 pub use body::{
     fairlead_body_points, fairlead_load, BodyState, MassProperties, PointKinematics, Wrench,

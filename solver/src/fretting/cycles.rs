@@ -31,7 +31,7 @@ pub struct ContactSample {
 
 /// Running statistics of one channel over a stretch of samples.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
-pub struct ChannelSummary {
+pub(crate) struct ChannelSummary {
     samples: u64,
     sum: f64,
     min: f64,
@@ -82,7 +82,7 @@ impl ChannelSummary {
 
 /// Summary of both force channels over a stretch of samples.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
-pub struct ForceSummary {
+pub(crate) struct ForceSummary {
     normal: ChannelSummary,
     tangential: ChannelSummary,
 }

@@ -14,14 +14,14 @@
 //!
 //! Units follow the counted history (slip in m, forces in N); indices are zero-based samples.
 
-pub mod cycles;
-pub mod error;
-pub mod hertz;
-pub mod histogram;
-pub mod indicators;
-pub mod inputs;
+pub(crate) mod cycles;
+pub(crate) mod error;
+pub(crate) mod hertz;
+pub(crate) mod histogram;
+pub(crate) mod indicators;
+pub(crate) mod inputs;
 pub mod rainflow;
-pub mod record;
+pub(crate) mod record;
 pub mod reversals;
 pub mod runin;
 pub mod streaming;

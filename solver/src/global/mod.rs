@@ -15,9 +15,9 @@
 pub mod case;
 mod coupling;
 pub mod dynamics;
-pub mod error;
-pub mod motion;
-pub mod resolution;
+pub(crate) mod error;
+pub(crate) mod motion;
+pub(crate) mod resolution;
 pub mod results;
 pub mod run;
 pub mod sea;

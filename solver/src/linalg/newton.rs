@@ -605,7 +605,12 @@ struct SearchOutcome {
 /// never below half the ratio `tolerance_ratio` = tolerance / ‖r_k‖ of the convergence test,
 /// since a correction solved beyond that buys nothing: the next residual only has to pass the
 /// test. `ratio` = ‖r_k‖ / ‖r_{k−1}‖ (`None` at the first iteration).
-pub fn forcing_term(max: f64, previous: f64, ratio: Option<f64>, tolerance_ratio: f64) -> f64 {
+pub(crate) fn forcing_term(
+    max: f64,
+    previous: f64,
+    ratio: Option<f64>,
+    tolerance_ratio: f64,
+) -> f64 {
     const GAMMA: f64 = 0.9;
     let eta = match ratio {
         None => max,

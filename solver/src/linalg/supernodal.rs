@@ -27,7 +27,7 @@
 use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
 
 /// Number of groups of subtrees solved independently (the parallel width of a solve).
-pub const GROUPS: usize = 2;
+pub(crate) const GROUPS: usize = 2;
 
 /// Storage precision of the factor values used by the solves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

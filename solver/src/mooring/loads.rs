@@ -10,14 +10,14 @@
 use nalgebra::{Matrix3, Vector3};
 
 /// Strain half-width of the smoothed slack transition of the axial law.
-pub const SLACK_SMOOTHING_STRAIN: f64 = 2e-5;
+pub(crate) const SLACK_SMOOTHING_STRAIN: f64 = 2e-5;
 
 /// Axial force law of chain and rope: no compression (a chain folds, a wire rope buckles at a
 /// negligible load), smoothed so that Newton's method converges through slack events:
 /// N/EA = 0 for ε ≤ −ε₀, (ε + ε₀)² / (4 ε₀) for |ε| < ε₀, ε for ε ≥ ε₀ (C¹; at most
 /// EA ε₀ / 4 of tension is added near zero strain, about 2 kN for the paper-case chain and
 /// rope). Returns (N, dN/dε, strain energy per unit length).
-pub fn slack_axial_force(ea_n: f64, strain: f64) -> (f64, f64, f64) {
+pub(crate) fn slack_axial_force(ea_n: f64, strain: f64) -> (f64, f64, f64) {
     let e0 = SLACK_SMOOTHING_STRAIN;
     if strain <= -e0 {
         (0.0, 0.0, 0.0)
@@ -150,7 +150,7 @@ impl<const NC: usize> LocalSystem<NC> {
 
 /// Interpolated kinematics at a quadrature point.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PointKinematics {
+pub(crate) struct PointKinematics {
     /// Position (m).
     pub r: Vector3<f64>,
     /// Gradient ∂r/∂s (stretch × unit tangent).
@@ -163,7 +163,7 @@ pub struct PointKinematics {
 
 impl PointKinematics {
     /// Interpolates coefficient values `q`, `v`, `a` with shape values `n` and derivatives `dn`.
-    pub fn interpolate<const NC: usize>(
+    pub(crate) fn interpolate<const NC: usize>(
         n: &[f64; NC],
         dn: &[f64; NC],
         q: &[Vector3<f64>; NC],

@@ -14,7 +14,7 @@
 use super::spec::{Environment, LineTypeSpec, SegmentSpec};
 
 /// Density of steel used for the buoyancy of extra masses (kg/m³).
-pub const STEEL_DENSITY_KG_M3: f64 = 7850.0;
+pub(crate) const STEEL_DENSITY_KG_M3: f64 = 7850.0;
 
 /// How a segment is discretised.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -27,18 +27,18 @@
 
 pub mod analytical;
 pub mod bending;
-pub mod clearance;
+pub(crate) mod clearance;
 pub mod contacts;
 pub mod driver;
-pub mod ends;
-pub mod error;
-pub mod helix;
+pub(crate) mod ends;
+pub(crate) mod error;
+pub(crate) mod helix;
 pub mod history;
 pub mod loading;
 pub mod mesh;
 pub mod model;
-pub mod periodic;
+pub(crate) mod periodic;
 pub mod problem;
 pub mod profile;
 pub mod reduced;
-pub mod wires;
+pub(crate) mod wires;

@@ -55,7 +55,7 @@ use crate::beam::frame::{DofMap, FrameState, NodeId, NODE_DOFS};
 use crate::linalg::{Equation, PatternError, SparsePattern, Storage};
 
 /// Which DOFs of every node are prescribed: the core, the anchored ends, the end rotations.
-pub type Prescription = Vec<[bool; NODE_DOFS]>;
+pub(crate) type Prescription = Vec<[bool; NODE_DOFS]>;
 
 /// One start end S that an eliminated end interpolates (module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -123,14 +123,14 @@ const OUTER_ARC_TOLERANCE_RAD: f64 = 1e-6;
 
 /// Points of the angular interpolation: the start ends nearest an eliminated end's angle, two
 /// on either side (all of them in a layer of fewer than four wires).
-pub const INTERPOLATION_POINTS: usize = 4;
+pub(crate) const INTERPOLATION_POINTS: usize = 4;
 
 /// Lagrange weights, at angle 0, of the interpolation through the angles `deltas` (rad, each
 /// θ_S − θ_P wrapped to (−π, π]) of the [`INTERPOLATION_POINTS`] nearest of them, two on either
 /// side; returns (index into `deltas`, weight). The weights sum to 1, so a field that is the
 /// same at every angle (pure tension) is carried over exactly; the error in bending, whose
 /// stick field varies as sin θ, is of order (2π/n)⁴ (cubic interpolation, n wires).
-pub fn angular_interpolation(deltas: &[f64]) -> Vec<(usize, f64)> {
+pub(crate) fn angular_interpolation(deltas: &[f64]) -> Vec<(usize, f64)> {
     use std::f64::consts::TAU;
     let n = deltas.len();
     let mut order: Vec<usize> = (0..n).collect();
@@ -169,7 +169,10 @@ pub fn angular_interpolation(deltas: &[f64]) -> Vec<(usize, f64)> {
 }
 
 /// Anchored ends and constraints of `mesh` (module docs).
-pub fn end_layout(strand: &Strand, mesh: &StrandMesh) -> Result<EndLayout, StrandModelError> {
+pub(crate) fn end_layout(
+    strand: &Strand,
+    mesh: &StrandMesh,
+) -> Result<EndLayout, StrandModelError> {
     use std::f64::consts::{FRAC_PI_2, PI};
     let wires = strand.wires();
     let mut prescription: Prescription = mesh

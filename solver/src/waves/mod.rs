@@ -20,12 +20,12 @@ mod sea;
 mod chebyshev;
 pub mod dispersion;
 pub mod fft;
-pub mod kinematics;
+pub(crate) mod kinematics;
 pub mod realisation;
 pub mod scatter;
-pub mod series;
-pub mod spectrum;
-pub mod table;
+pub(crate) mod series;
+pub(crate) mod spectrum;
+pub(crate) mod table;
 pub mod wind;
 
 pub use error::WavesError;

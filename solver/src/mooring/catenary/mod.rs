@@ -14,14 +14,14 @@
 //! Arc lengths are unstretched and, in public APIs, measured from the fairlead. Weights are
 //! submerged weights per unit unstretched length (N/m).
 
-pub mod error;
-pub mod newton;
+pub(crate) mod error;
+pub(crate) mod newton;
 mod pieces;
-pub mod profile;
-pub mod segment;
+pub(crate) mod profile;
+pub(crate) mod segment;
 pub mod segmented;
 mod shooting;
-pub mod single;
+pub(crate) mod single;
 
 pub use error::CatenaryError;
 pub use newton::{CatenaryParams, NewtonStats};
