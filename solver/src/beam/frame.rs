@@ -16,7 +16,7 @@ use super::section::BeamSection;
 use crate::linalg::{Equation, PatternError, SparsePattern};
 
 /// DOFs per node.
-pub const NODE_DOFS: usize = 6;
+pub(crate) const NODE_DOFS: usize = 6;
 
 /// Index of a node in a [`BeamFrame`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]

@@ -115,7 +115,7 @@ impl SeaKinematics for Recorder {
 /// Largest difference (m) of x_β and of z between the corresponding sampling points of two
 /// lines for them to share one precomputed series: the kinematics change by k · 1e-6 m,
 /// far below the interpolation error of the series.
-pub const SHARED_SERIES_TOLERANCE_M: f64 = 1e-6;
+pub(crate) const SHARED_SERIES_TOLERANCE_M: f64 = 1e-6;
 
 /// The points at which `model` in state `q` samples the sea, in its sampling order.
 pub fn sampled_points(model: &LineModel, q: &[f64]) -> Vec<Vector3<f64>> {
@@ -127,7 +127,7 @@ pub fn sampled_points(model: &LineModel, q: &[f64]) -> Vec<Vector3<f64>> {
 
 /// Whether the unidirectional `sea` has the same kinematics at the points `a` as at `b`, point
 /// by point (equal x_β and z within [`SHARED_SERIES_TOLERANCE_M`]).
-pub fn same_sea_at(sea: &IrregularSea, a: &[Vector3<f64>], b: &[Vector3<f64>]) -> bool {
+pub(crate) fn same_sea_at(sea: &IrregularSea, a: &[Vector3<f64>], b: &[Vector3<f64>]) -> bool {
     let f = sea.field();
     a.len() == b.len()
         && a.iter().zip(b).all(|(p, q)| {
@@ -289,11 +289,11 @@ impl SeaKinematics for LineSeaCache<'_> {
 /// Horizontal margin (m) of the floater table around the members in the static pose: the
 /// excursions of the floater about its mean offset in the severe sea state are some metres
 /// (surge amplitudes below 15 m for the paper case), so 30 m leaves room for larger ones.
-pub const FLOATER_TABLE_MARGIN_ALONG_M: f64 = 30.0;
+pub(crate) const FLOATER_TABLE_MARGIN_ALONG_M: f64 = 30.0;
 /// Vertical margin (m) of the floater table below the deepest member end in the static pose:
 /// heave and pitch move the deepest point by a few metres and Wheeler stretching under a crest
 /// lowers its stretched height by |z| η/(d + η) (≈ 2 m for the paper case).
-pub const FLOATER_TABLE_MARGIN_DEPTH_M: f64 = 25.0;
+pub(crate) const FLOATER_TABLE_MARGIN_DEPTH_M: f64 = 25.0;
 
 /// The floater's sea: a [`PlaneKinematicsTable`] around the floater with the ramp applied, and
 /// direct summation for queries outside the table (see the module documentation).

@@ -299,7 +299,7 @@ pub(crate) fn for_lines<T: Send>(
 }
 
 /// A thread pool of `threads` workers, or none for a serial run.
-pub fn line_pool(threads: usize) -> Result<Option<rayon::ThreadPool>, GlobalError> {
+pub(crate) fn line_pool(threads: usize) -> Result<Option<rayon::ThreadPool>, GlobalError> {
     if threads <= 1 {
         return Ok(None);
     }

@@ -34,7 +34,7 @@ pub(crate) const CABLE_POINTS: usize = 3;
 
 /// What an element kernel needs besides its nodal values.
 #[derive(Debug, Clone, Copy)]
-pub struct ElementContext<'a> {
+pub(crate) struct ElementContext<'a> {
     /// Section of the element.
     pub sec: &'a Section,
     /// Unstretched length (m).
@@ -95,7 +95,7 @@ impl CableAxial {
 
 /// Nodal values of an element with `NC` vector coefficients.
 #[derive(Debug, Clone, Copy)]
-pub struct ElementValues<const NC: usize> {
+pub(crate) struct ElementValues<const NC: usize> {
     /// Positions and gradients (m and −).
     pub q: [Vector3<f64>; NC],
     /// Their rates.

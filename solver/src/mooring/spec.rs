@@ -17,7 +17,7 @@ use super::error::LineError;
 use crate::text::Num;
 
 /// Most elements of one segment (the paper's line has 84 in all).
-pub const MAX_SEGMENT_ELEMENTS: usize = 10_000;
+pub(crate) const MAX_SEGMENT_ELEMENTS: usize = 10_000;
 
 /// Section properties of one line type (a chain grade or a rope construction).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -154,12 +154,12 @@ pub struct Environment {
 }
 
 /// Sea water density when a file omits it (kg/m³).
-pub fn default_water_density() -> f64 {
+pub(crate) fn default_water_density() -> f64 {
     1025.0
 }
 
 /// Standard gravity (m/s²) when a file omits it.
-pub fn default_gravity() -> f64 {
+pub(crate) fn default_gravity() -> f64 {
     9.80665
 }
 

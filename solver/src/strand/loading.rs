@@ -86,7 +86,7 @@ impl LoadPath {
 
 /// Straight segment in the (ε, κ) plane: λ ∈ [0, 1] from `from` to `to`.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub struct LoadSegment {
+pub(crate) struct LoadSegment {
     /// Section motion at λ = 0.
     pub from: SectionMotion,
     /// Section motion at λ = 1.
@@ -95,7 +95,7 @@ pub struct LoadSegment {
 
 impl LoadSegment {
     /// Section motion at load factor λ (clamped to [0, 1]); exactly `to` at λ = 1.
-    pub fn at(&self, load_factor: f64) -> SectionMotion {
+    pub(crate) fn at(&self, load_factor: f64) -> SectionMotion {
         let l = load_factor.clamp(0.0, 1.0);
         if l == 1.0 {
             return self.to;

@@ -478,7 +478,7 @@ fn kinematics(state: &FrameState, node: usize) -> NodeKinematics {
 /// Axial force carried across the plane z = `z_m` of the reference configuration: the sum over
 /// the elements spanning it of the z-component of their internal force at the end node beyond
 /// the plane (N).
-pub fn section_force_n(
+pub(crate) fn section_force_n(
     model: &StrandModel,
     state: &FrameState,
     z_m: f64,

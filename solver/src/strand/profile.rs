@@ -26,7 +26,7 @@ use super::clearance::lateral_clearance;
 use super::helix::Hand;
 
 /// Tolerance on the radial stacking Rₖ = Rₖ₋₁ + rₖ₋₁ + rₖ (m).
-pub const STACKING_TOLERANCE_M: f64 = 1e-6;
+pub(crate) const STACKING_TOLERANCE_M: f64 = 1e-6;
 
 /// One layer as written in a profile file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

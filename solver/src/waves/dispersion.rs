@@ -14,7 +14,7 @@
 use super::error::{positive, WavesError};
 
 /// Gravity used by the wave module (m/s²); the value the dispersion reference was computed with.
-pub const GRAVITY: f64 = 9.81;
+pub(crate) const GRAVITY: f64 = 9.81;
 /// Standard gravity (m/s²), ISO 80000-3, for comparison.
 pub const STANDARD_GRAVITY: f64 = 9.80665;
 
@@ -23,7 +23,7 @@ const TOLERANCE: f64 = 1e-15;
 
 /// Wavenumber k (rad/m) of a linear wave of angular frequency `omega` (rad/s) in water of depth
 /// `depth_m` (m), for gravity `g` (m/s²).
-pub fn wavenumber_with_gravity(omega: f64, depth_m: f64, g: f64) -> Result<f64, WavesError> {
+pub(crate) fn wavenumber_with_gravity(omega: f64, depth_m: f64, g: f64) -> Result<f64, WavesError> {
     let omega = positive("omega_rad_s", omega)?;
     let depth_m = positive("depth_m", depth_m)?;
     let g = positive("gravity_m_s2", g)?;

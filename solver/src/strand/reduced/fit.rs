@@ -22,7 +22,7 @@ use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 use super::{force_features, ContactLaw, FORCE_FEATURES};
 
 /// Relative ridge of the scaled normal equations.
-pub const RIDGE: f64 = 1e-10;
+pub(crate) const RIDGE: f64 = 1e-10;
 
 type ForceGram = SMatrix<f64, FORCE_FEATURES, FORCE_FEATURES>;
 type ForceVec = SVector<f64, FORCE_FEATURES>;
@@ -47,11 +47,11 @@ impl ForceSums {
 }
 
 /// Load features of the drive: `ψ = [x, y, x y, 1]`.
-pub const DRIVE_FEATURES: usize = 4;
+pub(crate) const DRIVE_FEATURES: usize = 4;
 
 /// The drive features at scaled loads (x, y).
 #[inline]
-pub fn drive_features(x: f64, y: f64) -> [f64; DRIVE_FEATURES] {
+pub(crate) fn drive_features(x: f64, y: f64) -> [f64; DRIVE_FEATURES] {
     [x, y, x * y, 1.0]
 }
 

@@ -70,11 +70,11 @@ pub use run::run_reduced;
 /// Version of the stored calibration and of the fit that made it; a file of another version is
 /// refused. Part of the cache key of a calibration, so every change to the model, the design or
 /// the fit bumps it.
-pub const FORMAT_VERSION: u32 = 3;
+pub(crate) const FORMAT_VERSION: u32 = 3;
 
 /// Slack of the calibrated range, as a fraction of each channel's range: a sample this far
 /// outside is still accepted (round-off of the tension-to-strain conversion).
-pub const RANGE_SLACK: f64 = 0.01;
+pub(crate) const RANGE_SLACK: f64 = 0.01;
 
 /// Errors of the reduced strand response.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -297,11 +297,11 @@ impl LoadScaling {
 }
 
 /// Number of load features of the force fits.
-pub const FORCE_FEATURES: usize = 6;
+pub(crate) const FORCE_FEATURES: usize = 6;
 
 /// The quadratic load features `[1, x, y, x y, x², y²]` of the force fits.
 #[inline]
-pub fn force_features(x: f64, y: f64) -> [f64; FORCE_FEATURES] {
+pub(crate) fn force_features(x: f64, y: f64) -> [f64; FORCE_FEATURES] {
     [1.0, x, y, x * y, x * x, y * y]
 }
 
@@ -343,14 +343,14 @@ impl ContactLaw {
 
 /// The state of one contact's Jenkins element: its irreversible slip.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct JenkinsState {
+pub(crate) struct JenkinsState {
     /// Irreversible slip `s_p` (m).
     pub plastic_slip_m: f64,
 }
 
 impl JenkinsState {
     /// The state in which the contact carries no tangential force under drive `d`.
-    pub fn unloaded(drive_m: f64) -> Self {
+    pub(crate) fn unloaded(drive_m: f64) -> Self {
         Self {
             plastic_slip_m: drive_m,
         }
@@ -359,7 +359,7 @@ impl JenkinsState {
     /// Advances to drive `d` and normal force `f_N`: returns (slip, tangential force).
     /// `stick_per_n = μ / γ_e` (1/m), `elastic_slip_m = γ_e`, `g` the compliance.
     #[inline]
-    pub fn step(
+    pub(crate) fn step(
         &mut self,
         drive_m: f64,
         normal_force_n: f64,
