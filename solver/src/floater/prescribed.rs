@@ -187,7 +187,7 @@ impl PrescribedMotion {
     }
 
     /// Surge, sway, heave, roll, pitch, yaw and their first and second time derivatives at `t`.
-    pub fn channels_at(&self, t: f64) -> Result<[[f64; 3]; 6], FloaterError> {
+    pub(crate) fn channels_at(&self, t: f64) -> Result<[[f64; 3]; 6], FloaterError> {
         let (start_s, end_s) = self.time_range();
         if !(t >= start_s && t <= end_s) {
             return Err(FloaterError::OutsideTimeRange {

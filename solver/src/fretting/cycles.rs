@@ -116,7 +116,7 @@ pub struct ForceStats {
 
 impl ForceStats {
     /// Largest magnitude (N).
-    pub fn max_abs(&self) -> f64 {
+    pub(crate) fn max_abs(&self) -> f64 {
         self.min.abs().max(self.max.abs())
     }
 }
@@ -134,7 +134,7 @@ pub struct SlipCycle {
 
 impl SlipCycle {
     /// Slip amplitude, half the slip range (m).
-    pub fn slip_amplitude_m(&self) -> f64 {
+    pub(crate) fn slip_amplitude_m(&self) -> f64 {
         self.slip.amplitude()
     }
 

@@ -202,7 +202,11 @@ impl GlobalModel {
     }
 
     /// Builds the finite-element model of line `k` with its fairlead at `fairlead_m`.
-    pub fn line_model(&self, k: usize, fairlead_m: Vector3<f64>) -> Result<LineModel, GlobalError> {
+    pub(crate) fn line_model(
+        &self,
+        k: usize,
+        fairlead_m: Vector3<f64>,
+    ) -> Result<LineModel, GlobalError> {
         let l = &self.lines[k];
         LineModel::new(
             format!("line-{}", l.id),

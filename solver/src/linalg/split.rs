@@ -145,7 +145,7 @@ impl SplitSolver {
 
     /// [`Self::new`] with the LDLᵀ factorisation and solves run on `par` (e.g.
     /// `Par::rayon(2)`).
-    pub fn with_parallelism(
+    pub(crate) fn with_parallelism(
         pattern: &SparsePattern,
         params: GmresParams,
         par: Par,
@@ -204,7 +204,7 @@ impl SplitSolver {
     /// the next matrix is factorised afresh. A run resumed from a checkpoint with a new solver
     /// repeats the uninterrupted run to the bit when that run resets its solver at the same
     /// point.
-    pub fn reset(&mut self) {
+    pub(crate) fn reset(&mut self) {
         self.ldlt_ok = false;
         self.ldlt_current = false;
         self.fresh_iterations = None;

@@ -79,7 +79,7 @@ pub struct SegmentSpec {
 impl SegmentSpec {
     /// Submerged weight of the extra mass (N): (m − ρ_w V) g, V = m / ρ_steel when the
     /// volume is not given; negative for a buoy.
-    pub fn extra_submerged_weight_n(&self, env: &Environment) -> f64 {
+    pub(crate) fn extra_submerged_weight_n(&self, env: &Environment) -> f64 {
         let mass_kg = self.extra_mass_kg.unwrap_or(0.0);
         let volume_m3 = self
             .extra_volume_m3

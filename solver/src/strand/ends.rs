@@ -38,7 +38,7 @@ pub struct EndTie {
 impl EndTie {
     /// Penalty force and tangent at node position `x` and rotation `lam` for the section motion
     /// `motion`.
-    pub fn force_and_tangent(
+    pub(crate) fn force_and_tangent(
         &self,
         motion: &SectionMotion,
         x: &Vector3<f64>,

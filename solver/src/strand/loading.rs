@@ -28,7 +28,7 @@ pub struct SectionMotion {
 
 impl SectionMotion {
     /// Rotation angle φ = κ (1 + ε) Z of the section at reference axial coordinate `z_m` (rad).
-    pub fn angle_rad(&self, z_m: f64) -> f64 {
+    pub(crate) fn angle_rad(&self, z_m: f64) -> f64 {
         self.curvature_per_m * (1.0 + self.strain) * z_m
     }
 
@@ -39,7 +39,7 @@ impl SectionMotion {
     }
 
     /// Current position of the axis point of reference coordinate `z_m`.
-    pub fn axis_point(&self, z_m: f64) -> Vector3<f64> {
+    pub(crate) fn axis_point(&self, z_m: f64) -> Vector3<f64> {
         let s = (1.0 + self.strain) * z_m;
         let k = self.curvature_per_m;
         if k == 0.0 {

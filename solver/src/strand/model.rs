@@ -340,7 +340,7 @@ impl StrandModel {
 
     /// Pattern the elements are assembled on: the extended one of the periodic elimination,
     /// else [`Self::pattern`].
-    pub fn assembly_pattern(&self) -> &SparsePattern {
+    pub(crate) fn assembly_pattern(&self) -> &SparsePattern {
         self.periodic
             .as_ref()
             .map_or(&self.pattern, |p| &p.extended)
@@ -357,7 +357,7 @@ impl StrandModel {
 
     /// [`Self::linear_solver`] with its LDLᵀ factorisation and solves on `threads` threads and
     /// the factor applied in `precision`.
-    pub fn linear_solver_threads(
+    pub(crate) fn linear_solver_threads(
         &self,
         threads: usize,
         precision: FactorPrecision,
@@ -388,12 +388,12 @@ impl StrandModel {
     }
 
     /// Pattern element index of contact `c`.
-    pub fn contact_pattern_element(&self, c: usize) -> usize {
+    pub(crate) fn contact_pattern_element(&self, c: usize) -> usize {
         self.frame.elements().len() + c
     }
 
     /// Pattern element index of tie `t`.
-    pub fn tie_pattern_element(&self, t: usize) -> usize {
+    pub(crate) fn tie_pattern_element(&self, t: usize) -> usize {
         self.frame.elements().len() + self.contacts.len() + t
     }
 }

@@ -91,7 +91,7 @@ fn turn(angle: f64) -> Matrix3<f64> {
 
 impl EndConstraint {
     /// A_S = R(z_P) T(θ_P − θ_S) R(z_S)ᵀ of master `s` under `motion`.
-    pub fn transfer(&self, s: usize, motion: &SectionMotion) -> Matrix3<f64> {
+    pub(crate) fn transfer(&self, s: usize, motion: &SectionMotion) -> Matrix3<f64> {
         let m = &self.masters[s];
         motion.rotation(self.z_p_m) * turn(m.turn_rad) * motion.rotation(m.z_m).transpose()
     }
@@ -444,7 +444,7 @@ impl PeriodicEnds {
     }
 
     /// Reduced equation of an independent extended equation (`None` for a dependent one).
-    pub fn reduced_equation(&self, extended: usize) -> Option<usize> {
+    pub(crate) fn reduced_equation(&self, extended: usize) -> Option<usize> {
         match self.expansions.get(extended)?.as_slice() {
             [(r, 0)] => Some(*r),
             _ => None,
@@ -453,7 +453,7 @@ impl PeriodicEnds {
 
     /// Expands a reduced increment onto the extended equations (dependent entries 0: the
     /// eliminated ends are placed exactly by [`Self::enforce`] afterwards).
-    pub fn expand(&self, reduced: &[f64], extended: &mut [f64]) {
+    pub(crate) fn expand(&self, reduced: &[f64], extended: &mut [f64]) {
         for (e, exp) in self.expansions.iter().enumerate() {
             extended[e] = match exp.as_slice() {
                 [(r, 0)] => reduced[*r],
@@ -463,7 +463,7 @@ impl PeriodicEnds {
     }
 
     /// Places the eliminated ends on their constraint and sets their rotations to the section's.
-    pub fn enforce(&self, motion: &SectionMotion, state: &mut FrameState) {
+    pub(crate) fn enforce(&self, motion: &SectionMotion, state: &mut FrameState) {
         for c in &self.layout.constraints {
             let x = c.position(motion, &state.positions);
             state.positions[c.node] = x;

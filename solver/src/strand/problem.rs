@@ -175,7 +175,10 @@ impl<'a> StrandProblem<'a> {
 
     /// The element work (beams and contacts) on `threads` threads from now on (1: on the
     /// calling thread). The residuals and tangents do not depend on it, to the bit.
-    pub fn with_threads(mut self, threads: usize) -> Result<Self, rayon::ThreadPoolBuildError> {
+    pub(crate) fn with_threads(
+        mut self,
+        threads: usize,
+    ) -> Result<Self, rayon::ThreadPoolBuildError> {
         self.parallel = if threads > 1 {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
@@ -238,7 +241,7 @@ impl<'a> StrandProblem<'a> {
     }
 
     /// Committed configuration.
-    pub fn committed_state(&self) -> &FrameState {
+    pub(crate) fn committed_state(&self) -> &FrameState {
         &self.committed
     }
 

@@ -130,7 +130,7 @@ impl RotorTable {
 
     /// The NREL 5 MW table (thrust from [`NREL_5MW_THRUST_KN`], torque from
     /// [`nrel_5mw_aero_torque_nm`]) with both scaled by `scale` (0.72 for the paper's turbine).
-    pub fn nrel_5mw_scaled(scale: f64) -> Result<Self, WavesError> {
+    pub(crate) fn nrel_5mw_scaled(scale: f64) -> Result<Self, WavesError> {
         let scale = positive("thrust_scale", scale)?;
         let wind: Vec<f64> = (0..NREL_5MW_THRUST_KN.len())
             .map(|i| NREL_5MW_CUT_IN_M_S + i as f64)
@@ -144,7 +144,7 @@ impl RotorTable {
     }
 
     /// Operating range [cut-in, cut-out] (m/s).
-    pub fn operating_range_m_s(&self) -> (f64, f64) {
+    pub(crate) fn operating_range_m_s(&self) -> (f64, f64) {
         (self.wind_m_s[0], self.wind_m_s[self.wind_m_s.len() - 1])
     }
 

@@ -177,7 +177,7 @@ impl FitAccumulator {
     }
 
     /// The fitted laws of every contact.
-    pub fn contact_fits(&self) -> Vec<ContactFit> {
+    pub(crate) fn contact_fits(&self) -> Vec<ContactFit> {
         let n = self.weight.max(f64::MIN_POSITIVE);
         let normal_solver = ScaledSolver::new(&self.force_gram);
         self.normal
@@ -203,7 +203,7 @@ impl FitAccumulator {
     }
 
     /// The fitted element channels.
-    pub fn element_fits(&self) -> Vec<ForceFit> {
+    pub(crate) fn element_fits(&self) -> Vec<ForceFit> {
         let solver = ScaledSolver::new(&self.force_gram);
         self.elements
             .iter()

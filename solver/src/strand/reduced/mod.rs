@@ -330,13 +330,13 @@ impl ContactLaw {
 
     /// Drive `d` at scaled loads (x, y) (m).
     #[inline]
-    pub fn drive_m(&self, x: f64, y: f64) -> f64 {
+    pub(crate) fn drive_m(&self, x: f64, y: f64) -> f64 {
         dot(&self.drive, &fit::drive_features(x, y))
     }
 
     /// Compliance `g` at scaled tension x (m/N, ≥ 0).
     #[inline]
-    pub fn compliance_m_per_n(&self, x: f64) -> f64 {
+    pub(crate) fn compliance_m_per_n(&self, x: f64) -> f64 {
         (self.compliance[0] + self.compliance[1] * x).max(0.0)
     }
 }
