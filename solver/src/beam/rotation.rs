@@ -16,7 +16,7 @@ pub(crate) fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
 }
 
-/// Axial vector of the skew-symmetric part of `m` (inverse of [`skew`] on skew matrices).
+/// Axial vector of the skew-symmetric part of `m` (inverse of `skew` on skew matrices).
 pub fn axial(m: &Matrix3<f64>) -> Vector3<f64> {
     0.5 * Vector3::new(
         m[(2, 1)] - m[(1, 2)],

@@ -1,9 +1,9 @@
 //! Classical tension-tension fatigue of mooring components and lifetime aggregation
 //! (DESIGN §4.5).
 //!
-//! - [`tn`]: T-N curves of DNV-OS-E301 and API RP 2SK with their nominal areas / strengths;
-//! - [`miner`]: Palmgren-Miner damage from rainflow cycles, histograms and tension series;
-//! - [`lifetime`]: occurrence-weighted sum over sea states and seeds, with the covered fraction
+//! - `tn`: T-N curves of DNV-OS-E301 and API RP 2SK with their nominal areas / strengths;
+//! - `miner`: Palmgren-Miner damage from rainflow cycles, histograms and tension series;
+//! - `lifetime`: occurrence-weighted sum over sea states and seeds, with the covered fraction
 //!   of the year reported, never renormalised.
 //!
 //! Units: N, m², s; damage is dimensionless.

@@ -2,12 +2,12 @@
 //! cylindrical members, hydrostatics from the member geometry, gravity, rotor thrust and optional
 //! linear damping; or, alternatively, a prescribed 6-DOF motion read from a table.
 //!
-//! - [`spec`]: serde description (`campaigns/data/oc4_semi_floater.json`) and validation.
-//! - [`members`]: members, strips and their Morison loads and added mass.
+//! - `spec`: serde description (`campaigns/data/oc4_semi_floater.json`) and validation.
+//! - `members`: members, strips and their Morison loads and added mass.
 //! - [`diffraction`]: optional MacCamy–Fuchs correction of the inertia for large members.
-//! - [`hydrostatics`]: submerged volume, centre of buoyancy, waterplane, restoring matrix.
-//! - [`body`]: rigid-body state, mass matrix, inertial terms, point kinematics.
-//! - [`model`]: [`Floater`], the interface a coupled implicit integrator calls.
+//! - `hydrostatics`: submerged volume, centre of buoyancy, waterplane, restoring matrix.
+//! - `body`: rigid-body state, mass matrix, inertial terms, point kinematics.
+//! - `model`: [`Floater`], the interface a coupled implicit integrator calls.
 //! - [`dynamics`]: a generalised-α integrator of the floater alone with linear moorings.
 //! - [`prescribed`]: prescribed motion from a time table, interpolated by cubic splines.
 //!

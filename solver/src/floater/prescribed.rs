@@ -6,7 +6,7 @@
 //! table should start and end with a short quiet lead). Orientation from the angles:
 //! Λ = R_z(yaw) R_y(pitch) R_x(roll); spatial angular velocity
 //! ω = ψ̇ ẑ + θ̇ R_z ŷ + φ̇ R_z R_y x̂ and its derivative α, both in global axes, as used by
-//! [`super::body`].
+//! `super::body`.
 
 use nalgebra::{Matrix3, Rotation3, Vector3, Vector6};
 

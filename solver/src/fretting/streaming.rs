@@ -7,7 +7,7 @@
 //! the number of distinct range levels), not the history.
 //!
 //! The counter can carry a per-segment summary `S` of side channels (e.g. the contact forces
-//! that go with a slip history, [`super::cycles`]): every stack entry keeps the summary of the
+//! that go with a slip history, `super::cycles`): every stack entry keeps the summary of the
 //! samples since the previous entry, so that a cycle closing on points `a`, `b` is emitted with
 //! the summary of the samples `a.index ..= b.index`. With `S = ()` this costs nothing.
 //!

@@ -5,7 +5,7 @@
 //!
 //! Data flow: [`case::CaseSpec`] (JSON) → [`system::GlobalModel`] (validated, sea realised,
 //! thrust from the wind law, waves cut off at the highest frequency the run resolves:
-//! [`resolution`]) → [`system::solve_coupled_statics`] (floater equilibrium with all
+//! `resolution`) → [`system::solve_coupled_statics`] (floater equilibrium with all
 //! lines and the mean thrust) → [`dynamics::run_dynamics`] (coupled time integration) →
 //! [`results::GlobalResult`] and its [`results::GlobalSummary`]. [`run`] chains the three.
 //!

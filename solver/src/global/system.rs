@@ -78,7 +78,7 @@ pub struct GlobalModel {
     pub environment: Environment,
     /// Realised sea, cut off at the highest frequency the run resolves.
     pub sea: IrregularSea,
-    /// The frequency cut-off applied to the sea and what it kept ([`super::resolution`]).
+    /// The frequency cut-off applied to the sea and what it kept (`super::resolution`).
     pub wave_cut_off: WaveCutOff,
     /// Hub wind speed (m/s).
     pub wind_speed_m_s: f64,
@@ -91,7 +91,7 @@ impl GlobalModel {
     /// is realised for the case's transient plus duration, or `duration_s` when given, and cut
     /// off at the highest frequency that the case's time step and the default floater table
     /// ([`TableParams::default`], as in [`super::dynamics::DynamicsParams::default`]) resolve
-    /// ([`WaveResolution::default`], see [`super::resolution`]).
+    /// ([`WaveResolution::default`], see `super::resolution`).
     pub fn new(
         case: &CaseSpec,
         floater: FloaterInput,

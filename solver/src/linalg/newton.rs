@@ -109,7 +109,7 @@ pub struct NewtonParams {
     /// 0: plain Newton.
     pub pseudo_transient_shift: f64,
     /// Inexact Newton (Dembo, Eisenstat & Steihaug 1982): iteration k asks the linear solver
-    /// for a relative residual η_k only ([`forcing_term`]: this at the first iteration and as
+    /// for a relative residual η_k only (`forcing_term`: this at the first iteration and as
     /// the upper bound of η_k, then Eisenstat & Walker's choice 2, never tighter than what
     /// brings the residual to the convergence tolerance), so the early corrections cost fewer
     /// Krylov iterations and the convergence stays superlinear; direct solvers solve exactly

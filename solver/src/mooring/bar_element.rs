@@ -2,7 +2,7 @@
 //!
 //! With d = rⱼ − rᵢ, ℓ = |d|, e = d/ℓ and the engineering strain ε = ℓ/L − 1, the axial force
 //! is N = EA max(ε, 0) (a slack chain carries no compression), smoothed near ε = 0 by
-//! [`super::loads::slack_axial_force`]. Internal forces −N e at node i and +N e at node j;
+//! `super::loads::slack_axial_force`. Internal forces −N e at node i and +N e at node j;
 //! tangent K = (N'(ε)/L) e eᵀ + (N/ℓ)(I − e eᵀ) in the pattern [K −K; −K K]. Mass, weight, Morison loads and seabed contact use nodal (trapezoidal)
 //! quadrature, i.e. the lumped-mass discretisation usual for chain, with the bar direction as
 //! the tangent.

@@ -12,7 +12,7 @@
 //! sees ε + κ R sin θ to first order. Units: m, 1/m, rad.
 //!
 //! [`LoadPath`] maps a load factor λ to (ε, κ): λ ∈ [0, 1] raises ε at κ = 0, λ ∈ [1, 2]
-//! raises κ at the full ε. [`LoadSegment`] maps λ ∈ [0, 1] linearly from one (ε, κ) to another
+//! raises κ at the full ε. `LoadSegment` maps λ ∈ [0, 1] linearly from one (ε, κ) to another
 //! (one step of a load history, [`super::history`]).
 
 use nalgebra::{Matrix3, Vector3};

@@ -2,8 +2,8 @@
 //! corotational beams on the mesh nodes ([`super::mesh`]), a small-sliding frictional contact
 //! element (seed Eqs. 1-11, [`crate::contact`]) at every detected contact, the core wire's
 //! nodes fully imposed from (ε, κ) ([`super::loading`]) and the helical wires' end nodes tied to
-//! the core end sections by penalty ([`super::ends`], [`EndKind::PenaltyTies`]) or to the
-//! reference wires by the periodic constraints of [`super::periodic`] ([`EndKind::Periodic`]).
+//! the core end sections by penalty (`super::ends`, [`EndKind::PenaltyTies`]) or to the
+//! reference wires by the periodic constraints of `super::periodic` ([`EndKind::Periodic`]).
 //!
 //! Frame nodes are the mesh nodes (same indices), frame elements the mesh elements. The global
 //! pattern (full storage: the frictional contact tangent is not symmetric) holds, in order, the

@@ -7,7 +7,7 @@
 //! x ≈ k₀d / tanh((k₀d)^¾)^⅔ (within 1.5 % everywhere) raised to the nearest point where F ≥ 0,
 //! which covers the deep (x → k₀d) and shallow (x → √(k₀d)) limits alike.
 //!
-//! Units: ω in rad/s, d in m, k in rad/m. The module uses g = 9.81 m/s² ([`GRAVITY`]): the
+//! Units: ω in rad/s, d in m, k in rad/m. The module uses g = 9.81 m/s² (`GRAVITY`): the
 //! DESIGN §6 reference k = 0.04026863 rad/m for T = 10 s, d = 100 m is reproduced with 9.81
 //! (k = 0.040268631), not with standard gravity 9.80665 (k = 0.040282317, 3.4e-4 higher).
 
@@ -65,7 +65,7 @@ pub(crate) fn wavenumber_with_gravity(omega: f64, depth_m: f64, g: f64) -> Resul
 }
 
 /// Wavenumber k (rad/m) for angular frequency `omega` (rad/s) and depth `depth_m` (m), with
-/// g = [`GRAVITY`].
+/// g = `GRAVITY`.
 pub fn wavenumber(omega: f64, depth_m: f64) -> Result<f64, WavesError> {
     wavenumber_with_gravity(omega, depth_m, GRAVITY)
 }

@@ -56,7 +56,7 @@ impl InverseFft {
     }
 
     /// In place z_j = Σ_b Z_b e^{+2πi b j/N}. `buf` must have length N. Allocates its scratch;
-    /// see [`InverseFft::inverse_with_scratch`] for repeated transforms.
+    /// see `InverseFft::inverse_with_scratch` for repeated transforms.
     pub fn inverse_in_place(&self, buf: &mut [Complex<f64>]) {
         let mut scratch = vec![Complex::default(); self.scratch_len()];
         self.inverse_with_scratch(buf, &mut scratch);

@@ -12,7 +12,7 @@
 //! ([`PlaneKinematicsTable`]: FFT precomputation on a vertical-plane grid around a moving body),
 //! `fft`, `wind` (rotor loads,
 //! wind speed per sea state), `scatter` (scatter-diagram tables), `sea` (the shared trait) and
-//! `error`. Gravity is [`dispersion::GRAVITY`] = 9.81 m/s² throughout.
+//! `error`. Gravity is `dispersion::GRAVITY` = 9.81 m/s² throughout.
 
 mod error;
 mod sea;

@@ -476,7 +476,7 @@ impl PlaneKinematicsTable {
 }
 
 /// A [`PlaneKinematicsTable`] interpolated in time at one instant
-/// ([`PlaneKinematicsTable::fill_slice`]), in f64.
+/// (`PlaneKinematicsTable::fill_slice`), in f64.
 #[derive(Debug, Clone, Default)]
 pub struct TimeSlice {
     time_s: Option<f64>,

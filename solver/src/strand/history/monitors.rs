@@ -7,7 +7,7 @@
 //! layer slide along their own axis over the layer underneath (Papailiou's model), so this is
 //! the component that carries the fretting; the tangential force is projected on the same axis.
 //!
-//! Angle θ: measured from the bending neutral axis as in [`crate::fretting::record`]; a point of
+//! Angle θ: measured from the bending neutral axis as in `crate::fretting::record`; a point of
 //! reference cross-section coordinates (X, Y) has X = −R sin θ, Y = R cos θ, so that its bending
 //! strain is κ R sin θ ([`crate::strand::loading`]). A contact's position is the midpoint of its
 //! two nodes.

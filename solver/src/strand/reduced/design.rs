@@ -44,7 +44,7 @@ impl Default for DesignParams {
 pub(crate) const MIN_STRAIN_FRACTION: f64 = 0.1;
 
 /// The lowest strain the designed history visits: the range's lowest, but not below
-/// [`MIN_STRAIN_FRACTION`] of its highest. A campaign's lowest tension is a near-slack instant
+/// `MIN_STRAIN_FRACTION` of its highest. A campaign's lowest tension is a near-slack instant
 /// of its most severe sea state, where the strand barely presses its contacts: the FE model
 /// converges there along a recorded history but not along the design's large straight strokes,
 /// and its contacts carry too little force to matter for fretting. Samples below it are run

@@ -12,7 +12,7 @@
 //!   along its own friction force), with `g₁ = 0`, and if still negative with `g = 0`.
 //!
 //! Each system is solved after Jacobi scaling (columns to unit diagonal) with a relative ridge
-//! of [`RIDGE`], which only matters for a contact whose tangential force is (nearly) a linear
+//! of `RIDGE`, which only matters for a contact whose tangential force is (nearly) a linear
 //! function of its slip and the loads — a contact that stuck through the whole calibration,
 //! for which every `g` reproduces its stick response (the slip range is then `Δd / (1 + g k)`
 //! with `Δd` fitted for that `g`).

@@ -13,7 +13,7 @@
 //!   loads `x = (ε − ε₀)/ε_h`, `y = (κ − κ₀)/κ_h` ([`LoadScaling`]) and `g = g₀ + g₁ x ≥ 0` the
 //!   compliance through which the strand around the contact answers its tangential force (the
 //!   tension sets how hard the neighbouring contacts hold);
-//! - contact (the elastic-slip law of [`crate::contact::laws`], seed Sec. 2.1): the slip
+//! - contact (the elastic-slip law of `crate::contact::laws`, seed Sec. 2.1): the slip
 //!   `s = s_e + s_p`, elastic part `s_e` with `f_T = (μ f_N / γ_e) s_e`, `|s_e| ≤ γ_e`, and an
 //!   irreversible part `s_p` that moves only while the contact slides;
 //! - normal force: `f_N(x, y)`, quadratic in the scaled loads, clipped at zero.
@@ -41,7 +41,7 @@
 //! [`run_reduced`] turns a `(t, ε, κ)` history into the outputs of an FE history run
 //! ([`crate::strand::history::HistoryResult`]: one [`crate::fretting::ContactRecord`] per contact
 //! with every slip cycle and its forces, the monitor series), in seconds. A sample outside the
-//! calibrated range (beyond [`RANGE_SLACK`] of it) is refused with the range, never
+//! calibrated range (beyond `RANGE_SLACK` of it) is refused with the range, never
 //! extrapolated. The first sample is reached as the FE initialisation reaches it, by bending the
 //! tensioned strand from the straight state: every contact starts unloaded tangentially at zero
 //! curvature and the first sample's tension, then follows the drive to the first curvature.
@@ -235,7 +235,7 @@ impl LoadRange {
         Ok(self)
     }
 
-    /// The sample's first field outside the range widened by [`RANGE_SLACK`], if any.
+    /// The sample's first field outside the range widened by `RANGE_SLACK`, if any.
     pub fn check(&self, index: usize, s: &LoadSample) -> Result<(), ReducedError> {
         for (field, value, [lo, hi]) in [
             ("strain", s.strain, self.strain),
@@ -312,7 +312,7 @@ fn dot<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
 /// The fitted law of one contact (module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ContactLaw {
-    /// Coefficients of `f_N` on [`force_features`] (N).
+    /// Coefficients of `f_N` on `force_features` (N).
     pub normal: [f64; FORCE_FEATURES],
     /// Drive `d = a x + b y + e x y + c`: `[a, b, e, c]` (m).
     pub drive: [f64; fit::DRIVE_FEATURES],
@@ -420,7 +420,7 @@ pub struct CalibrationReport {
 /// were calibrated over and the monitor channels (module docs).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ReducedStrand {
-    /// [`FORMAT_VERSION`] of the stored calibration.
+    /// `FORMAT_VERSION` of the stored calibration.
     pub format: u32,
     /// Content address of the FE model and settings it was calibrated on, set by the caller
     /// (empty if none): a stored calibration is used only on the model of the same key.
@@ -441,7 +441,7 @@ pub struct ReducedStrand {
     /// Monitor channels of the FE run (no values).
     pub channels: Vec<MonitorChannel>,
     /// Fitted axial force of every wire-element channel, in channel order (contact channels
-    /// skipped), on [`force_features`] (N).
+    /// skipped), on `force_features` (N).
     pub element_fits: Vec<[f64; FORCE_FEATURES]>,
     /// How the calibration went.
     pub calibration: CalibrationReport,
