@@ -85,7 +85,7 @@ const REFINEMENT_PASSES: idx_t = 50;
 /// the thinnest cross-sections. On the six-layer strand's LDLᵀ these three settings leave
 /// 20.3 M factor entries instead of 23.3 M and about 27 instead of 38 Gflop of factorisation
 /// (upper estimates), the numeric factorisation 0.43-0.45 s instead of 0.57 s on one core, for
-/// 0.85 s of ordering once per model instead of 0.15 s (`solver/examples/linear_solver_study.rs`).
+/// 0.85 s of ordering once per model instead of 0.15 s (`studies/src/bin/linear_solver_study.rs`).
 const IMBALANCE: idx_t = 600;
 
 /// Nested-dissection ordering of the n × n symmetric pattern given in compressed-column form

@@ -16,7 +16,7 @@ use super::section::BeamSection;
 use crate::linalg::{Equation, PatternError, SparsePattern};
 
 /// DOFs per node.
-pub const NODE_DOFS: usize = 6;
+pub(crate) const NODE_DOFS: usize = 6;
 
 /// Index of a node in a [`BeamFrame`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -76,13 +76,13 @@ impl BeamFrame {
     }
 
     /// Adds a node, returning its id.
-    pub fn add_node(&mut self, position: Vector3<f64>) -> NodeId {
+    pub(crate) fn add_node(&mut self, position: Vector3<f64>) -> NodeId {
         self.reference.push(position);
         NodeId(self.reference.len() - 1)
     }
 
     /// Adds an element between two existing nodes; `y_hint` orients the section's local y.
-    pub fn add_element(
+    pub(crate) fn add_element(
         &mut self,
         nodes: [NodeId; 2],
         y_hint: &Vector3<f64>,

@@ -12,11 +12,11 @@ use nalgebra::{Matrix3, Vector3};
 const SMALL_ANGLE: f64 = 1e-4;
 
 /// Skew-symmetric matrix v̂ such that v̂ w = v × w.
-pub fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
+pub(crate) fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
 }
 
-/// Axial vector of the skew-symmetric part of `m` (inverse of [`skew`] on skew matrices).
+/// Axial vector of the skew-symmetric part of `m` (inverse of `skew` on skew matrices).
 pub fn axial(m: &Matrix3<f64>) -> Vector3<f64> {
     0.5 * Vector3::new(
         m[(2, 1)] - m[(1, 2)],
@@ -104,7 +104,7 @@ pub fn tangent_operator(theta: &Vector3<f64>) -> Matrix3<f64> {
 
 /// Inverse of [`tangent_operator`]: the variation of the rotation vector produced by a spatial
 /// spin. Valid for |θ| < 2π.
-pub fn tangent_operator_inverse(theta: &Vector3<f64>) -> Matrix3<f64> {
+pub(crate) fn tangent_operator_inverse(theta: &Vector3<f64>) -> Matrix3<f64> {
     let a = theta.norm();
     let k = skew(theta);
     let c = if a < SMALL_ANGLE {

@@ -292,7 +292,7 @@ impl ContactPair {
     /// tangent non-symmetric or indefinite: the dependence of the friction force on the normal
     /// force (μ ∂f_N/∂g_N, as large as μ times the normal stiffness) and the curvature terms
     /// f_N ∂²g_N/∂q², f_T·∂²g_T/∂q² of the contact geometry.
-    pub fn residual_tangent_and_surrogate(
+    pub(crate) fn residual_tangent_and_surrogate(
         &self,
         history: &ContactHistory,
         node1: &NodeKinematics,

@@ -25,7 +25,7 @@ use std::f64::consts::PI;
 
 /// Complete elliptic integrals of the first and second kind, K(e) and E(e), of modulus `e`
 /// (0 ≤ e < 1), by the arithmetic-geometric mean.
-pub fn elliptic_ke(e: f64) -> (f64, f64) {
+pub(crate) fn elliptic_ke(e: f64) -> (f64, f64) {
     let mut a = 1.0;
     let mut b = (1.0 - e * e).sqrt();
     let mut c = e;

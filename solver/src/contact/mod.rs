@@ -1,19 +1,19 @@
 //! Small-sliding node-to-node frictional contact between wire beams (seed Sec. 2.1, Eqs. 1-11).
 //!
-//! - [`element`]: the two-node contact element (kinematics, return mapping, internal force,
+//! - `element`: the two-node contact element (kinematics, return mapping, internal force,
 //!   consistent tangent), its history and its outputs;
-//! - [`laws`]: normal (penalty / Hertz) and tangential (elastic slip / Mindlin) laws, parameters
+//! - `laws`: normal (penalty / Hertz) and tangential (elastic slip / Mindlin) laws, parameters
 //!   and errors;
 //! - [`hertz`]: Hertz constants of crossed cylinders and the Mindlin tangential modulus;
-//! - [`scalar`]: the generic scalar / dual-number arithmetic from which the tangent is derived.
+//! - `scalar`: the generic scalar / dual-number arithmetic from which the tangent is derived.
 //!
 //! Contact pairing is fixed for the whole analysis; the history changes only when the caller
 //! accepts a step.
 
-pub mod element;
+pub(crate) mod element;
 pub mod hertz;
-pub mod laws;
-pub mod scalar;
+pub(crate) mod laws;
+pub(crate) mod scalar;
 
 #[cfg(test)]
 mod element_tests;

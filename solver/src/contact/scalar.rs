@@ -13,10 +13,10 @@
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// Number of element degrees of freedom (two nodes × (3 translations + 3 rotations)).
-pub const NDOF: usize = 12;
+pub(crate) const NDOF: usize = 12;
 
 /// The arithmetic the contact kernel needs.
-pub trait Scalar:
+pub(crate) trait Scalar:
     Copy
     + Add<Output = Self>
     + Sub<Output = Self>
@@ -57,7 +57,7 @@ impl Scalar for f64 {
 
 /// Forward-mode dual number with [`NDOF`] derivative directions.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Dual {
+pub(crate) struct Dual {
     /// Value.
     pub v: f64,
     /// Derivatives with respect to the element DOFs.
@@ -66,7 +66,8 @@ pub struct Dual {
 
 impl Dual {
     /// A value with one unit derivative in direction `k`.
-    pub fn seeded(v: f64, k: usize) -> Self {
+    #[cfg(test)]
+    pub(crate) fn seeded(v: f64, k: usize) -> Self {
         let mut d = [0.0; NDOF];
         d[k] = 1.0;
         Self { v, d }
@@ -193,7 +194,7 @@ impl Scalar for Dual {
 
 /// A 3-vector over a [`Scalar`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct V3<S> {
+pub(crate) struct V3<S> {
     /// Components.
     pub c: [S; 3],
 }
@@ -201,44 +202,44 @@ pub struct V3<S> {
 impl<S: Scalar> V3<S> {
     /// From components.
     #[inline]
-    pub fn new(x: S, y: S, z: S) -> Self {
+    pub(crate) fn new(x: S, y: S, z: S) -> Self {
         Self { c: [x, y, z] }
     }
     /// A constant vector.
     #[inline]
-    pub fn cst(v: &nalgebra::Vector3<f64>) -> Self {
+    pub(crate) fn cst(v: &nalgebra::Vector3<f64>) -> Self {
         Self::new(S::cst(v.x), S::cst(v.y), S::cst(v.z))
     }
     /// Value part as a nalgebra vector.
     #[inline]
-    pub fn val(&self) -> nalgebra::Vector3<f64> {
+    pub(crate) fn val(&self) -> nalgebra::Vector3<f64> {
         nalgebra::Vector3::new(self.c[0].val(), self.c[1].val(), self.c[2].val())
     }
     /// Dot product.
     #[inline]
-    pub fn dot(&self, o: &Self) -> S {
+    pub(crate) fn dot(&self, o: &Self) -> S {
         self.c[0] * o.c[0] + self.c[1] * o.c[1] + self.c[2] * o.c[2]
     }
     /// Cross product.
     #[inline]
-    pub fn cross(&self, o: &Self) -> Self {
+    pub(crate) fn cross(&self, o: &Self) -> Self {
         let [a0, a1, a2] = self.c;
         let [b0, b1, b2] = o.c;
         Self::new(a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0)
     }
     /// Euclidean norm.
     #[inline]
-    pub fn norm(&self) -> S {
+    pub(crate) fn norm(&self) -> S {
         self.dot(self).sqrt()
     }
     /// Multiplication by a scalar.
     #[inline]
-    pub fn scale(&self, s: S) -> Self {
+    pub(crate) fn scale(&self, s: S) -> Self {
         Self::new(self.c[0] * s, self.c[1] * s, self.c[2] * s)
     }
     /// Multiplication by a constant.
     #[inline]
-    pub fn scalef(&self, s: f64) -> Self {
+    pub(crate) fn scalef(&self, s: f64) -> Self {
         Self::new(self.c[0] * s, self.c[1] * s, self.c[2] * s)
     }
 }
@@ -267,7 +268,7 @@ impl<S: Scalar> Neg for V3<S> {
 
 /// A vector whose variation is δv = δθ × v under the spatial rotation DOFs starting at
 /// `first_rotation_dof` (3 consecutive slots), i.e. a director carried by a node's triad.
-pub fn director(v: &nalgebra::Vector3<f64>, first_rotation_dof: usize) -> V3<Dual> {
+pub(crate) fn director(v: &nalgebra::Vector3<f64>, first_rotation_dof: usize) -> V3<Dual> {
     let mut out = V3::<Dual>::cst(v);
     // (δθ × v)_i = Σ_j ε_ijk δθ_j v_k → ∂(·)_i/∂θ_j = -v̂_ij
     let m = crate::beam::rotation::skew(v);
@@ -281,7 +282,7 @@ pub fn director(v: &nalgebra::Vector3<f64>, first_rotation_dof: usize) -> V3<Dua
 
 /// A position whose variation is δx = δu under the translation DOFs starting at
 /// `first_translation_dof`.
-pub fn point(x: &nalgebra::Vector3<f64>, first_translation_dof: usize) -> V3<Dual> {
+pub(crate) fn point(x: &nalgebra::Vector3<f64>, first_translation_dof: usize) -> V3<Dual> {
     let mut out = V3::<Dual>::cst(x);
     for i in 0..3 {
         out.c[i].d[first_translation_dof + i] = 1.0;

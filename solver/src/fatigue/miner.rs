@@ -41,7 +41,7 @@ pub struct TensionDamage {
 
 impl TensionDamage {
     /// Damage per second of simulated time (1/s).
-    pub fn rate_per_s(&self) -> f64 {
+    pub(crate) fn rate_per_s(&self) -> f64 {
         if self.duration_s > 0.0 {
             self.damage / self.duration_s
         } else {

@@ -1,17 +1,17 @@
 //! Classical tension-tension fatigue of mooring components and lifetime aggregation
 //! (DESIGN §4.5).
 //!
-//! - [`tn`]: T-N curves of DNV-OS-E301 and API RP 2SK with their nominal areas / strengths;
-//! - [`miner`]: Palmgren-Miner damage from rainflow cycles, histograms and tension series;
-//! - [`lifetime`]: occurrence-weighted sum over sea states and seeds, with the covered fraction
+//! - `tn`: T-N curves of DNV-OS-E301 and API RP 2SK with their nominal areas / strengths;
+//! - `miner`: Palmgren-Miner damage from rainflow cycles, histograms and tension series;
+//! - `lifetime`: occurrence-weighted sum over sea states and seeds, with the covered fraction
 //!   of the year reported, never renormalised.
 //!
 //! Units: N, m², s; damage is dimensionless.
 
-pub mod error;
-pub mod lifetime;
-pub mod miner;
-pub mod tn;
+pub(crate) mod error;
+pub(crate) mod lifetime;
+pub(crate) mod miner;
+pub(crate) mod tn;
 
 pub use error::FatigueError;
 pub use lifetime::{lifetime_damage, LifetimeDamage, SeaStateDamage, SeedDamage, SECONDS_PER_YEAR};

@@ -137,7 +137,7 @@ impl TnCurve {
     }
 
     /// Cycles to failure at tension range `tension_range_n` (N); infinite at zero range.
-    pub fn cycles_to_failure(&self, tension_range_n: f64) -> f64 {
+    pub(crate) fn cycles_to_failure(&self, tension_range_n: f64) -> f64 {
         let range = tension_range_n.abs();
         match *self {
             Self::Dnv {

@@ -54,7 +54,7 @@ impl BodyState {
     }
 
     /// Generalised velocity ν = (v, ω).
-    pub fn velocity6(&self) -> Vector6<f64> {
+    pub(crate) fn velocity6(&self) -> Vector6<f64> {
         let mut nu = Vector6::zeros();
         nu.fixed_rows_mut::<3>(0).copy_from(&self.velocity_m_per_s);
         nu.fixed_rows_mut::<3>(3)
@@ -63,12 +63,12 @@ impl BodyState {
     }
 
     /// Global position of a body point (m).
-    pub fn point_position(&self, body_point: &Vector3<f64>) -> Vector3<f64> {
+    pub(crate) fn point_position(&self, body_point: &Vector3<f64>) -> Vector3<f64> {
         self.position_m + self.rotation * body_point
     }
 
     /// Velocity of the material point currently at global position `x` (m/s).
-    pub fn velocity_at(&self, x: &Vector3<f64>) -> Vector3<f64> {
+    pub(crate) fn velocity_at(&self, x: &Vector3<f64>) -> Vector3<f64> {
         self.velocity_m_per_s
             + self
                 .angular_velocity_rad_per_s
@@ -89,7 +89,7 @@ pub struct PointKinematics {
 
 /// Kinematics of the body point `body_point` (body axes, m) for the state and the generalised
 /// acceleration (a, α) (global axes).
-pub fn point_kinematics(
+pub(crate) fn point_kinematics(
     state: &BodyState,
     acceleration: &Vector6<f64>,
     body_point: &Vector3<f64>,
@@ -161,7 +161,7 @@ pub struct Wrench {
 
 impl Wrench {
     /// Adds force `f` applied at lever `r` (point minus reference point).
-    pub fn add_at(&mut self, f: &Vector3<f64>, r: &Vector3<f64>) {
+    pub(crate) fn add_at(&mut self, f: &Vector3<f64>, r: &Vector3<f64>) {
         self.force_n += f;
         self.moment_nm += r.cross(f);
     }
@@ -207,7 +207,7 @@ pub struct MassProperties {
 impl MassProperties {
     /// Combines rigid parts given as (mass, centre, inertia about own centre) with the parallel
     /// axis theorem.
-    pub fn combine(parts: &[(f64, Vector3<f64>, Matrix3<f64>)]) -> Self {
+    pub(crate) fn combine(parts: &[(f64, Vector3<f64>, Matrix3<f64>)]) -> Self {
         let mass: f64 = parts.iter().map(|p| p.0).sum();
         let com = parts
             .iter()
@@ -242,7 +242,7 @@ impl MassProperties {
     }
 
     /// Velocity-dependent inertial terms b(ν) (centripetal and gyroscopic), global axes.
-    pub fn inertial_bias(&self, state: &BodyState) -> Vector6<f64> {
+    pub(crate) fn inertial_bias(&self, state: &BodyState) -> Vector6<f64> {
         let m = self.mass_kg;
         let c = state.rotation * self.centre_of_mass_m;
         let jc = state.rotation * self.inertia_about_com_kg_m2 * state.rotation.transpose();
@@ -256,7 +256,7 @@ impl MassProperties {
     }
 
     /// ∂b/∂ν: the bias depends on ω only.
-    pub fn inertial_bias_velocity_jacobian(&self, state: &BodyState) -> Matrix6<f64> {
+    pub(crate) fn inertial_bias_velocity_jacobian(&self, state: &BodyState) -> Matrix6<f64> {
         let m = self.mass_kg;
         let c = state.rotation * self.centre_of_mass_m;
         let jc = state.rotation * self.inertia_about_com_kg_m2 * state.rotation.transpose();

@@ -18,7 +18,7 @@
 use std::f64::consts::PI;
 
 /// Wave number (1/m) for angular frequency `omega` (rad/s) in depth `depth_m`, by Newton.
-pub fn wave_number(omega: f64, depth_m: f64, gravity: f64) -> f64 {
+pub(crate) fn wave_number(omega: f64, depth_m: f64, gravity: f64) -> f64 {
     let deep = omega * omega / gravity;
     let mut k = deep.max((omega / (gravity * depth_m).sqrt()).min(10.0 * deep));
     for _ in 0..50 {
@@ -72,7 +72,7 @@ fn integrate(f: impl Fn(f64) -> f64, lo: f64, hi: f64, panels: usize) -> f64 {
 }
 
 /// Bessel functions of the first and second kind of order n ∈ {0, 1} at x > 0.
-pub fn bessel_jy(n: u32, x: f64) -> (f64, f64) {
+pub(crate) fn bessel_jy(n: u32, x: f64) -> (f64, f64) {
     let nf = n as f64;
     let j = integrate(|t| (nf * t - x * t.sin()).cos(), 0.0, PI, 8) / PI;
     let y1 = integrate(|t| (x * t.sin() - nf * t).sin(), 0.0, PI, 8) / PI;

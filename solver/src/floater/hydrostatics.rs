@@ -49,7 +49,7 @@ impl Buoyancy {
 
 /// Submerged part (below z = 0) of the solid circular cylinder with axis end points `a`, `b`
 /// (global, m) and radius `radius_m`.
-pub fn submerged_cylinder(a: &Vector3<f64>, b: &Vector3<f64>, radius_m: f64) -> Buoyancy {
+pub(crate) fn submerged_cylinder(a: &Vector3<f64>, b: &Vector3<f64>, radius_m: f64) -> Buoyancy {
     let (a, b) = if b.z >= a.z { (*a, *b) } else { (*b, *a) };
     let len = (b - a).norm();
     let e = (b - a) / len;

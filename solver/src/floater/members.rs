@@ -91,17 +91,17 @@ impl Member {
     }
 
     /// Cross-section area πD²/4 (m²).
-    pub fn section_area_m2(&self) -> f64 {
+    pub(crate) fn section_area_m2(&self) -> f64 {
         0.25 * std::f64::consts::PI * self.diameter_m * self.diameter_m
     }
 
     /// Axial (heave-plate) added mass C_a,ax ρ D³/3 (kg).
-    pub fn axial_added_mass_kg(&self, rho: f64) -> f64 {
+    pub(crate) fn axial_added_mass_kg(&self, rho: f64) -> f64 {
         self.axial_added_mass_coefficient * rho * self.diameter_m.powi(3) / 3.0
     }
 
     /// End points in global axes for the pose.
-    pub fn global_ends(&self, state: &BodyState) -> (Vector3<f64>, Vector3<f64>) {
+    pub(crate) fn global_ends(&self, state: &BodyState) -> (Vector3<f64>, Vector3<f64>) {
         (
             state.point_position(&self.from_m),
             state.point_position(&self.to_m),
@@ -166,7 +166,7 @@ impl Member {
     /// added-mass reaction is in the mass matrix), and, when given, the derivative of the drag
     /// with respect to the generalised velocity ν to `velocity_jacobian`.
     #[allow(clippy::too_many_arguments)]
-    pub fn add_hydrodynamic_loads<S: SeaKinematics + ?Sized>(
+    pub(crate) fn add_hydrodynamic_loads<S: SeaKinematics + ?Sized>(
         &self,
         state: &BodyState,
         sea: &S,
@@ -259,7 +259,7 @@ impl Member {
 
     /// Adds the member's added-mass matrix (about the reference point, body axes, undisplaced
     /// body in still water) to `m`.
-    pub fn add_added_mass(&self, rho: f64, m: &mut Matrix6<f64>) {
+    pub(crate) fn add_added_mass(&self, rho: f64, m: &mut Matrix6<f64>) {
         let rest = BodyState::at_rest();
         let (a, b) = (self.from_m, self.to_m);
         let e = (b - a) / (b - a).norm();

@@ -334,7 +334,7 @@ impl Floater {
     }
 
     /// Velocity-dependent inertial terms b(ν) of the rigid body.
-    pub fn inertial_bias(&self, state: &BodyState) -> Vector6<f64> {
+    pub(crate) fn inertial_bias(&self, state: &BodyState) -> Vector6<f64> {
         self.mass.inertial_bias(state)
     }
 

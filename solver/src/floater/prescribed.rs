@@ -6,7 +6,7 @@
 //! table should start and end with a short quiet lead). Orientation from the angles:
 //! Λ = R_z(yaw) R_y(pitch) R_x(roll); spatial angular velocity
 //! ω = ψ̇ ẑ + θ̇ R_z ŷ + φ̇ R_z R_y x̂ and its derivative α, both in global axes, as used by
-//! [`super::body`].
+//! `super::body`.
 
 use nalgebra::{Matrix3, Rotation3, Vector3, Vector6};
 
@@ -187,7 +187,7 @@ impl PrescribedMotion {
     }
 
     /// Surge, sway, heave, roll, pitch, yaw and their first and second time derivatives at `t`.
-    pub fn channels_at(&self, t: f64) -> Result<[[f64; 3]; 6], FloaterError> {
+    pub(crate) fn channels_at(&self, t: f64) -> Result<[[f64; 3]; 6], FloaterError> {
         let (start_s, end_s) = self.time_range();
         if !(t >= start_s && t <= end_s) {
             return Err(FloaterError::OutsideTimeRange {

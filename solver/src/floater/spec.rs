@@ -207,7 +207,7 @@ impl FloaterSpec {
     }
 
     /// Water density (kg/m³).
-    pub fn water_density(&self) -> f64 {
+    pub(crate) fn water_density(&self) -> f64 {
         self.water_density_kg_m3.unwrap_or(1025.0)
     }
 
@@ -217,12 +217,12 @@ impl FloaterSpec {
     }
 
     /// Strip length (m).
-    pub fn strip_length(&self) -> f64 {
+    pub(crate) fn strip_length(&self) -> f64 {
         self.strip_length_m.unwrap_or(1.0)
     }
 
     /// Checks every field and resolves the member geometry; errors name the field.
-    pub fn resolve_members(&self) -> Result<Vec<ResolvedMember>, FloaterError> {
+    pub(crate) fn resolve_members(&self) -> Result<Vec<ResolvedMember>, FloaterError> {
         positive("mass_kg", self.mass_kg)?;
         for (k, v) in self.centre_of_mass_m.iter().enumerate() {
             finite(&format!("centre_of_mass_m[{k}]"), *v)?;

@@ -31,7 +31,7 @@ pub struct ContactSample {
 
 /// Running statistics of one channel over a stretch of samples.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
-pub struct ChannelSummary {
+pub(crate) struct ChannelSummary {
     samples: u64,
     sum: f64,
     min: f64,
@@ -82,7 +82,7 @@ impl ChannelSummary {
 
 /// Summary of both force channels over a stretch of samples.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
-pub struct ForceSummary {
+pub(crate) struct ForceSummary {
     normal: ChannelSummary,
     tangential: ChannelSummary,
 }
@@ -116,7 +116,7 @@ pub struct ForceStats {
 
 impl ForceStats {
     /// Largest magnitude (N).
-    pub fn max_abs(&self) -> f64 {
+    pub(crate) fn max_abs(&self) -> f64 {
         self.min.abs().max(self.max.abs())
     }
 }
@@ -134,7 +134,7 @@ pub struct SlipCycle {
 
 impl SlipCycle {
     /// Slip amplitude, half the slip range (m).
-    pub fn slip_amplitude_m(&self) -> f64 {
+    pub(crate) fn slip_amplitude_m(&self) -> f64 {
         self.slip.amplitude()
     }
 

@@ -102,7 +102,7 @@ impl HertzContact {
     }
 
     /// Radius of the circle of equal area, √(ab) (m).
-    pub fn equivalent_radius_m(&self) -> f64 {
+    pub(crate) fn equivalent_radius_m(&self) -> f64 {
         (self.semi_major_m * self.semi_minor_m).sqrt()
     }
 }
@@ -189,7 +189,7 @@ impl HertzModel {
     }
 
     /// Solves the ellipse for principal relative curvatures `a_curv ≤ b_curv` (1/m).
-    pub fn from_curvatures(
+    pub(crate) fn from_curvatures(
         a_curv: f64,
         b_curv: f64,
         e_star: f64,

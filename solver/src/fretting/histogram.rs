@@ -74,7 +74,7 @@ impl BinEdges {
     }
 
     /// The bin holding `x`, or `None` outside the edges.
-    pub fn locate(&self, x: f64) -> Option<usize> {
+    pub(crate) fn locate(&self, x: f64) -> Option<usize> {
         let e = &self.0;
         let last = *e.last()?;
         if !(x >= e[0] && x <= last) {

@@ -168,7 +168,7 @@ impl FrettingParams {
 }
 
 /// Mindlin's gross-slip displacement amplitude δ* = 3μP/(16 G* a) (m), a = √(ab).
-pub fn mindlin_gross_slip_amplitude_m(
+pub(crate) fn mindlin_gross_slip_amplitude_m(
     friction_coefficient: f64,
     normal_force_n: f64,
     contact: &HertzContact,

@@ -4,24 +4,24 @@
 //! - [`rainflow`]: batch rainflow counting, ASTM E1049-85 §5.4.4 (half cycles kept) and §5.4.5
 //!   (repeating histories);
 //! - [`streaming`]: the same count one sample at a time with a serialisable state;
-//! - [`cycles`]: per-contact slip cycles with the normal and tangential forces over them;
-//! - [`histogram`]: 2D histograms of cycles (slip amplitude × normal force);
-//! - [`hertz`]: Hertz contact of crossed cylinders (ellipse semi-axes, peak pressure);
-//! - [`indicators`]: fretting regime (Mindlin), Ruiz products, fretting S-N damage;
-//! - [`inputs`]: per-sea-state damage inputs per contact class and T-N curve;
-//! - [`record`]: the per-contact record the strand stage produces, and contact classes;
+//! - `cycles`: per-contact slip cycles with the normal and tangential forces over them;
+//! - `histogram`: 2D histograms of cycles (slip amplitude × normal force);
+//! - `hertz`: Hertz contact of crossed cylinders (ellipse semi-axes, peak pressure);
+//! - `indicators`: fretting regime (Mindlin), Ruiz products, fretting S-N damage;
+//! - `inputs`: per-sea-state damage inputs per contact class and T-N curve;
+//! - `record`: the per-contact record the strand stage produces, and contact classes;
 //! - [`runin`]: where the mean slip stops drifting (run-in to exclude from the statistics).
 //!
 //! Units follow the counted history (slip in m, forces in N); indices are zero-based samples.
 
-pub mod cycles;
-pub mod error;
-pub mod hertz;
-pub mod histogram;
-pub mod indicators;
-pub mod inputs;
+pub(crate) mod cycles;
+pub(crate) mod error;
+pub(crate) mod hertz;
+pub(crate) mod histogram;
+pub(crate) mod indicators;
+pub(crate) mod inputs;
 pub mod rainflow;
-pub mod record;
+pub(crate) mod record;
 pub mod reversals;
 pub mod runin;
 pub mod streaming;

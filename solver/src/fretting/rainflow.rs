@@ -41,7 +41,7 @@ pub struct Cycle {
 impl Cycle {
     /// The cycle formed by the range from `a` to `b` with weight `count`.
     #[inline(always)]
-    pub fn from_points(a: Reversal, b: Reversal, count: f64) -> Self {
+    pub(crate) fn from_points(a: Reversal, b: Reversal, count: f64) -> Self {
         Self {
             range: (b.value - a.value).abs(),
             mean: 0.5 * (a.value + b.value),

@@ -123,7 +123,7 @@ impl ReversalDetector {
 
     /// The current pending extreme, also before the first move larger than the gate (then it is
     /// the first sample, already returned by [`Self::push`]).
-    pub fn candidate(&self) -> Option<Reversal> {
+    pub(crate) fn candidate(&self) -> Option<Reversal> {
         self.candidate
     }
 

@@ -7,7 +7,7 @@
 //! the number of distinct range levels), not the history.
 //!
 //! The counter can carry a per-segment summary `S` of side channels (e.g. the contact forces
-//! that go with a slip history, [`super::cycles`]): every stack entry keeps the summary of the
+//! that go with a slip history, `super::cycles`): every stack entry keeps the summary of the
 //! samples since the previous entry, so that a cycle closing on points `a`, `b` is emitted with
 //! the summary of the samples `a.index ..= b.index`. With `S = ()` this costs nothing.
 //!
@@ -77,7 +77,7 @@ impl<S: SegmentSummary> StreamingRainflow<S> {
     }
 
     /// Number of samples consumed so far (the index the next sample gets).
-    pub fn samples_seen(&self) -> usize {
+    pub(crate) fn samples_seen(&self) -> usize {
         self.samples_seen
     }
 
@@ -88,7 +88,7 @@ impl<S: SegmentSummary> StreamingRainflow<S> {
 
     /// Feeds one sample with its side-channel data; every cycle it closes goes to `sink` with
     /// the summary of its samples. A non-finite value is rejected and leaves the state as it was.
-    pub fn push_with(
+    pub(crate) fn push_with(
         &mut self,
         value: f64,
         sample: S::Sample,
@@ -139,7 +139,7 @@ impl<S: SegmentSummary> StreamingRainflow<S> {
     /// Emits what the history would leave if it ended now: the pending extreme closes its
     /// ranges, then the residue counts as half cycles (ASTM E1049-85 §5.4.4 step 6). The state is
     /// not changed, so the stream can go on afterwards.
-    pub fn finish_with(&self, mut sink: impl FnMut(Cycle, S)) {
+    pub(crate) fn finish_with(&self, mut sink: impl FnMut(Cycle, S)) {
         let mut tail = self.clone();
         if let Some(point) = self.detector.pending() {
             let entry = Entry {

@@ -492,7 +492,7 @@ impl CaseSpec {
     }
 
     /// Fairlead of line `k` in body axes (reference point on the still water level).
-    pub fn fairlead_body_point(&self, k: usize) -> Vector3<f64> {
+    pub(crate) fn fairlead_body_point(&self, k: usize) -> Vector3<f64> {
         let m = &self.mooring;
         let (s, c) = m.lines[k].fairlead_azimuth_deg.to_radians().sin_cos();
         Vector3::new(

@@ -5,7 +5,7 @@
 //!
 //! Data flow: [`case::CaseSpec`] (JSON) → [`system::GlobalModel`] (validated, sea realised,
 //! thrust from the wind law, waves cut off at the highest frequency the run resolves:
-//! [`resolution`]) → [`system::solve_coupled_statics`] (floater equilibrium with all
+//! `resolution`) → [`system::solve_coupled_statics`] (floater equilibrium with all
 //! lines and the mean thrust) → [`dynamics::run_dynamics`] (coupled time integration) →
 //! [`results::GlobalResult`] and its [`results::GlobalSummary`]. [`run`] chains the three.
 //!
@@ -15,10 +15,10 @@
 pub mod case;
 mod coupling;
 pub mod dynamics;
-pub mod error;
-pub mod motion;
-pub mod params;
-pub mod resolution;
+pub(crate) mod error;
+pub(crate) mod motion;
+pub(crate) mod params;
+pub(crate) mod resolution;
 pub mod results;
 pub mod run;
 pub mod sea;

@@ -11,7 +11,7 @@ use crate::mooring::trajectory::{FairleadMotion, PointMotion};
 
 /// Quintic Hermite path of a point over one step.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StepMotion {
+pub(crate) struct StepMotion {
     /// Start time (s).
     pub t0_s: f64,
     /// End time (s).

@@ -87,13 +87,13 @@ pub struct WaveCutOff {
 
 impl WaveResolution {
     /// Time-step limit ω_h = 2π / (n h) (rad/s).
-    pub fn time_step_limit_rad_s(&self, time_step_s: f64) -> f64 {
+    pub(crate) fn time_step_limit_rad_s(&self, time_step_s: f64) -> f64 {
         2.0 * std::f64::consts::PI / (self.steps_per_period * time_step_s)
     }
 
     /// Table limit ω_t (rad/s) for a table of resolution `table` in water of depth `depth_m`:
     /// the frequency of k_t = κ / max(Δx, Δσ).
-    pub fn table_limit_rad_s(&self, table: &TableParams, depth_m: f64) -> f64 {
+    pub(crate) fn table_limit_rad_s(&self, table: &TableParams, depth_m: f64) -> f64 {
         let spacing = table.spacing_along_m.max(table.spacing_stretched_m);
         let k = self.table_wavenumber_spacing / spacing;
         (GRAVITY * k * (k * depth_m).tanh()).sqrt()

@@ -8,7 +8,7 @@
 //! discarded transient).
 //!
 //! Line cache: the line model samples the sea once per time step, at the quadrature points of
-//! its elements in a fixed order ([`crate::mooring::assembly::update_water`]: element by element,
+//! its elements in a fixed order (`crate::mooring::assembly::update_water`: element by element,
 //! three points per cable element, two per bar). [`LineSeaCache`] records that order once at the
 //! static shape, precomputes the kinematics at those fixed points with
 //! [`PointKinematicsSeries`] (FFT over the repeat period) and then answers the i-th query of a
@@ -21,7 +21,7 @@
 //! distance x_β along its direction, so lines laid symmetrically about that direction (lines
 //! 1/2, 3/6 and 4/5 of the paper case in a head sea) sample it at the same (x_β, z) points:
 //! such a line shares the series of the first line whose points match within
-//! [`SHARED_SERIES_TOLERANCE_M`] ([`LineSeaCache::for_lines`]), which halves the precomputation
+//! `SHARED_SERIES_TOLERANCE_M` ([`LineSeaCache::for_lines`]), which halves the precomputation
 //! and its memory there.
 //!
 //! Floater table: the floater samples the sea at every wetted strip centre of its members
@@ -29,7 +29,7 @@
 //! those queries from a [`PlaneKinematicsTable`] (FFT over the repeat period on an
 //! (x_β, stretched height) grid × time, interpolated) covering the members in the static pose
 //! with a margin for the motions: the body moves metres, the table follows it exactly within its
-//! interpolation accuracy (see [`crate::waves::table`]). A query outside the table is answered
+//! interpolation accuracy (see `crate::waves::table`). A query outside the table is answered
 //! by direct summation and counted.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -115,7 +115,7 @@ impl SeaKinematics for Recorder {
 /// Largest difference (m) of x_β and of z between the corresponding sampling points of two
 /// lines for them to share one precomputed series: the kinematics change by k · 1e-6 m,
 /// far below the interpolation error of the series.
-pub const SHARED_SERIES_TOLERANCE_M: f64 = 1e-6;
+pub(crate) const SHARED_SERIES_TOLERANCE_M: f64 = 1e-6;
 
 /// The points at which `model` in state `q` samples the sea, in its sampling order.
 pub fn sampled_points(model: &LineModel, q: &[f64]) -> Vec<Vector3<f64>> {
@@ -127,7 +127,7 @@ pub fn sampled_points(model: &LineModel, q: &[f64]) -> Vec<Vector3<f64>> {
 
 /// Whether the unidirectional `sea` has the same kinematics at the points `a` as at `b`, point
 /// by point (equal x_β and z within [`SHARED_SERIES_TOLERANCE_M`]).
-pub fn same_sea_at(sea: &IrregularSea, a: &[Vector3<f64>], b: &[Vector3<f64>]) -> bool {
+pub(crate) fn same_sea_at(sea: &IrregularSea, a: &[Vector3<f64>], b: &[Vector3<f64>]) -> bool {
     let f = sea.field();
     a.len() == b.len()
         && a.iter().zip(b).all(|(p, q)| {
@@ -174,7 +174,7 @@ impl<'a> LineSeaCache<'a> {
 
     /// Caches for the lines `lines` (model, static state), as [`LineSeaCache::new`] each,
     /// except that a line sampling the sea at the same (x_β, z) points as an earlier one
-    /// ([`same_sea_at`]) shares that line's series; the series are built on `pool`, one line
+    /// (`same_sea_at`) shares that line's series; the series are built on `pool`, one line
     /// per task.
     pub fn for_lines(
         lines: &[(&LineModel, &[f64])],
@@ -289,11 +289,11 @@ impl SeaKinematics for LineSeaCache<'_> {
 /// Horizontal margin (m) of the floater table around the members in the static pose: the
 /// excursions of the floater about its mean offset in the severe sea state are some metres
 /// (surge amplitudes below 15 m for the paper case), so 30 m leaves room for larger ones.
-pub const FLOATER_TABLE_MARGIN_ALONG_M: f64 = 30.0;
+pub(crate) const FLOATER_TABLE_MARGIN_ALONG_M: f64 = 30.0;
 /// Vertical margin (m) of the floater table below the deepest member end in the static pose:
 /// heave and pitch move the deepest point by a few metres and Wheeler stretching under a crest
 /// lowers its stretched height by |z| η/(d + η) (≈ 2 m for the paper case).
-pub const FLOATER_TABLE_MARGIN_DEPTH_M: f64 = 25.0;
+pub(crate) const FLOATER_TABLE_MARGIN_DEPTH_M: f64 = 25.0;
 
 /// The floater's sea: a [`PlaneKinematicsTable`] around the floater with the ramp applied, and
 /// direct summation for queries outside the table (see the module documentation).
@@ -309,7 +309,7 @@ pub struct FloaterSeaTable<'a> {
 
 impl<'a> FloaterSeaTable<'a> {
     /// Table of `sea` around the members of `floater` in the pose `body`, with margins
-    /// [`FLOATER_TABLE_MARGIN_ALONG_M`] and [`FLOATER_TABLE_MARGIN_DEPTH_M`], up to `end_time_s`.
+    /// `FLOATER_TABLE_MARGIN_ALONG_M` and `FLOATER_TABLE_MARGIN_DEPTH_M`, up to `end_time_s`.
     pub fn new(
         floater: &Floater,
         body: &BodyState,

@@ -78,7 +78,7 @@ pub struct GlobalModel {
     pub environment: Environment,
     /// Realised sea, cut off at the highest frequency the run resolves.
     pub sea: IrregularSea,
-    /// The frequency cut-off applied to the sea and what it kept ([`super::resolution`]).
+    /// The frequency cut-off applied to the sea and what it kept (`super::resolution`).
     pub wave_cut_off: WaveCutOff,
     /// Hub wind speed (m/s).
     pub wind_speed_m_s: f64,
@@ -91,7 +91,7 @@ impl GlobalModel {
     /// is realised for the case's transient plus duration, or `duration_s` when given, and cut
     /// off at the highest frequency that the case's time step and the default floater table
     /// ([`TableParams::default`], as in [`super::params::DynamicsParams::default`]) resolve
-    /// ([`WaveResolution::default`], see [`super::resolution`]).
+    /// ([`WaveResolution::default`], see `super::resolution`).
     pub fn new(
         case: &CaseSpec,
         floater: FloaterInput,
@@ -202,7 +202,11 @@ impl GlobalModel {
     }
 
     /// Builds the finite-element model of line `k` with its fairlead at `fairlead_m`.
-    pub fn line_model(&self, k: usize, fairlead_m: Vector3<f64>) -> Result<LineModel, GlobalError> {
+    pub(crate) fn line_model(
+        &self,
+        k: usize,
+        fairlead_m: Vector3<f64>,
+    ) -> Result<LineModel, GlobalError> {
         let l = &self.lines[k];
         LineModel::new(
             format!("line-{}", l.id),
@@ -299,7 +303,7 @@ pub(crate) fn for_lines<T: Send>(
 }
 
 /// A thread pool of `threads` workers, or none for a serial run.
-pub fn line_pool(threads: usize) -> Result<Option<rayon::ThreadPool>, GlobalError> {
+pub(crate) fn line_pool(threads: usize) -> Result<Option<rayon::ThreadPool>, GlobalError> {
     if threads <= 1 {
         return Ok(None);
     }

@@ -141,7 +141,7 @@ impl Entry {
 
 /// The sections of a deck that the import reads.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct Deck {
+pub(crate) struct Deck {
     line_types: Vec<Entry>,
     bodies: Vec<Entry>,
     points: Vec<Entry>,
@@ -185,7 +185,7 @@ fn strip_comment(line: &str) -> &str {
 
 impl Deck {
     /// Splits the deck text into its sections.
-    pub fn parse(text: &str) -> Result<Self, DeckError> {
+    pub(crate) fn parse(text: &str) -> Result<Self, DeckError> {
         let mut deck = Deck::default();
         let mut section = Section::FrontMatter;
         // Rows of column names and units still to skip in the current table.

@@ -165,7 +165,7 @@ impl SparseCholesky {
     }
 
     /// Floating-point operations of the numeric factorisation and of one solve
-    /// ([`SupernodalSolve::flops`]), when the tree solve is used.
+    /// (`SupernodalSolve::flops`), when the tree solve is used.
     pub fn tree_flops(&self) -> Option<(f64, f64)> {
         self.tree.as_ref().map(SupernodalSolve::flops)
     }

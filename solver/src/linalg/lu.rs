@@ -5,7 +5,7 @@
 //! ([`Storage::Full`]), with the supernodal numeric kernels forced: on the strand tangents they
 //! factorise 3 times faster (1+6+1 strand, 2 226 equations) and 1.5 times faster (six-layer
 //! strand, 89 928 equations) than faer's automatic choice of the simplicial kernels
-//! (`solver/examples/linear_solver_study.rs`). The numeric factors and scratch memory are owned
+//! (`studies/src/bin/linear_solver_study.rs`). The numeric factors and scratch memory are owned
 //! by the solver and reused. faer hands out the factors only as a borrow tied to the call that
 //! computes them, so the numeric factorisation runs inside [`LinearSolver::solve_in_place`]:
 //! `factorize` stores the values, the first solve after it factorises, and a further solve with

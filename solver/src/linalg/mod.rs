@@ -2,14 +2,14 @@
 //! element connectivities, faer's sparse Cholesky (symbolic analysis once, numeric
 //! refactorisation per iteration) and LU, and the Newton driver with load-step cut-back.
 
-pub mod cholesky;
-pub mod linear_solver;
-pub mod lu;
-pub mod newton;
-pub mod pattern;
-pub mod rows;
-pub mod split;
-pub mod supernodal;
+pub(crate) mod cholesky;
+pub(crate) mod linear_solver;
+pub(crate) mod lu;
+pub(crate) mod newton;
+pub(crate) mod pattern;
+pub(crate) mod rows;
+pub(crate) mod split;
+pub(crate) mod supernodal;
 
 pub use cholesky::{CholeskyKind, FillOrdering, SparseCholesky, NESTED_DISSECTION_FROM};
 pub use linear_solver::{LinalgError, LinearSolver};

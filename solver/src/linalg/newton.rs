@@ -109,7 +109,7 @@ pub struct NewtonParams {
     /// 0: plain Newton.
     pub pseudo_transient_shift: f64,
     /// Inexact Newton (Dembo, Eisenstat & Steihaug 1982): iteration k asks the linear solver
-    /// for a relative residual η_k only ([`forcing_term`]: this at the first iteration and as
+    /// for a relative residual η_k only (`forcing_term`: this at the first iteration and as
     /// the upper bound of η_k, then Eisenstat & Walker's choice 2, never tighter than what
     /// brings the residual to the convergence tolerance), so the early corrections cost fewer
     /// Krylov iterations and the convergence stays superlinear; direct solvers solve exactly
@@ -605,7 +605,12 @@ struct SearchOutcome {
 /// never below half the ratio `tolerance_ratio` = tolerance / ‖r_k‖ of the convergence test,
 /// since a correction solved beyond that buys nothing: the next residual only has to pass the
 /// test. `ratio` = ‖r_k‖ / ‖r_{k−1}‖ (`None` at the first iteration).
-pub fn forcing_term(max: f64, previous: f64, ratio: Option<f64>, tolerance_ratio: f64) -> f64 {
+pub(crate) fn forcing_term(
+    max: f64,
+    previous: f64,
+    ratio: Option<f64>,
+    tolerance_ratio: f64,
+) -> f64 {
     const GAMMA: f64 = 0.9;
     let eta = match ratio {
         None => max,

@@ -179,7 +179,7 @@ impl SparsePattern {
     /// The upper-triangle pattern of the structural symmetrisation A ∪ Aᵀ of this pattern (no
     /// elements: values are filled through the returned map), with, for every nonzero k of this
     /// pattern, the nonzero of the upper pattern that holds entry (min(i, j), max(i, j)).
-    pub fn symmetric_upper(&self) -> (SparsePattern, Vec<usize>) {
+    pub(crate) fn symmetric_upper(&self) -> (SparsePattern, Vec<usize>) {
         let mut pairs: Vec<(usize, usize)> = Vec::with_capacity(self.row_idx.len());
         for col in 0..self.size {
             for &row in &self.row_idx[self.col_ptr[col]..self.col_ptr[col + 1]] {
@@ -313,7 +313,7 @@ impl SparsePattern {
     /// Adds the element vector `fe` of element `element` into the global vector `rhs`,
     /// skipping constrained DOFs.
     #[inline]
-    pub fn add_element_vector(&self, rhs: &mut [f64], element: usize, fe: &[f64]) {
+    pub(crate) fn add_element_vector(&self, rhs: &mut [f64], element: usize, fe: &[f64]) {
         for (e, &f) in self.element_equations(element).iter().zip(fe) {
             if let Some(i) = e.index() {
                 rhs[i] += f;

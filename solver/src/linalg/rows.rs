@@ -11,7 +11,7 @@ use super::pattern::{SparsePattern, Storage};
 
 /// A full-storage matrix by rows, refilled from the column-major values of its pattern.
 #[derive(Debug, Clone)]
-pub struct RowMajor {
+pub(crate) struct RowMajor {
     row_ptr: Vec<usize>,
     col: Vec<u32>,
     /// Column-major position of every row-major entry.
@@ -23,7 +23,7 @@ pub struct RowMajor {
 
 impl RowMajor {
     /// Structure of `pattern` (full storage) by rows.
-    pub fn new(pattern: &SparsePattern) -> Self {
+    pub(crate) fn new(pattern: &SparsePattern) -> Self {
         debug_assert_eq!(pattern.storage(), Storage::Full);
         let n = pattern.size();
         let (col_ptr, row_idx) = (pattern.col_ptr(), pattern.row_idx());
@@ -60,14 +60,14 @@ impl RowMajor {
     }
 
     /// Takes the matrix's column-major values.
-    pub fn load(&mut self, values: &[f64]) {
+    pub(crate) fn load(&mut self, values: &[f64]) {
         for (v, &k) in self.values.iter_mut().zip(&self.source) {
             *v = values[k];
         }
     }
 
     /// y ← A x, the rows in two halves on two threads when `parallel`.
-    pub fn mul_vec(&self, x: &[f64], y: &mut [f64], parallel: bool) {
+    pub(crate) fn mul_vec(&self, x: &[f64], y: &mut [f64], parallel: bool) {
         let (first, second) = y.split_at_mut(self.split);
         if parallel {
             rayon::join(

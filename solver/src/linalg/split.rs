@@ -8,7 +8,7 @@
 //! This is the solver of the frictional strand tangents: contact friction and the follower terms
 //! of the corotational beams make them non-symmetric, but only mildly so, and their LDLᵀ costs a
 //! small fraction of a sparse LU with partial pivoting (1+6+1 strand, 2 226 equations: 0.7 ms
-//! against 40 ms for faer's LU, `solver/examples/linear_solver_study.rs`). When S cannot be
+//! against 40 ms for faer's LU, `studies/src/bin/linear_solver_study.rs`). When S cannot be
 //! factorised (a zero pivot) or GMRES does not reach its tolerance, the solve falls back to
 //! faer's sparse LU of A, built on first need, and the next few solves go straight to it. That
 //! happens when many contacts slide: the friction–normal coupling μ ∂f_N/∂g_N of a sliding
@@ -145,7 +145,7 @@ impl SplitSolver {
 
     /// [`Self::new`] with the LDLᵀ factorisation and solves run on `par` (e.g.
     /// `Par::rayon(2)`).
-    pub fn with_parallelism(
+    pub(crate) fn with_parallelism(
         pattern: &SparsePattern,
         params: GmresParams,
         par: Par,
@@ -204,7 +204,7 @@ impl SplitSolver {
     /// the next matrix is factorised afresh. A run resumed from a checkpoint with a new solver
     /// repeats the uninterrupted run to the bit when that run resets its solver at the same
     /// point.
-    pub fn reset(&mut self) {
+    pub(crate) fn reset(&mut self) {
         self.ldlt_ok = false;
         self.ldlt_current = false;
         self.fresh_iterations = None;

@@ -27,7 +27,7 @@
 use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
 
 /// Number of groups of subtrees solved independently (the parallel width of a solve).
-pub const GROUPS: usize = 2;
+pub(crate) const GROUPS: usize = 2;
 
 /// Storage precision of the factor values used by the solves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -164,7 +164,7 @@ impl SupernodalSolve {
     }
 
     /// Share of the factor's entries in the top supernodes (solved on one thread).
-    pub fn top_share(&self) -> f64 {
+    pub(crate) fn top_share(&self) -> f64 {
         let entries = |s: &Supernode| s.height() * s.width;
         let top: usize = self.top.iter().map(|&s| entries(&self.supernodes[s])).sum();
         let total: usize = self.supernodes.iter().map(entries).sum();
@@ -175,7 +175,7 @@ impl SupernodalSolve {
     /// per supernode of width w and m rows below, multiply and add counted apart: an upper
     /// estimate, the update of the rows below counted as the full m × m product of which only
     /// the lower half is formed) and of one solve.
-    pub fn flops(&self) -> (f64, f64) {
+    pub(crate) fn flops(&self) -> (f64, f64) {
         self.supernodes.iter().fold((0.0, 0.0), |(f, s), sn| {
             let (w, m) = (sn.width as f64, (sn.row_end - sn.row_begin) as f64);
             (

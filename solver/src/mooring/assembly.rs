@@ -22,7 +22,7 @@ use crate::waves::{FluidKinematics, SeaKinematics};
 
 /// Water kinematics at the quadrature points of every element (bars use the first two, at
 /// their nodes).
-pub type WaterCache = Vec<[FluidKinematics; CABLE_POINTS]>;
+pub(crate) type WaterCache = Vec<[FluidKinematics; CABLE_POINTS]>;
 
 fn vec3(x: &[f64], d: usize) -> Vector3<f64> {
     Vector3::new(x[d], x[d + 1], x[d + 2])
@@ -52,7 +52,7 @@ fn quadrature_points(model: &LineModel, k: usize, q: &[f64]) -> [Vector3<f64>; C
 }
 
 /// Samples the sea at every quadrature point of the line in state `q` at time `t_s`.
-pub fn update_water(
+pub(crate) fn update_water(
     model: &LineModel,
     q: &[f64],
     t_s: f64,
@@ -191,7 +191,7 @@ fn scatter<const NC: usize>(
 }
 
 /// Index and value of the largest |component| of the residual over the free unknowns.
-pub fn free_residual_max(model: &LineModel, residual: &[f64]) -> (usize, f64) {
+pub(crate) fn free_residual_max(model: &LineModel, residual: &[f64]) -> (usize, f64) {
     let mut worst = (0, 0.0);
     for (i, &r) in residual.iter().enumerate() {
         if model.is_constrained(i) {

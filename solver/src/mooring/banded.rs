@@ -72,7 +72,7 @@ impl BandMatrix {
     /// Adds `v` to the consecutive entries (i, j), (i, j + 1), … of row i, which must lie in
     /// the band (they are contiguous in storage).
     #[inline]
-    pub fn add_row(&mut self, i: usize, j: usize, v: &[f64]) {
+    pub(crate) fn add_row(&mut self, i: usize, j: usize, v: &[f64]) {
         let k = self.index(i, j);
         debug_assert!(j + v.len() <= i + self.b + 1);
         for (a, x) in self.data[k..k + v.len()].iter_mut().zip(v) {
@@ -81,7 +81,7 @@ impl BandMatrix {
     }
 
     /// Replaces row and column `i` by those of the identity (for a prescribed unknown).
-    pub fn set_identity_row_col(&mut self, i: usize) {
+    pub(crate) fn set_identity_row_col(&mut self, i: usize) {
         let lo = i.saturating_sub(self.b);
         let hi = (i + self.b).min(self.n - 1);
         for j in lo..=hi {
@@ -252,7 +252,7 @@ impl BandMatrix {
     /// Solves A xₖ = rhsₖ for three right-hand sides in place after [`BandMatrix::factorize`],
     /// in one sweep over the factors; each xₖ equals [`BandMatrix::solve_in_place`] on it to
     /// the bit (same operations in the same order).
-    pub fn solve3_in_place(&self, x: &mut [Vec<f64>; 3]) {
+    pub(crate) fn solve3_in_place(&self, x: &mut [Vec<f64>; 3]) {
         let n = self.n;
         let b = self.b;
         let w = self.width;

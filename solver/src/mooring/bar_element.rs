@@ -2,7 +2,7 @@
 //!
 //! With d = rⱼ − rᵢ, ℓ = |d|, e = d/ℓ and the engineering strain ε = ℓ/L − 1, the axial force
 //! is N = EA max(ε, 0) (a slack chain carries no compression), smoothed near ε = 0 by
-//! [`super::loads::slack_axial_force`]. Internal forces −N e at node i and +N e at node j;
+//! `super::loads::slack_axial_force`. Internal forces −N e at node i and +N e at node j;
 //! tangent K = (N'(ε)/L) e eᵀ + (N/ℓ)(I − e eᵀ) in the pattern [K −K; −K K]. Mass, weight, Morison loads and seabed contact use nodal (trapezoidal)
 //! quadrature, i.e. the lumped-mass discretisation usual for chain, with the bar direction as
 //! the tangent.
@@ -107,7 +107,7 @@ impl BarAxial {
 }
 
 /// Residual M q̈ + f_int − f_ext and iteration matrix of a bar.
-pub fn bar_system(
+pub(crate) fn bar_system(
     ctx: &ElementContext<'_>,
     x: &ElementValues<2>,
     water: &[FluidKinematics],
@@ -181,12 +181,12 @@ fn slack_slope(strain: f64) -> (f64, f64) {
 }
 
 /// Axial force of a bar (N).
-pub fn bar_tension(ea_n: f64, l: f64, q: &[Vector3<f64>; 2]) -> f64 {
+pub(crate) fn bar_tension(ea_n: f64, l: f64, q: &[Vector3<f64>; 2]) -> f64 {
     slack_axial_force(ea_n, (q[1] - q[0]).norm() / l - 1.0).0
 }
 
 /// Strain energy plus the potential of weight and seabed spring (J).
-pub fn bar_potential(ctx: &ElementContext<'_>, q: &[Vector3<f64>; 2]) -> f64 {
+pub(crate) fn bar_potential(ctx: &ElementContext<'_>, q: &[Vector3<f64>; 2]) -> f64 {
     let sec = ctx.sec;
     let l = ctx.length_m;
     let mut e = l * slack_axial_force(sec.ea_n, (q[1] - q[0]).norm() / l - 1.0).2;

@@ -30,11 +30,11 @@ use super::spec::SeabedSpec;
 use crate::waves::FluidKinematics;
 
 /// Number of quadrature points of a cable element.
-pub const CABLE_POINTS: usize = 3;
+pub(crate) const CABLE_POINTS: usize = 3;
 
 /// What an element kernel needs besides its nodal values.
 #[derive(Debug, Clone, Copy)]
-pub struct ElementContext<'a> {
+pub(crate) struct ElementContext<'a> {
     /// Section of the element.
     pub sec: &'a Section,
     /// Unstretched length (m).
@@ -95,7 +95,7 @@ impl CableAxial {
 
 /// Nodal values of an element with `NC` vector coefficients.
 #[derive(Debug, Clone, Copy)]
-pub struct ElementValues<const NC: usize> {
+pub(crate) struct ElementValues<const NC: usize> {
     /// Positions and gradients (m and −).
     pub q: [Vector3<f64>; NC],
     /// Their rates.
@@ -151,7 +151,7 @@ fn add_scalar_product(r: &mut [Vector3<f64>; 4], c: &[[f64; 4]; 4], s: f64, x: &
 }
 
 /// Residual M q̈ + f_int − f_ext and iteration matrix of a cable element.
-pub fn cable_system(
+pub(crate) fn cable_system(
     ctx: &ElementContext<'_>,
     x: &ElementValues<4>,
     water: &[FluidKinematics; CABLE_POINTS],
@@ -203,7 +203,7 @@ pub fn cable_system(
 }
 
 /// Position, gradient and second derivative at ξ.
-pub fn cable_point(q: &[Vector3<f64>; 4], l: f64, xi: f64) -> [Vector3<f64>; 3] {
+pub(crate) fn cable_point(q: &[Vector3<f64>; 4], l: f64, xi: f64) -> [Vector3<f64>; 3] {
     let s = hermite(xi, l);
     let mut r = [Vector3::zeros(); 3];
     for (a, qa) in q.iter().enumerate() {
@@ -215,7 +215,7 @@ pub fn cable_point(q: &[Vector3<f64>; 4], l: f64, xi: f64) -> [Vector3<f64>; 3] 
 }
 
 /// Axial force EA (|r'| − 1) (N) and curvature |r' × r''| / |r'|³ (1/m) at ξ.
-pub fn cable_tension_curvature(
+pub(crate) fn cable_tension_curvature(
     sec: &Section,
     q: &[Vector3<f64>; 4],
     l: f64,
@@ -232,7 +232,7 @@ pub fn cable_tension_curvature(
 }
 
 /// Strain energy plus the potential of weight and seabed spring (J).
-pub fn cable_potential(ctx: &ElementContext<'_>, q: &[Vector3<f64>; 4]) -> f64 {
+pub(crate) fn cable_potential(ctx: &ElementContext<'_>, q: &[Vector3<f64>; 4]) -> f64 {
     let sec = ctx.sec;
     let l = ctx.length_m;
     let b = bending_integrals(l);
@@ -254,7 +254,7 @@ pub fn cable_potential(ctx: &ElementContext<'_>, q: &[Vector3<f64>; 4]) -> f64 {
 }
 
 /// Kinetic energy of the structural mass (J).
-pub fn cable_kinetic(sec: &Section, l: f64, v: &[Vector3<f64>; 4]) -> f64 {
+pub(crate) fn cable_kinetic(sec: &Section, l: f64, v: &[Vector3<f64>; 4]) -> f64 {
     let m = mass_integrals(l);
     let mut e = 0.0;
     for i in 0..4 {

@@ -11,7 +11,7 @@
 
 /// Values of the four shape functions and their first and second derivatives (per metre).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct HermiteValues {
+pub(crate) struct HermiteValues {
     /// Nₐ(ξ).
     pub n: [f64; 4],
     /// dNₐ/dx (1/m for positions, dimensionless for gradients).
@@ -21,7 +21,7 @@ pub struct HermiteValues {
 }
 
 /// Shape functions at ξ on an element of length `l`.
-pub fn hermite(xi: f64, l: f64) -> HermiteValues {
+pub(crate) fn hermite(xi: f64, l: f64) -> HermiteValues {
     let x2 = xi * xi;
     let x3 = x2 * xi;
     HermiteValues {
@@ -47,7 +47,7 @@ pub fn hermite(xi: f64, l: f64) -> HermiteValues {
 }
 
 /// ∫₀ᴸ Nₐ N_b dx: the consistent mass matrix per unit mass density.
-pub fn mass_integrals(l: f64) -> [[f64; 4]; 4] {
+pub(crate) fn mass_integrals(l: f64) -> [[f64; 4]; 4] {
     let c = l / 420.0;
     let l2 = l * l;
     [
@@ -59,7 +59,7 @@ pub fn mass_integrals(l: f64) -> [[f64; 4]; 4] {
 }
 
 /// ∫₀ᴸ Nₐ'' N_b'' dx: the bending stiffness matrix per unit EI.
-pub fn bending_integrals(l: f64) -> [[f64; 4]; 4] {
+pub(crate) fn bending_integrals(l: f64) -> [[f64; 4]; 4] {
     let c = 1.0 / (l * l * l);
     let l2 = l * l;
     [
@@ -72,7 +72,7 @@ pub fn bending_integrals(l: f64) -> [[f64; 4]; 4] {
 
 /// Three-point Gauss–Legendre rule on [0, 1]: (ξ, weight). Exact to degree 5, which covers the
 /// squared axial strain of a cubic interpolation.
-pub const GAUSS3: [(f64, f64); 3] = [
+pub(crate) const GAUSS3: [(f64, f64); 3] = [
     (0.112_701_665_379_258_3, 5.0 / 18.0),
     (0.5, 8.0 / 18.0),
     (0.887_298_334_620_741_7, 5.0 / 18.0),

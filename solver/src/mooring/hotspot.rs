@@ -20,7 +20,7 @@ fn vec3(x: &[f64], d: usize) -> Vector3<f64> {
 }
 
 /// Tension (N) and curvature (1/m) at local coordinate `xi` of element `e` in state `q`.
-pub fn element_tension_curvature(
+pub(crate) fn element_tension_curvature(
     model: &LineModel,
     q: &[f64],
     e: ElementId,

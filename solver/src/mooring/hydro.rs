@@ -37,7 +37,7 @@ fn quadratic(c: f64, u: &Vector3<f64>) -> (Vector3<f64>, f64) {
 /// since u_tᵀ P = 0, u_nᵀ t = 0 and u_tᵀ t = t·u. M is linear in its argument, so the
 /// M terms of drag, added mass and Froude–Krylov are summed as one, and the projections are
 /// applied as rank-one updates of the identity (P = I − t tᵀ).
-pub fn morison(sec: &Section, k: &PointKinematics, water: &FluidKinematics) -> PointLoad {
+pub(crate) fn morison(sec: &Section, k: &PointKinematics, water: &FluidKinematics) -> PointLoad {
     let mut load = PointLoad::zero();
     let stretch = k.r_x.norm();
     if stretch <= 0.0 {
@@ -109,7 +109,11 @@ pub fn morison(sec: &Section, k: &PointKinematics, water: &FluidKinematics) -> P
 }
 
 /// The force of [`morison`] alone, without its derivatives (N/m).
-pub fn morison_force(sec: &Section, k: &PointKinematics, water: &FluidKinematics) -> Vector3<f64> {
+pub(crate) fn morison_force(
+    sec: &Section,
+    k: &PointKinematics,
+    water: &FluidKinematics,
+) -> Vector3<f64> {
     let stretch = k.r_x.norm();
     if stretch <= 0.0 {
         return Vector3::zeros();

@@ -209,7 +209,7 @@ impl LineModel {
         self.dof_count
     }
     /// Half-bandwidth of the iteration matrix.
-    pub fn half_bandwidth(&self) -> usize {
+    pub(crate) fn half_bandwidth(&self) -> usize {
         self.half_bandwidth
     }
     /// Unstretched length (m).
@@ -217,20 +217,20 @@ impl LineModel {
         self.length_m
     }
     /// The three prescribed DOFs of the fairlead position.
-    pub fn fairlead_dofs(&self) -> std::ops::Range<usize> {
+    pub(crate) fn fairlead_dofs(&self) -> std::ops::Range<usize> {
         0..3
     }
     /// The three fixed DOFs of the anchor position.
-    pub fn anchor_dofs(&self) -> std::ops::Range<usize> {
+    pub(crate) fn anchor_dofs(&self) -> std::ops::Range<usize> {
         let d = self.nodes[self.nodes.len() - 1].dof;
         d..d + 3
     }
     /// Whether a DOF is prescribed (fairlead or anchor position).
-    pub fn is_constrained(&self, dof: usize) -> bool {
+    pub(crate) fn is_constrained(&self, dof: usize) -> bool {
         dof < 3 || self.anchor_dofs().contains(&dof)
     }
     /// Node owning a DOF.
-    pub fn node_of_dof(&self, dof: usize) -> NodeId {
+    pub(crate) fn node_of_dof(&self, dof: usize) -> NodeId {
         NodeId(
             self.nodes
                 .partition_point(|n| n.dof <= dof)
@@ -239,7 +239,7 @@ impl LineModel {
     }
     /// Global DOF bases of an element's vector coefficients: (rᵢ, r'ᵢ, rⱼ, r'ⱼ) for a cable,
     /// (rᵢ, rⱼ) for a bar (the last two entries unused).
-    pub fn element_dofs(&self, e: &Element) -> [usize; 4] {
+    pub(crate) fn element_dofs(&self, e: &Element) -> [usize; 4] {
         let a = self.nodes[e.nodes[0].0].dof;
         let b = self.nodes[e.nodes[1].0].dof;
         match e.kind {
@@ -253,7 +253,7 @@ impl LineModel {
         Vector3::new(q[d], q[d + 1], q[d + 2])
     }
     /// Element containing arc length `s` (m) and the local coordinate ξ ∈ [0, 1] there.
-    pub fn locate(&self, arc_length_m: f64) -> Result<(ElementId, f64), LineError> {
+    pub(crate) fn locate(&self, arc_length_m: f64) -> Result<(ElementId, f64), LineError> {
         if !(0.0..=self.length_m).contains(&arc_length_m) {
             return Err(LineError::ArcLengthOutOfRange {
                 line: self.name.clone(),
@@ -274,7 +274,10 @@ impl LineModel {
 
     /// State vector from node positions: gradients are set to the unit chord directions
     /// (averaged at interior nodes). `positions` has one entry per node.
-    pub fn state_from_positions(&self, positions: &[Vector3<f64>]) -> Result<Vec<f64>, LineError> {
+    pub(crate) fn state_from_positions(
+        &self,
+        positions: &[Vector3<f64>],
+    ) -> Result<Vec<f64>, LineError> {
         if positions.len() != self.nodes.len() {
             return Err(LineError::invalid(
                 "start shape",
@@ -318,7 +321,7 @@ impl LineModel {
     /// A simple geometric guess of the static shape: a straight suspended part from the fairlead
     /// to a touchdown point and a straight part on the seabed to the anchor, with the unstretched
     /// length conserved (or the straight chord when the line is taut).
-    pub fn geometric_guess(&self) -> Vec<Vector3<f64>> {
+    pub(crate) fn geometric_guess(&self) -> Vec<Vector3<f64>> {
         let f = self.ends.fairlead_m;
         let a = self.ends.anchor_m;
         let l = self.length_m;

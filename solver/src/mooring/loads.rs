@@ -10,14 +10,14 @@
 use nalgebra::{Matrix3, Vector3};
 
 /// Strain half-width of the smoothed slack transition of the axial law.
-pub const SLACK_SMOOTHING_STRAIN: f64 = 2e-5;
+pub(crate) const SLACK_SMOOTHING_STRAIN: f64 = 2e-5;
 
 /// Axial force law of chain and rope: no compression (a chain folds, a wire rope buckles at a
 /// negligible load), smoothed so that Newton's method converges through slack events:
 /// N/EA = 0 for ε ≤ −ε₀, (ε + ε₀)² / (4 ε₀) for |ε| < ε₀, ε for ε ≥ ε₀ (C¹; at most
 /// EA ε₀ / 4 of tension is added near zero strain, about 2 kN for the paper-case chain and
 /// rope). Returns (N, dN/dε, strain energy per unit length).
-pub fn slack_axial_force(ea_n: f64, strain: f64) -> (f64, f64, f64) {
+pub(crate) fn slack_axial_force(ea_n: f64, strain: f64) -> (f64, f64, f64) {
     let e0 = SLACK_SMOOTHING_STRAIN;
     if strain <= -e0 {
         (0.0, 0.0, 0.0)
@@ -39,7 +39,7 @@ pub fn slack_axial_force(ea_n: f64, strain: f64) -> (f64, f64, f64) {
 
 /// A force per unit length at a point and its partial derivatives.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PointLoad {
+pub(crate) struct PointLoad {
     /// Force per unit unstretched length (N/m).
     pub f: Vector3<f64>,
     /// ∂f/∂r (N/m²).
@@ -54,7 +54,7 @@ pub struct PointLoad {
 
 impl PointLoad {
     /// No load.
-    pub fn zero() -> PointLoad {
+    pub(crate) fn zero() -> PointLoad {
         PointLoad {
             f: Vector3::zeros(),
             d_r: Matrix3::zeros(),
@@ -65,7 +65,7 @@ impl PointLoad {
     }
 
     /// Adds another load at the same point.
-    pub fn add(&mut self, o: &PointLoad) {
+    pub(crate) fn add(&mut self, o: &PointLoad) {
         self.f += o.f;
         self.d_r += o.d_r;
         self.d_v += o.d_v;
@@ -88,7 +88,7 @@ pub struct Coefficients {
 
 /// Element-local residual and iteration matrix over `NC` vector coefficients of 3 components.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LocalSystem<const NC: usize> {
+pub(crate) struct LocalSystem<const NC: usize> {
     /// Residual per coefficient.
     pub r: [Vector3<f64>; NC],
     /// Iteration matrix blocks.
@@ -97,7 +97,7 @@ pub struct LocalSystem<const NC: usize> {
 
 impl<const NC: usize> LocalSystem<NC> {
     /// All zero.
-    pub fn zero() -> Self {
+    pub(crate) fn zero() -> Self {
         LocalSystem {
             r: [Vector3::zeros(); NC],
             k: [[Matrix3::zeros(); NC]; NC],
@@ -106,7 +106,7 @@ impl<const NC: usize> LocalSystem<NC> {
 
     /// Adds the contribution of `load` at a point with shape values `n`, derivatives `dn`
     /// (per metre) and quadrature weight `w` (m).
-    pub fn add_point_load(
+    pub(crate) fn add_point_load(
         &mut self,
         n: &[f64; NC],
         dn: &[f64; NC],
@@ -128,7 +128,7 @@ impl<const NC: usize> LocalSystem<NC> {
 
     /// Adds a constant matrix of the form C ⊗ I₃ (scaled by `s`) acting on `x`: residual
     /// += s C x, matrix += `k_scale` · s C ⊗ I₃.
-    pub fn add_scalar_matrix(
+    pub(crate) fn add_scalar_matrix(
         &mut self,
         c: &[[f64; NC]; NC],
         s: f64,
@@ -150,7 +150,7 @@ impl<const NC: usize> LocalSystem<NC> {
 
 /// Interpolated kinematics at a quadrature point.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PointKinematics {
+pub(crate) struct PointKinematics {
     /// Position (m).
     pub r: Vector3<f64>,
     /// Gradient ∂r/∂s (stretch × unit tangent).
@@ -163,7 +163,7 @@ pub struct PointKinematics {
 
 impl PointKinematics {
     /// Interpolates coefficient values `q`, `v`, `a` with shape values `n` and derivatives `dn`.
-    pub fn interpolate<const NC: usize>(
+    pub(crate) fn interpolate<const NC: usize>(
         n: &[f64; NC],
         dn: &[f64; NC],
         q: &[Vector3<f64>; NC],

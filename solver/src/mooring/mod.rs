@@ -11,20 +11,20 @@
 //! into tension and curvature histories and envelopes.
 
 pub mod assembly;
-pub mod banded;
+pub(crate) mod banded;
 pub mod bar_element;
-pub mod cable_element;
+pub(crate) mod cable_element;
 pub mod catenary;
 pub mod dynamics;
-pub mod error;
-pub mod hermite;
+pub(crate) mod error;
+pub(crate) mod hermite;
 pub mod hotspot;
-pub mod hydro;
-pub mod ids;
+pub(crate) mod hydro;
+pub(crate) mod ids;
 pub mod line;
-pub mod loads;
-pub mod seabed;
-pub mod section;
+pub(crate) mod loads;
+pub(crate) mod seabed;
+pub(crate) mod section;
 pub mod spec;
 pub mod statics;
 pub mod trajectory;

@@ -18,7 +18,7 @@ use super::section::Section;
 use super::spec::SeabedSpec;
 
 /// Half-width of the smoothed contact transition (m).
-pub const CONTACT_SMOOTHING_M: f64 = 0.005;
+pub(crate) const CONTACT_SMOOTHING_M: f64 = 0.005;
 
 /// Spring force per unit length, its derivative with respect to g, and the contact fraction
 /// with its derivative.
@@ -40,7 +40,7 @@ fn spring(k: f64, g: f64) -> (f64, f64, f64, f64) {
 }
 
 /// Contact load at position `r` moving at `v`, above a seabed at `depth_m`.
-pub fn seabed_load(
+pub(crate) fn seabed_load(
     sec: &Section,
     bed: &SeabedSpec,
     depth_m: f64,
@@ -83,7 +83,7 @@ pub fn seabed_load(
 }
 
 /// The force of [`seabed_load`] alone, without its derivatives (N/m).
-pub fn seabed_force(
+pub(crate) fn seabed_force(
     sec: &Section,
     bed: &SeabedSpec,
     depth_m: f64,
@@ -107,7 +107,7 @@ pub fn seabed_force(
 }
 
 /// Energy stored in the seabed spring per unit length at `r` (J/m).
-pub fn seabed_energy(sec: &Section, depth_m: f64, r: &Vector3<f64>) -> f64 {
+pub(crate) fn seabed_energy(sec: &Section, depth_m: f64, r: &Vector3<f64>) -> f64 {
     let g = -depth_m - r.z;
     let g0 = CONTACT_SMOOTHING_M;
     let k = sec.seabed_stiffness_n_per_m2;

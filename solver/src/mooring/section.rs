@@ -14,7 +14,7 @@
 use super::spec::{Environment, LineTypeSpec, SegmentSpec};
 
 /// Density of steel used for the buoyancy of extra masses (kg/m³).
-pub const STEEL_DENSITY_KG_M3: f64 = 7850.0;
+pub(crate) const STEEL_DENSITY_KG_M3: f64 = 7850.0;
 
 /// How a segment is discretised.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -58,7 +58,7 @@ impl Section {
     /// Axial damping coefficient c = ζ L √(EA m) (N s) of an element of length `length_m`
     /// whose two-mass axial mode ω = (2/L) √(EA/m) has the damping ratio ζ = `ratio`
     /// (stiffness-proportional damping: ζ = c ω / (2 EA)).
-    pub fn axial_damping_n_s(&self, length_m: f64, ratio: f64) -> f64 {
+    pub(crate) fn axial_damping_n_s(&self, length_m: f64, ratio: f64) -> f64 {
         ratio * length_m * (self.ea_n * self.mass_kg_per_m).sqrt()
     }
 }

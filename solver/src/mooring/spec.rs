@@ -17,7 +17,7 @@ use super::error::LineError;
 use crate::text::Num;
 
 /// Most elements of one segment (the paper's line has 84 in all).
-pub const MAX_SEGMENT_ELEMENTS: usize = 10_000;
+pub(crate) const MAX_SEGMENT_ELEMENTS: usize = 10_000;
 
 /// Section properties of one line type (a chain grade or a rope construction).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -79,7 +79,7 @@ pub struct SegmentSpec {
 impl SegmentSpec {
     /// Submerged weight of the extra mass (N): (m − ρ_w V) g, V = m / ρ_steel when the
     /// volume is not given; negative for a buoy.
-    pub fn extra_submerged_weight_n(&self, env: &Environment) -> f64 {
+    pub(crate) fn extra_submerged_weight_n(&self, env: &Environment) -> f64 {
         let mass_kg = self.extra_mass_kg.unwrap_or(0.0);
         let volume_m3 = self
             .extra_volume_m3
@@ -154,12 +154,12 @@ pub struct Environment {
 }
 
 /// Sea water density when a file omits it (kg/m³).
-pub fn default_water_density() -> f64 {
+pub(crate) fn default_water_density() -> f64 {
     1025.0
 }
 
 /// Standard gravity (m/s²) when a file omits it.
-pub fn default_gravity() -> f64 {
+pub(crate) fn default_gravity() -> f64 {
     9.80665
 }
 

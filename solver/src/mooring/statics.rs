@@ -23,7 +23,7 @@ use super::workspace::LineWorkspace;
 /// Starting shape of the static iterations.
 #[derive(Debug, Clone, PartialEq)]
 pub enum StaticStart {
-    /// [`LineModel::geometric_guess`]: straight suspended part and straight part on the seabed.
+    /// `LineModel::geometric_guess`: straight suspended part and straight part on the seabed.
     Geometric,
     /// Node positions (one per node, fairlead first), e.g. from the analytical catenary.
     Shape(Vec<Vector3<f64>>),

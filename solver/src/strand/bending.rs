@@ -5,7 +5,7 @@
 //! configuration, summed over the wire elements spanning it, each taken at the element end
 //! beyond the plane (an element carries no distributed load, its contacts act at nodes), with
 //! moments about the current strand axis point of that section, c(z_cut)
-//! ([`super::loading::SectionMotion::axis_point`]): M = Σ (x_b − c) × f_b + m_b.
+//! (`super::loading::SectionMotion::axis_point`): M = Σ (x_b − c) × f_b + m_b.
 //!
 //! Bounds (Papailiou 1997, IEEE Trans. Power Delivery 12(4), Eqs. 1-2): with every wire free to
 //! slide, each bends about its own axis, EI_min = E I_core + Σ n E I cos β; with every wire

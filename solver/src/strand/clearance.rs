@@ -22,7 +22,7 @@ fn distance2(w: f64, r_helix: f64, pitch: f64, delta: f64) -> f64 {
 }
 
 /// Minimum surface gap between neighbouring wires of a layer (m); +∞ for a single wire.
-pub fn lateral_clearance(
+pub(crate) fn lateral_clearance(
     wires: usize,
     wire_radius_m: f64,
     helix_radius_m: f64,
@@ -56,7 +56,12 @@ pub fn lateral_clearance(
 }
 
 /// Costello's (1997) approximate helix radius at which n wires of radius r and lay angle β touch.
-pub fn costello_touching_radius(wires: usize, wire_radius_m: f64, lay_angle_rad: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn costello_touching_radius(
+    wires: usize,
+    wire_radius_m: f64,
+    lay_angle_rad: f64,
+) -> f64 {
     let cot = 1.0 / (PI / wires as f64).tan();
     wire_radius_m * (1.0 + cot * cot / lay_angle_rad.cos().powi(2)).sqrt()
 }

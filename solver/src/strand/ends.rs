@@ -16,9 +16,9 @@ use super::loading::SectionMotion;
 use crate::beam::rotation::{log_so3, tangent_operator_inverse};
 
 /// Tie force vector [f_u, f_θ].
-pub type TieVector = SVector<f64, 6>;
+pub(crate) type TieVector = SVector<f64, 6>;
 /// Tie tangent.
-pub type TieMatrix = SMatrix<f64, 6, 6>;
+pub(crate) type TieMatrix = SMatrix<f64, 6, 6>;
 
 /// Penalty tie of one helical-wire end node to its end section.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,7 +38,7 @@ pub struct EndTie {
 impl EndTie {
     /// Penalty force and tangent at node position `x` and rotation `lam` for the section motion
     /// `motion`.
-    pub fn force_and_tangent(
+    pub(crate) fn force_and_tangent(
         &self,
         motion: &SectionMotion,
         x: &Vector3<f64>,

@@ -110,7 +110,7 @@ impl Helix {
     }
 
     /// Arc length from z = 0 (m).
-    pub fn arc_length(&self, z: f64) -> f64 {
+    pub(crate) fn arc_length(&self, z: f64) -> f64 {
         z / self.lay_angle_rad.cos()
     }
 

@@ -12,7 +12,7 @@
 //! sees ε + κ R sin θ to first order. Units: m, 1/m, rad.
 //!
 //! [`LoadPath`] maps a load factor λ to (ε, κ): λ ∈ [0, 1] raises ε at κ = 0, λ ∈ [1, 2]
-//! raises κ at the full ε. [`LoadSegment`] maps λ ∈ [0, 1] linearly from one (ε, κ) to another
+//! raises κ at the full ε. `LoadSegment` maps λ ∈ [0, 1] linearly from one (ε, κ) to another
 //! (one step of a load history, [`super::history`]).
 
 use nalgebra::{Matrix3, Vector3};
@@ -28,7 +28,7 @@ pub struct SectionMotion {
 
 impl SectionMotion {
     /// Rotation angle φ = κ (1 + ε) Z of the section at reference axial coordinate `z_m` (rad).
-    pub fn angle_rad(&self, z_m: f64) -> f64 {
+    pub(crate) fn angle_rad(&self, z_m: f64) -> f64 {
         self.curvature_per_m * (1.0 + self.strain) * z_m
     }
 
@@ -39,7 +39,7 @@ impl SectionMotion {
     }
 
     /// Current position of the axis point of reference coordinate `z_m`.
-    pub fn axis_point(&self, z_m: f64) -> Vector3<f64> {
+    pub(crate) fn axis_point(&self, z_m: f64) -> Vector3<f64> {
         let s = (1.0 + self.strain) * z_m;
         let k = self.curvature_per_m;
         if k == 0.0 {
@@ -86,7 +86,7 @@ impl LoadPath {
 
 /// Straight segment in the (ε, κ) plane: λ ∈ [0, 1] from `from` to `to`.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub struct LoadSegment {
+pub(crate) struct LoadSegment {
     /// Section motion at λ = 0.
     pub from: SectionMotion,
     /// Section motion at λ = 1.
@@ -95,7 +95,7 @@ pub struct LoadSegment {
 
 impl LoadSegment {
     /// Section motion at load factor λ (clamped to [0, 1]); exactly `to` at λ = 1.
-    pub fn at(&self, load_factor: f64) -> SectionMotion {
+    pub(crate) fn at(&self, load_factor: f64) -> SectionMotion {
         let l = load_factor.clamp(0.0, 1.0);
         if l == 1.0 {
             return self.to;

@@ -2,18 +2,18 @@
 //!
 //! - [`profile`]: the serde profile (core wire, layers, material, model length), its validation
 //!   (radial stacking, lateral clearance, lay angle, counts) into a resolved [`profile::Strand`];
-//! - [`helix`]: exact helical centrelines, Frenet frames, arc length ↔ z;
-//! - [`clearance`]: exact lateral clearance of neighbouring helical wires;
-//! - [`wires`]: wire numbering ([`wires::WireId`]);
+//! - `helix`: exact helical centrelines, Frenet frames, arc length ↔ z;
+//! - `clearance`: exact lateral clearance of neighbouring helical wires;
+//! - `wires`: wire numbering (`wires::WireId`);
 //! - [`contacts`]: trellis crossings between adjacent layers and the core line contact;
 //! - [`mesh`]: nodes at contact points, wire elements, contact elements, counts;
 //! - [`analytical`]: Costello's simple straight strand and the bent-helix stick/slip references;
 //! - [`bending`]: section force and moment from the wire forces, EI_min / EI_max bounds;
 //! - [`loading`]: imposed section motion from (ε, κ) and the two-stage load path;
-//! - [`ends`]: penalty ties of the helical wire ends to the core end sections;
-//! - [`periodic`]: periodic multi-point constraints of the wire ends (seed Eqs. 12-13);
+//! - `ends`: penalty ties of the helical wire ends to the core end sections;
+//! - `periodic`: periodic multi-point constraints of the wire ends (seed Eqs. 12-13);
 //! - [`model`]: the FE model (beams, contacts, ties, DOFs, pattern);
-//! - [`error`]: the errors of building the model ([`error::StrandModelError`], also at its
+//! - `error`: the errors of building the model ([`error::StrandModelError`], also at its
 //!   historical path `model::StrandModelError`);
 //! - [`problem`]: its equilibrium as a Newton problem;
 //! - [`driver`]: one loading case solved and its monitors extracted;
@@ -27,18 +27,18 @@
 
 pub mod analytical;
 pub mod bending;
-pub mod clearance;
+pub(crate) mod clearance;
 pub mod contacts;
 pub mod driver;
-pub mod ends;
-pub mod error;
-pub mod helix;
+pub(crate) mod ends;
+pub(crate) mod error;
+pub(crate) mod helix;
 pub mod history;
 pub mod loading;
 pub mod mesh;
 pub mod model;
-pub mod periodic;
+pub(crate) mod periodic;
 pub mod problem;
 pub mod profile;
 pub mod reduced;
-pub mod wires;
+pub(crate) mod wires;

@@ -2,8 +2,8 @@
 //! corotational beams on the mesh nodes ([`super::mesh`]), a small-sliding frictional contact
 //! element (seed Eqs. 1-11, [`crate::contact`]) at every detected contact, the core wire's
 //! nodes fully imposed from (ε, κ) ([`super::loading`]) and the helical wires' end nodes tied to
-//! the core end sections by penalty ([`super::ends`], [`EndKind::PenaltyTies`]) or to the
-//! reference wires by the periodic constraints of [`super::periodic`] ([`EndKind::Periodic`]).
+//! the core end sections by penalty (`super::ends`, [`EndKind::PenaltyTies`]) or to the
+//! reference wires by the periodic constraints of `super::periodic` ([`EndKind::Periodic`]).
 //!
 //! Frame nodes are the mesh nodes (same indices), frame elements the mesh elements. The global
 //! pattern (full storage: the frictional contact tangent is not symmetric) holds, in order, the
@@ -35,7 +35,7 @@ pub use super::error::StrandModelError;
 /// GMRES iterations a reused preconditioner may cost beyond a fresh one before the solver
 /// refactorises ([`GmresParams::reuse_margin`]): one LDLᵀ factorisation costs about as much as
 /// 20 preconditioned GMRES iterations on both the 1+6+1 and the six-layer strand
-/// (`solver/examples/linear_solver_study.rs`), so ten extra iterations per solve are cheaper
+/// (`studies/src/bin/linear_solver_study.rs`), so ten extra iterations per solve are cheaper
 /// than refactorising as long as the pattern of stick and slip holds.
 pub const PRECONDITIONER_REUSE_MARGIN: usize = 10;
 
@@ -340,7 +340,7 @@ impl StrandModel {
 
     /// Pattern the elements are assembled on: the extended one of the periodic elimination,
     /// else [`Self::pattern`].
-    pub fn assembly_pattern(&self) -> &SparsePattern {
+    pub(crate) fn assembly_pattern(&self) -> &SparsePattern {
         self.periodic
             .as_ref()
             .map_or(&self.pattern, |p| &p.extended)
@@ -357,7 +357,7 @@ impl StrandModel {
 
     /// [`Self::linear_solver`] with its LDLᵀ factorisation and solves on `threads` threads and
     /// the factor applied in `precision`.
-    pub fn linear_solver_threads(
+    pub(crate) fn linear_solver_threads(
         &self,
         threads: usize,
         precision: FactorPrecision,
@@ -388,12 +388,12 @@ impl StrandModel {
     }
 
     /// Pattern element index of contact `c`.
-    pub fn contact_pattern_element(&self, c: usize) -> usize {
+    pub(crate) fn contact_pattern_element(&self, c: usize) -> usize {
         self.frame.elements().len() + c
     }
 
     /// Pattern element index of tie `t`.
-    pub fn tie_pattern_element(&self, t: usize) -> usize {
+    pub(crate) fn tie_pattern_element(&self, t: usize) -> usize {
         self.frame.elements().len() + self.contacts.len() + t
     }
 }

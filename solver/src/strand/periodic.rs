@@ -55,7 +55,7 @@ use crate::beam::frame::{DofMap, FrameState, NodeId, NODE_DOFS};
 use crate::linalg::{Equation, PatternError, SparsePattern, Storage};
 
 /// Which DOFs of every node are prescribed: the core, the anchored ends, the end rotations.
-pub type Prescription = Vec<[bool; NODE_DOFS]>;
+pub(crate) type Prescription = Vec<[bool; NODE_DOFS]>;
 
 /// One start end S that an eliminated end interpolates (module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -91,7 +91,7 @@ fn turn(angle: f64) -> Matrix3<f64> {
 
 impl EndConstraint {
     /// A_S = R(z_P) T(θ_P − θ_S) R(z_S)ᵀ of master `s` under `motion`.
-    pub fn transfer(&self, s: usize, motion: &SectionMotion) -> Matrix3<f64> {
+    pub(crate) fn transfer(&self, s: usize, motion: &SectionMotion) -> Matrix3<f64> {
         let m = &self.masters[s];
         motion.rotation(self.z_p_m) * turn(m.turn_rad) * motion.rotation(m.z_m).transpose()
     }
@@ -123,14 +123,14 @@ const OUTER_ARC_TOLERANCE_RAD: f64 = 1e-6;
 
 /// Points of the angular interpolation: the start ends nearest an eliminated end's angle, two
 /// on either side (all of them in a layer of fewer than four wires).
-pub const INTERPOLATION_POINTS: usize = 4;
+pub(crate) const INTERPOLATION_POINTS: usize = 4;
 
 /// Lagrange weights, at angle 0, of the interpolation through the angles `deltas` (rad, each
 /// θ_S − θ_P wrapped to (−π, π]) of the [`INTERPOLATION_POINTS`] nearest of them, two on either
 /// side; returns (index into `deltas`, weight). The weights sum to 1, so a field that is the
 /// same at every angle (pure tension) is carried over exactly; the error in bending, whose
 /// stick field varies as sin θ, is of order (2π/n)⁴ (cubic interpolation, n wires).
-pub fn angular_interpolation(deltas: &[f64]) -> Vec<(usize, f64)> {
+pub(crate) fn angular_interpolation(deltas: &[f64]) -> Vec<(usize, f64)> {
     use std::f64::consts::TAU;
     let n = deltas.len();
     let mut order: Vec<usize> = (0..n).collect();
@@ -169,7 +169,10 @@ pub fn angular_interpolation(deltas: &[f64]) -> Vec<(usize, f64)> {
 }
 
 /// Anchored ends and constraints of `mesh` (module docs).
-pub fn end_layout(strand: &Strand, mesh: &StrandMesh) -> Result<EndLayout, StrandModelError> {
+pub(crate) fn end_layout(
+    strand: &Strand,
+    mesh: &StrandMesh,
+) -> Result<EndLayout, StrandModelError> {
     use std::f64::consts::{FRAC_PI_2, PI};
     let wires = strand.wires();
     let mut prescription: Prescription = mesh
@@ -441,7 +444,7 @@ impl PeriodicEnds {
     }
 
     /// Reduced equation of an independent extended equation (`None` for a dependent one).
-    pub fn reduced_equation(&self, extended: usize) -> Option<usize> {
+    pub(crate) fn reduced_equation(&self, extended: usize) -> Option<usize> {
         match self.expansions.get(extended)?.as_slice() {
             [(r, 0)] => Some(*r),
             _ => None,
@@ -450,7 +453,7 @@ impl PeriodicEnds {
 
     /// Expands a reduced increment onto the extended equations (dependent entries 0: the
     /// eliminated ends are placed exactly by [`Self::enforce`] afterwards).
-    pub fn expand(&self, reduced: &[f64], extended: &mut [f64]) {
+    pub(crate) fn expand(&self, reduced: &[f64], extended: &mut [f64]) {
         for (e, exp) in self.expansions.iter().enumerate() {
             extended[e] = match exp.as_slice() {
                 [(r, 0)] => reduced[*r],
@@ -460,7 +463,7 @@ impl PeriodicEnds {
     }
 
     /// Places the eliminated ends on their constraint and sets their rotations to the section's.
-    pub fn enforce(&self, motion: &SectionMotion, state: &mut FrameState) {
+    pub(crate) fn enforce(&self, motion: &SectionMotion, state: &mut FrameState) {
         for c in &self.layout.constraints {
             let x = c.position(motion, &state.positions);
             state.positions[c.node] = x;

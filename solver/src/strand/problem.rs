@@ -175,7 +175,10 @@ impl<'a> StrandProblem<'a> {
 
     /// The element work (beams and contacts) on `threads` threads from now on (1: on the
     /// calling thread). The residuals and tangents do not depend on it, to the bit.
-    pub fn with_threads(mut self, threads: usize) -> Result<Self, rayon::ThreadPoolBuildError> {
+    pub(crate) fn with_threads(
+        mut self,
+        threads: usize,
+    ) -> Result<Self, rayon::ThreadPoolBuildError> {
         self.parallel = if threads > 1 {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
@@ -238,7 +241,7 @@ impl<'a> StrandProblem<'a> {
     }
 
     /// Committed configuration.
-    pub fn committed_state(&self) -> &FrameState {
+    pub(crate) fn committed_state(&self) -> &FrameState {
         &self.committed
     }
 
@@ -478,7 +481,7 @@ fn kinematics(state: &FrameState, node: usize) -> NodeKinematics {
 /// Axial force carried across the plane z = `z_m` of the reference configuration: the sum over
 /// the elements spanning it of the z-component of their internal force at the end node beyond
 /// the plane (N).
-pub fn section_force_n(
+pub(crate) fn section_force_n(
     model: &StrandModel,
     state: &FrameState,
     z_m: f64,

@@ -10,12 +10,12 @@
 //! comments and are ignored by [`profiles_from_json`].
 //!
 //! Geometry: wire i of layer k follows the helix θ(z) = φₖ + 2π i/nₖ + hₖ z tan βₖ / Rₖ
-//! ([`super::helix`]; θ = π/2 is the outer arc) with
+//! (`super::helix`; θ = π/2 is the outer arc) with
 //! hₖ = +1 (right hand) or −1 (left hand); lay length Lₖ = 2π Rₖ / tan βₖ. Layers stack
 //! radially in contact, Rₖ = Rₖ₋₁ + rₖ₋₁ + rₖ with R₀ = 0, r₀ the core radius (DESIGN §4.4): at a
 //! trellis crossing the two axes are radially aligned, so this is exact for crossed helices.
 //! Lateral clearance inside a layer is the exact minimum distance between the axes of
-//! neighbouring wires minus 2r ([`super::clearance`]); a negative value is an overlap.
+//! neighbouring wires minus 2r (`super::clearance`); a negative value is an overlap.
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -26,7 +26,7 @@ use super::clearance::lateral_clearance;
 use super::helix::Hand;
 
 /// Tolerance on the radial stacking Rₖ = Rₖ₋₁ + rₖ₋₁ + rₖ (m).
-pub const STACKING_TOLERANCE_M: f64 = 1e-6;
+pub(crate) const STACKING_TOLERANCE_M: f64 = 1e-6;
 
 /// One layer as written in a profile file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -7,14 +7,14 @@
 //! x ≈ k₀d / tanh((k₀d)^¾)^⅔ (within 1.5 % everywhere) raised to the nearest point where F ≥ 0,
 //! which covers the deep (x → k₀d) and shallow (x → √(k₀d)) limits alike.
 //!
-//! Units: ω in rad/s, d in m, k in rad/m. The module uses g = 9.81 m/s² ([`GRAVITY`]): the
+//! Units: ω in rad/s, d in m, k in rad/m. The module uses g = 9.81 m/s² (`GRAVITY`): the
 //! DESIGN §6 reference k = 0.04026863 rad/m for T = 10 s, d = 100 m is reproduced with 9.81
 //! (k = 0.040268631), not with standard gravity 9.80665 (k = 0.040282317, 3.4e-4 higher).
 
 use super::error::{positive, WavesError};
 
 /// Gravity used by the wave module (m/s²); the value the dispersion reference was computed with.
-pub const GRAVITY: f64 = 9.81;
+pub(crate) const GRAVITY: f64 = 9.81;
 /// Standard gravity (m/s²), ISO 80000-3, for comparison.
 pub const STANDARD_GRAVITY: f64 = 9.80665;
 
@@ -23,7 +23,7 @@ const TOLERANCE: f64 = 1e-15;
 
 /// Wavenumber k (rad/m) of a linear wave of angular frequency `omega` (rad/s) in water of depth
 /// `depth_m` (m), for gravity `g` (m/s²).
-pub fn wavenumber_with_gravity(omega: f64, depth_m: f64, g: f64) -> Result<f64, WavesError> {
+pub(crate) fn wavenumber_with_gravity(omega: f64, depth_m: f64, g: f64) -> Result<f64, WavesError> {
     let omega = positive("omega_rad_s", omega)?;
     let depth_m = positive("depth_m", depth_m)?;
     let g = positive("gravity_m_s2", g)?;
@@ -65,7 +65,7 @@ pub fn wavenumber_with_gravity(omega: f64, depth_m: f64, g: f64) -> Result<f64, 
 }
 
 /// Wavenumber k (rad/m) for angular frequency `omega` (rad/s) and depth `depth_m` (m), with
-/// g = [`GRAVITY`].
+/// g = `GRAVITY`.
 pub fn wavenumber(omega: f64, depth_m: f64) -> Result<f64, WavesError> {
     wavenumber_with_gravity(omega, depth_m, GRAVITY)
 }

@@ -51,12 +51,12 @@ impl InverseFft {
     }
 
     /// Length of the scratch that [`InverseFft::inverse_with_scratch`] needs.
-    pub fn scratch_len(&self) -> usize {
+    pub(crate) fn scratch_len(&self) -> usize {
         self.plan.get_inplace_scratch_len()
     }
 
     /// In place z_j = Σ_b Z_b e^{+2πi b j/N}. `buf` must have length N. Allocates its scratch;
-    /// see [`InverseFft::inverse_with_scratch`] for repeated transforms.
+    /// see `InverseFft::inverse_with_scratch` for repeated transforms.
     pub fn inverse_in_place(&self, buf: &mut [Complex<f64>]) {
         let mut scratch = vec![Complex::default(); self.scratch_len()];
         self.inverse_with_scratch(buf, &mut scratch);
@@ -64,7 +64,11 @@ impl InverseFft {
 
     /// As [`InverseFft::inverse_in_place`] with caller-held scratch of at least
     /// [`InverseFft::scratch_len`] entries.
-    pub fn inverse_with_scratch(&self, buf: &mut [Complex<f64>], scratch: &mut [Complex<f64>]) {
+    pub(crate) fn inverse_with_scratch(
+        &self,
+        buf: &mut [Complex<f64>],
+        scratch: &mut [Complex<f64>],
+    ) {
         assert_eq!(buf.len(), self.n, "buffer length must equal the plan size");
         let len = self.scratch_len();
         self.plan.process_with_scratch(buf, &mut scratch[..len]);

@@ -37,7 +37,7 @@ pub struct WaveComponent {
 
 /// Depth profiles (C, S) = (cosh(k s), sinh(k s)) / sinh(k d) at height s above the seabed.
 #[inline]
-pub fn depth_profiles(k: f64, s: f64, depth_m: f64) -> (f64, f64) {
+pub(crate) fn depth_profiles(k: f64, s: f64, depth_m: f64) -> (f64, f64) {
     let denom = -(-2.0 * k * depth_m).exp_m1();
     let up = (k * (s - depth_m)).exp();
     let down = (-k * (s + depth_m)).exp();
@@ -47,7 +47,7 @@ pub fn depth_profiles(k: f64, s: f64, depth_m: f64) -> (f64, f64) {
 /// Wheeler-stretched height above the seabed s = (z + d) d/(d + η), or `None` when the point is
 /// dry (z > η) or the trough reaches the seabed.
 #[inline]
-pub fn stretched_height(z: f64, eta: f64, depth_m: f64) -> Option<f64> {
+pub(crate) fn stretched_height(z: f64, eta: f64, depth_m: f64) -> Option<f64> {
     if z > eta || depth_m + eta <= 0.0 {
         None
     } else {

@@ -12,7 +12,7 @@
 //! ([`PlaneKinematicsTable`]: FFT precomputation on a vertical-plane grid around a moving body),
 //! `fft`, `wind` (rotor loads,
 //! wind speed per sea state), `scatter` (scatter-diagram tables), `sea` (the shared trait) and
-//! `error`. Gravity is [`dispersion::GRAVITY`] = 9.81 m/s² throughout.
+//! `error`. Gravity is `dispersion::GRAVITY` = 9.81 m/s² throughout.
 
 mod error;
 mod sea;
@@ -20,12 +20,12 @@ mod sea;
 mod chebyshev;
 pub mod dispersion;
 pub mod fft;
-pub mod kinematics;
+pub(crate) mod kinematics;
 pub mod realisation;
 pub mod scatter;
-pub mod series;
-pub mod spectrum;
-pub mod table;
+pub(crate) mod series;
+pub(crate) mod spectrum;
+pub(crate) mod table;
 pub mod wind;
 
 pub use error::WavesError;

@@ -82,7 +82,7 @@ impl Default for RealisationParams {
 
 impl RealisationParams {
     /// Repeat period (s) after validating the duration and the choice.
-    pub fn repeat_period_s(&self) -> Result<f64, WavesError> {
+    pub(crate) fn repeat_period_s(&self) -> Result<f64, WavesError> {
         let duration = positive("duration_s", self.duration_s)?;
         match self.repeat_period {
             RepeatPeriod::NextPowerOfTwo => {
@@ -250,7 +250,7 @@ impl IrregularSea {
         self.spectrum.as_ref().map_or(0.0, Jonswap::hs_m)
     }
     /// Repeat period T_repeat (s).
-    pub fn repeat_period_s(&self) -> f64 {
+    pub(crate) fn repeat_period_s(&self) -> f64 {
         self.repeat_period_s
     }
     /// Frequency step Δω = 2π/T_repeat (rad/s).
@@ -258,7 +258,7 @@ impl IrregularSea {
         self.d_omega
     }
     /// Band [ω_min, ω_max] (rad/s) chosen from the spectrum before snapping to the grid.
-    pub fn band_rad_s(&self) -> (f64, f64) {
+    pub(crate) fn band_rad_s(&self) -> (f64, f64) {
         self.band_rad_s
     }
     /// Fraction of the spectrum's m0 (Hs²/16 over the band) carried by the kept components: 1

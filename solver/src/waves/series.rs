@@ -153,7 +153,7 @@ impl PointKinematicsSeries {
     /// shorter than the repeat period (e.g. 1050 s of a 2048 s period) shrinks accordingly.
     /// Sampling beyond [`PointKinematicsSeries::covered_until_s`] is not allowed (panics on
     /// out-of-range rows); check it first.
-    pub fn new_until(
+    pub(crate) fn new_until(
         sea: &IrregularSea,
         points: &[Vector3<f64>],
         params: &SeriesParams,
@@ -274,7 +274,7 @@ impl PointKinematicsSeries {
 
     /// Last time (s) the stored samples cover: the repeat period for a full series, else the
     /// end time given to [`PointKinematicsSeries::new_until`] (or a little more).
-    pub fn covered_until_s(&self) -> f64 {
+    pub(crate) fn covered_until_s(&self) -> f64 {
         if self.stored == self.samples {
             f64::INFINITY
         } else {

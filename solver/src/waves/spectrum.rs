@@ -48,7 +48,7 @@ pub struct Jonswap {
 }
 
 /// DNV-RP-C205 §3.5.5.5 default γ from Tp/√Hs.
-pub fn dnv_default_gamma(hs_m: f64, tp_s: f64) -> f64 {
+pub(crate) fn dnv_default_gamma(hs_m: f64, tp_s: f64) -> f64 {
     let r = tp_s / hs_m.sqrt();
     if r <= 3.6 {
         5.0

@@ -408,7 +408,7 @@ impl PlaneKinematicsTable {
     /// Every floater evaluation of a coupled step samples the sea at the same instant, at some
     /// hundred strip centres: a query on the slice interpolates in space only (36 values per
     /// quantity instead of 144), and the slice costs about as much as 40 direct queries.
-    pub fn fill_slice(&self, t: f64, slice: &mut TimeSlice) -> bool {
+    pub(crate) fn fill_slice(&self, t: f64, slice: &mut TimeSlice) -> bool {
         slice.time_s = None;
         let Ok(ts) = self.time_stencil(t) else {
             return false;
@@ -435,7 +435,7 @@ impl PlaneKinematicsTable {
     /// As [`PlaneKinematicsTable::kinematics`] at the time of `slice` (filled by
     /// [`PlaneKinematicsTable::fill_slice`] of this table); [`WavesError::OutsideTable`] outside
     /// the table or for an empty slice (reported as a time outside it).
-    pub fn slice_kinematics(
+    pub(crate) fn slice_kinematics(
         &self,
         slice: &TimeSlice,
         p: &Vector3<f64>,
@@ -447,7 +447,12 @@ impl PlaneKinematicsTable {
     }
 
     /// As [`PlaneKinematicsTable::elevation`] at the time of `slice`.
-    pub fn slice_elevation(&self, slice: &TimeSlice, x: f64, y: f64) -> Result<f64, WavesError> {
+    pub(crate) fn slice_elevation(
+        &self,
+        slice: &TimeSlice,
+        x: f64,
+        y: f64,
+    ) -> Result<f64, WavesError> {
         self.slice_time(slice)?;
         let xs = self.along_stencil(x, y)?;
         Ok(Self::elevation_from(xs, |i| slice.elevation[i]))
@@ -471,7 +476,7 @@ impl PlaneKinematicsTable {
 }
 
 /// A [`PlaneKinematicsTable`] interpolated in time at one instant
-/// ([`PlaneKinematicsTable::fill_slice`]), in f64.
+/// (`PlaneKinematicsTable::fill_slice`), in f64.
 #[derive(Debug, Clone, Default)]
 pub struct TimeSlice {
     time_s: Option<f64>,

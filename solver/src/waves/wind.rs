@@ -30,14 +30,14 @@ use super::error::{finite, non_negative, positive, WavesError};
 
 /// NREL 5 MW rotor thrust (kN) at 3, 4, …, 25 m/s, as in `campaigns/data/paper_case_lines.json`
 /// (it includes the rotor-weight component along the tilted shaft).
-pub const NREL_5MW_THRUST_KN: [f64; 23] = [
+pub(crate) const NREL_5MW_THRUST_KN: [f64; 23] = [
     171.7, 215.9, 268.9, 330.3, 398.6, 478.0, 579.2, 691.5, 790.6, 690.0, 608.4, 557.9, 520.5,
     491.2, 467.7, 448.4, 432.3, 418.8, 406.7, 395.3, 385.1, 376.7, 369.3,
 ];
 /// First wind speed of [`NREL_5MW_THRUST_KN`] (m/s), the cut-in speed.
-pub const NREL_5MW_CUT_IN_M_S: f64 = 3.0;
+pub(crate) const NREL_5MW_CUT_IN_M_S: f64 = 3.0;
 /// Cut-out wind speed (m/s).
-pub const NREL_5MW_CUT_OUT_M_S: f64 = 25.0;
+pub(crate) const NREL_5MW_CUT_OUT_M_S: f64 = 25.0;
 /// Scale from the NREL 5 MW to the paper's 3.6 MW turbine.
 pub const PAPER_TURBINE_SCALE: f64 = 0.72;
 
@@ -52,7 +52,7 @@ const RATED_MECHANICAL_POWER_W: f64 = 5.296610e6;
 
 /// Aerodynamic rotor torque (N·m) of the NREL 5 MW turbine at hub wind speed `wind_m_s` inside
 /// its operating range, from the constants cited in the module documentation.
-pub fn nrel_5mw_aero_torque_nm(wind_m_s: f64) -> f64 {
+pub(crate) fn nrel_5mw_aero_torque_nm(wind_m_s: f64) -> f64 {
     let omega = (TSR_OPTIMAL * wind_m_s / ROTOR_RADIUS_M)
         .clamp(ROTOR_SPEED_MIN_RPM * RPM, ROTOR_SPEED_RATED_RPM * RPM);
     let power =
@@ -130,7 +130,7 @@ impl RotorTable {
 
     /// The NREL 5 MW table (thrust from [`NREL_5MW_THRUST_KN`], torque from
     /// [`nrel_5mw_aero_torque_nm`]) with both scaled by `scale` (0.72 for the paper's turbine).
-    pub fn nrel_5mw_scaled(scale: f64) -> Result<Self, WavesError> {
+    pub(crate) fn nrel_5mw_scaled(scale: f64) -> Result<Self, WavesError> {
         let scale = positive("thrust_scale", scale)?;
         let wind: Vec<f64> = (0..NREL_5MW_THRUST_KN.len())
             .map(|i| NREL_5MW_CUT_IN_M_S + i as f64)
@@ -144,7 +144,7 @@ impl RotorTable {
     }
 
     /// Operating range [cut-in, cut-out] (m/s).
-    pub fn operating_range_m_s(&self) -> (f64, f64) {
+    pub(crate) fn operating_range_m_s(&self) -> (f64, f64) {
         (self.wind_m_s[0], self.wind_m_s[self.wind_m_s.len() - 1])
     }
 

@@ -94,7 +94,7 @@ impl SegmentedCatenary {
     }
 
     /// Total submerged weight of the line and its clumps (N).
-    pub fn weight_n(&self) -> f64 {
+    pub(crate) fn weight_n(&self) -> f64 {
         self.segments_fairlead_to_anchor
             .iter()
             .map(|s| s.weight_n_per_m * s.length_m + s.clump_weight_n)

@@ -105,7 +105,7 @@ impl CatenarySolution {
     }
 
     /// Vertical uplift on the anchor V_A = max(V_F − wL, 0) (N).
-    pub fn anchor_vertical_tension_n(&self) -> f64 {
+    pub(crate) fn anchor_vertical_tension_n(&self) -> f64 {
         let l = &self.catenary.line;
         (self.fairlead_vertical_tension_n - l.weight_n_per_m * l.length_m).max(0.0)
     }

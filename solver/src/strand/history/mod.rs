@@ -183,7 +183,7 @@ impl Default for HistoryOptions {
             // largest curvature cycles): against 0.001, every interface's largest slip range,
             // accumulated slip Σ n Δs and count of cycles above 1 µm within 0.43 % at 0.0025,
             // but accumulated slip off by up to 2.0 % and counts by up to 3.1 % at 0.005
-            // (solver/examples/strand_history_tolerance.rs, README "Strand runs")
+            // (studies/src/bin/strand_history_tolerance.rs, README "Strand runs")
             turning_point_tolerance: 0.0025,
             max_substep_strain: 5e-4,
             max_substep_curvature_per_m: 5e-3,
@@ -209,7 +209,7 @@ impl Default for HistoryOptions {
                 pseudo_transient_shift: 0.0,
                 // GMRES to 1e-2 of the residual at first, tighter as it falls: the same
                 // Newton iteration counts with fewer Krylov iterations (six-layer history
-                // sub-steps 5.2 s instead of 8.7 s, solver/examples/strand_six_layer.rs)
+                // sub-steps 5.2 s instead of 8.7 s, studies/src/bin/strand_six_layer.rs)
                 linear_forcing: 0.01,
                 ..NewtonParams::default()
             },
@@ -224,12 +224,12 @@ impl Default for HistoryOptions {
             // first corrections run along nearly free wire motions, and the six-layer tension
             // step with ε_N = 2e8 N/m stalls in line-search cuts without the shift; with 0.1
             // its first stage converges in 22 iterations, with 0.01 in 11-13
-            // (solver/examples/strand_six_layer.rs)
+            // (studies/src/bin/strand_six_layer.rs)
             initialisation_shift: 0.01,
             threads: 1,
             // the six-layer strand's preconditioner solves in f32 take half the time and the
             // GMRES iterations do not change (2 706 against 2 707 over 100 s of the showcase
-            // load; solver/examples/strand_history_tolerance.rs, README "Strand solver")
+            // load; studies/src/bin/strand_history_tolerance.rs, README "Strand solver")
             preconditioner_precision: FactorPrecision::Single,
         }
     }

@@ -7,7 +7,7 @@
 //! layer slide along their own axis over the layer underneath (Papailiou's model), so this is
 //! the component that carries the fretting; the tangential force is projected on the same axis.
 //!
-//! Angle θ: measured from the bending neutral axis as in [`crate::fretting::record`]; a point of
+//! Angle θ: measured from the bending neutral axis as in `crate::fretting::record`; a point of
 //! reference cross-section coordinates (X, Y) has X = −R sin θ, Y = R cos θ, so that its bending
 //! strain is κ R sin θ ([`crate::strand::loading`]). A contact's position is the midpoint of its
 //! two nodes.
@@ -44,7 +44,7 @@ pub struct ContactSite {
 }
 
 /// Angle from the neutral axis of a point of reference coordinates (x, y) (see module docs).
-pub fn theta_from_neutral_axis(x: f64, y: f64) -> f64 {
+pub(crate) fn theta_from_neutral_axis(x: f64, y: f64) -> f64 {
     (-x).atan2(y)
 }
 
@@ -70,7 +70,7 @@ pub fn contact_sites(model: &StrandModel) -> Vec<ContactSite> {
 }
 
 /// The fretting sample of contact `c` from its response at `state` (module docs).
-pub fn contact_sample(
+pub(crate) fn contact_sample(
     model: &StrandModel,
     state: &FrameState,
     c: usize,
@@ -239,7 +239,7 @@ fn element_angular_spans(model: &StrandModel) -> Vec<f64> {
 }
 
 /// The default monitor channels of `model` (module docs), with empty series.
-pub fn default_channels(model: &StrandModel, sites: &[ContactSite]) -> Vec<MonitorChannel> {
+pub(crate) fn default_channels(model: &StrandModel, sites: &[ContactSite]) -> Vec<MonitorChannel> {
     let mid = 0.5 * model.strand.model_length_m;
     let wires = model.strand.wires();
     let layers = model.strand.layers.len();

@@ -121,7 +121,12 @@ pub fn reduce_history(samples: &[LoadSample], tolerance: f64) -> Result<Vec<usiz
 
 /// Position s ∈ [0, 1] of every sample of `samples[a..=b]` along the chord from `a` to `b`
 /// (scaled coordinates as in [`reduce_history`]), non-decreasing, 0 at `a` and 1 at `b`.
-pub fn chord_positions(samples: &[LoadSample], a: usize, b: usize, scales: &[f64; 2]) -> Vec<f64> {
+pub(crate) fn chord_positions(
+    samples: &[LoadSample],
+    a: usize,
+    b: usize,
+    scales: &[f64; 2],
+) -> Vec<f64> {
     let pa = scaled(&samples[a], scales);
     let pb = scaled(&samples[b], scales);
     let (dx, dy) = (pb[0] - pa[0], pb[1] - pa[1]);
@@ -146,7 +151,7 @@ pub fn chord_positions(samples: &[LoadSample], a: usize, b: usize, scales: &[f64
 }
 
 /// The channel scales used by [`reduce_history`] and [`chord_positions`].
-pub fn history_scales(samples: &[LoadSample]) -> [f64; 2] {
+pub(crate) fn history_scales(samples: &[LoadSample]) -> [f64; 2] {
     channel_scales(samples)
 }
 

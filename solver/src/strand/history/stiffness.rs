@@ -12,7 +12,7 @@ use crate::strand::problem::section_force_n;
 
 /// Axial stiffness EA = F / ε of `model` (N): the core and every wire driven to the axial strain
 /// `strain` (κ = 0) in one Newton solve from the reference configuration, F the axial force
-/// across the mid-length plane ([`section_force_n`]). The strand is nearly linear in tension
+/// across the mid-length plane (`section_force_n`). The strand is nearly linear in tension
 /// (Costello Ch. 2), so `strain` should be of the order of the service strains (1e-3). The
 /// solve uses the initialisation's Newton settings and the threads of `options`.
 pub fn measure_axial_stiffness_n(

@@ -27,7 +27,7 @@ pub struct InterfaceStatistics {
 
 /// Statistics per interface, in interface order; cycles starting before sample `from_sample`
 /// are left out (a run-in).
-pub fn interface_statistics(
+pub(crate) fn interface_statistics(
     records: &[ContactRecord],
     min_range_m: f64,
     from_sample: usize,

@@ -41,10 +41,10 @@ impl Default for DesignParams {
 }
 
 /// Lowest tension the design visits, as a fraction of the range's highest strain.
-pub const MIN_STRAIN_FRACTION: f64 = 0.1;
+pub(crate) const MIN_STRAIN_FRACTION: f64 = 0.1;
 
 /// The lowest strain the designed history visits: the range's lowest, but not below
-/// [`MIN_STRAIN_FRACTION`] of its highest. A campaign's lowest tension is a near-slack instant
+/// `MIN_STRAIN_FRACTION` of its highest. A campaign's lowest tension is a near-slack instant
 /// of its most severe sea state, where the strand barely presses its contacts: the FE model
 /// converges there along a recorded history but not along the design's large straight strokes,
 /// and its contacts carry too little force to matter for fretting. Samples below it are run
@@ -54,7 +54,7 @@ pub fn design_strain_floor(range: &LoadRange) -> f64 {
 }
 
 /// The vertices of the path in scaled coordinates (module docs).
-pub fn design_vertices(params: &DesignParams) -> Vec<(f64, f64, f64)> {
+pub(crate) fn design_vertices(params: &DesignParams) -> Vec<(f64, f64, f64)> {
     let levels = params.tension_levels.max(2);
     // start (and so initialise the FE model) at the middle tension and the smallest
     // curvature: the FE initialisation bends the strand at a tenth of the first tension, which
@@ -115,7 +115,7 @@ pub fn design_history(
 /// [`design_history`] with the least-squares weight of every sample: 1/A² for a sample on a
 /// stroke of a cycle of amplitude A, so that the small cycles, which most contacts of a mild
 /// sea state see in stick, weigh in the fit like the large sliding ones relative to their size.
-pub fn design_history_weighted(
+pub(crate) fn design_history_weighted(
     range: &LoadRange,
     params: &DesignParams,
     options: &HistoryOptions,

@@ -12,7 +12,7 @@
 //!   along its own friction force), with `g₁ = 0`, and if still negative with `g = 0`.
 //!
 //! Each system is solved after Jacobi scaling (columns to unit diagonal) with a relative ridge
-//! of [`RIDGE`], which only matters for a contact whose tangential force is (nearly) a linear
+//! of `RIDGE`, which only matters for a contact whose tangential force is (nearly) a linear
 //! function of its slip and the loads — a contact that stuck through the whole calibration,
 //! for which every `g` reproduces its stick response (the slip range is then `Δd / (1 + g k)`
 //! with `Δd` fitted for that `g`).
@@ -22,7 +22,7 @@ use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 use super::{force_features, ContactLaw, FORCE_FEATURES};
 
 /// Relative ridge of the scaled normal equations.
-pub const RIDGE: f64 = 1e-10;
+pub(crate) const RIDGE: f64 = 1e-10;
 
 type ForceGram = SMatrix<f64, FORCE_FEATURES, FORCE_FEATURES>;
 type ForceVec = SVector<f64, FORCE_FEATURES>;
@@ -47,11 +47,11 @@ impl ForceSums {
 }
 
 /// Load features of the drive: `ψ = [x, y, x y, 1]`.
-pub const DRIVE_FEATURES: usize = 4;
+pub(crate) const DRIVE_FEATURES: usize = 4;
 
 /// The drive features at scaled loads (x, y).
 #[inline]
-pub fn drive_features(x: f64, y: f64) -> [f64; DRIVE_FEATURES] {
+pub(crate) fn drive_features(x: f64, y: f64) -> [f64; DRIVE_FEATURES] {
     [x, y, x * y, 1.0]
 }
 
@@ -177,7 +177,7 @@ impl FitAccumulator {
     }
 
     /// The fitted laws of every contact.
-    pub fn contact_fits(&self) -> Vec<ContactFit> {
+    pub(crate) fn contact_fits(&self) -> Vec<ContactFit> {
         let n = self.weight.max(f64::MIN_POSITIVE);
         let normal_solver = ScaledSolver::new(&self.force_gram);
         self.normal
@@ -203,7 +203,7 @@ impl FitAccumulator {
     }
 
     /// The fitted element channels.
-    pub fn element_fits(&self) -> Vec<ForceFit> {
+    pub(crate) fn element_fits(&self) -> Vec<ForceFit> {
         let solver = ScaledSolver::new(&self.force_gram);
         self.elements
             .iter()

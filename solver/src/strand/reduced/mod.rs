@@ -13,7 +13,7 @@
 //!   loads `x = (ε − ε₀)/ε_h`, `y = (κ − κ₀)/κ_h` ([`LoadScaling`]) and `g = g₀ + g₁ x ≥ 0` the
 //!   compliance through which the strand around the contact answers its tangential force (the
 //!   tension sets how hard the neighbouring contacts hold);
-//! - contact (the elastic-slip law of [`crate::contact::laws`], seed Sec. 2.1): the slip
+//! - contact (the elastic-slip law of `crate::contact::laws`, seed Sec. 2.1): the slip
 //!   `s = s_e + s_p`, elastic part `s_e` with `f_T = (μ f_N / γ_e) s_e`, `|s_e| ≤ γ_e`, and an
 //!   irreversible part `s_p` that moves only while the contact slides;
 //! - normal force: `f_N(x, y)`, quadratic in the scaled loads, clipped at zero.
@@ -41,7 +41,7 @@
 //! [`run_reduced`] turns a `(t, ε, κ)` history into the outputs of an FE history run
 //! ([`crate::strand::history::HistoryResult`]: one [`crate::fretting::ContactRecord`] per contact
 //! with every slip cycle and its forces, the monitor series), in seconds. A sample outside the
-//! calibrated range (beyond [`RANGE_SLACK`] of it) is refused with the range, never
+//! calibrated range (beyond `RANGE_SLACK` of it) is refused with the range, never
 //! extrapolated. The first sample is reached as the FE initialisation reaches it, by bending the
 //! tensioned strand from the straight state: every contact starts unloaded tangentially at zero
 //! curvature and the first sample's tension, then follows the drive to the first curvature.
@@ -70,11 +70,11 @@ pub use run::run_reduced;
 /// Version of the stored calibration and of the fit that made it; a file of another version is
 /// refused. Part of the cache key of a calibration, so every change to the model, the design or
 /// the fit bumps it.
-pub const FORMAT_VERSION: u32 = 3;
+pub(crate) const FORMAT_VERSION: u32 = 3;
 
 /// Slack of the calibrated range, as a fraction of each channel's range: a sample this far
 /// outside is still accepted (round-off of the tension-to-strain conversion).
-pub const RANGE_SLACK: f64 = 0.01;
+pub(crate) const RANGE_SLACK: f64 = 0.01;
 
 /// Errors of the reduced strand response.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -235,7 +235,7 @@ impl LoadRange {
         Ok(self)
     }
 
-    /// The sample's first field outside the range widened by [`RANGE_SLACK`], if any.
+    /// The sample's first field outside the range widened by `RANGE_SLACK`, if any.
     pub fn check(&self, index: usize, s: &LoadSample) -> Result<(), ReducedError> {
         for (field, value, [lo, hi]) in [
             ("strain", s.strain, self.strain),
@@ -297,11 +297,11 @@ impl LoadScaling {
 }
 
 /// Number of load features of the force fits.
-pub const FORCE_FEATURES: usize = 6;
+pub(crate) const FORCE_FEATURES: usize = 6;
 
 /// The quadratic load features `[1, x, y, x y, x², y²]` of the force fits.
 #[inline]
-pub fn force_features(x: f64, y: f64) -> [f64; FORCE_FEATURES] {
+pub(crate) fn force_features(x: f64, y: f64) -> [f64; FORCE_FEATURES] {
     [1.0, x, y, x * y, x * x, y * y]
 }
 
@@ -312,7 +312,7 @@ fn dot<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
 /// The fitted law of one contact (module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ContactLaw {
-    /// Coefficients of `f_N` on [`force_features`] (N).
+    /// Coefficients of `f_N` on `force_features` (N).
     pub normal: [f64; FORCE_FEATURES],
     /// Drive `d = a x + b y + e x y + c`: `[a, b, e, c]` (m).
     pub drive: [f64; fit::DRIVE_FEATURES],
@@ -330,27 +330,27 @@ impl ContactLaw {
 
     /// Drive `d` at scaled loads (x, y) (m).
     #[inline]
-    pub fn drive_m(&self, x: f64, y: f64) -> f64 {
+    pub(crate) fn drive_m(&self, x: f64, y: f64) -> f64 {
         dot(&self.drive, &fit::drive_features(x, y))
     }
 
     /// Compliance `g` at scaled tension x (m/N, ≥ 0).
     #[inline]
-    pub fn compliance_m_per_n(&self, x: f64) -> f64 {
+    pub(crate) fn compliance_m_per_n(&self, x: f64) -> f64 {
         (self.compliance[0] + self.compliance[1] * x).max(0.0)
     }
 }
 
 /// The state of one contact's Jenkins element: its irreversible slip.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct JenkinsState {
+pub(crate) struct JenkinsState {
     /// Irreversible slip `s_p` (m).
     pub plastic_slip_m: f64,
 }
 
 impl JenkinsState {
     /// The state in which the contact carries no tangential force under drive `d`.
-    pub fn unloaded(drive_m: f64) -> Self {
+    pub(crate) fn unloaded(drive_m: f64) -> Self {
         Self {
             plastic_slip_m: drive_m,
         }
@@ -359,7 +359,7 @@ impl JenkinsState {
     /// Advances to drive `d` and normal force `f_N`: returns (slip, tangential force).
     /// `stick_per_n = μ / γ_e` (1/m), `elastic_slip_m = γ_e`, `g` the compliance.
     #[inline]
-    pub fn step(
+    pub(crate) fn step(
         &mut self,
         drive_m: f64,
         normal_force_n: f64,
@@ -420,7 +420,7 @@ pub struct CalibrationReport {
 /// were calibrated over and the monitor channels (module docs).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ReducedStrand {
-    /// [`FORMAT_VERSION`] of the stored calibration.
+    /// `FORMAT_VERSION` of the stored calibration.
     pub format: u32,
     /// Content address of the FE model and settings it was calibrated on, set by the caller
     /// (empty if none): a stored calibration is used only on the model of the same key.
@@ -441,7 +441,7 @@ pub struct ReducedStrand {
     /// Monitor channels of the FE run (no values).
     pub channels: Vec<MonitorChannel>,
     /// Fitted axial force of every wire-element channel, in channel order (contact channels
-    /// skipped), on [`force_features`] (N).
+    /// skipped), on `force_features` (N).
     pub element_fits: Vec<[f64; FORCE_FEATURES]>,
     /// How the calibration went.
     pub calibration: CalibrationReport,

@@ -12,7 +12,7 @@
 //! the worst to the median.
 //!
 //! ```text
-//! cargo run --release -p moorfret-solver --example global_sweep -- \
+//! cargo run --release -p moorfret-studies --bin global_sweep -- \
 //!     CASE.json SCATTER.tsv DURATION_S GAMMA SEED \
 //!     [--tp-max S] [--tp-min S] [--hs-max M] [--hs-min M] [--every N] [--cell HS,TP]...
 //! ```

@@ -23,7 +23,7 @@
 //! or `double` the precision of the LDLᵀ preconditioner's solves
 //! ([`moorfret_solver::strand::history::HistoryOptions::preconditioner_precision`]).
 //!
-//! Run: `cargo run --release -p moorfret-solver --example strand_history_tolerance [-- tol]`, or
+//! Run: `cargo run --release -p moorfret-studies --bin strand_history_tolerance [-- tol]`, or
 //! `… -- --six-layer LOAD.csv [--from-s A] [--to-s B] [--ea N] [--threads N] tol_ref tol…`.
 
 use std::time::Instant;
@@ -38,11 +38,8 @@ use moorfret_solver::strand::history::{
 use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::{profile_from_json, profiles_from_json};
 
-#[path = "support/irregular.rs"]
-mod irregular;
-#[path = "support/logging.rs"]
-mod logging;
-use irregular::irregular_history;
+use moorfret_studies::irregular::irregular_history;
+use moorfret_studies::logging;
 
 const BENCHMARK: &str = include_str!(concat!(
     env!("CARGO_MANIFEST_DIR"),

@@ -1,5 +1,5 @@
 //! Directional finite-difference check of an assembled strand tangent, shared by the probe
-//! examples.
+//! studies.
 
 use moorfret_solver::beam::frame::FrameError;
 use moorfret_solver::contact::ContactStatus;
@@ -7,12 +7,12 @@ use moorfret_solver::linalg::NonlinearProblem;
 use moorfret_solver::strand::problem::StrandProblem;
 
 /// Euclidean norm.
-pub(crate) fn norm(v: &[f64]) -> f64 {
+pub fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
 /// Status of every contact at the last evaluation of `problem`.
-pub(crate) fn statuses(problem: &StrandProblem<'_>) -> Vec<Option<ContactStatus>> {
+pub fn statuses(problem: &StrandProblem<'_>) -> Vec<Option<ContactStatus>> {
     problem
         .responses()
         .iter()
@@ -21,19 +21,18 @@ pub(crate) fn statuses(problem: &StrandProblem<'_>) -> Vec<Option<ContactStatus>
 }
 
 /// What a step h δu from the state of `problem` gives.
-pub(crate) struct DirectionalCheck {
-    /// r(u + h δu) (not every example prints it).
-    #[allow(dead_code)]
-    pub(crate) residual: Vec<f64>,
+pub struct DirectionalCheck {
+    /// r(u + h δu) (not every study prints it).
+    pub residual: Vec<f64>,
     /// (r(u + h δu) − r(u)) / h − K δu.
-    pub(crate) mismatch: Vec<f64>,
+    pub mismatch: Vec<f64>,
     /// Contacts whose status differs from `status`.
-    pub(crate) flips: usize,
+    pub flips: usize,
 }
 
 /// Evaluates a copy of `problem` at u + h δu (load factor `load_factor`) against its residual
 /// `r`, K δu `kdu` and contact statuses `status` at u.
-pub(crate) fn directional_check(
+pub fn directional_check(
     problem: &StrandProblem<'_>,
     load_factor: f64,
     r: &[f64],

@@ -4,7 +4,7 @@
 //! (AMD and nested-dissection orderings; faer's solve and the solve split over the elimination
 //! tree, in double and single precision; and faer's factorisation in single precision).
 //!
-//! `cargo run --release -p moorfret-solver --example linear_solver_study -- [benchmark|six_layer]
+//! `cargo run --release -p moorfret-studies --bin linear_solver_study -- [benchmark|six_layer]
 //! [--no-lu] [--solves N]` (`--no-lu` skips the two LU cases, a few minutes on the six-layer
 //! strand; `--solves N` times N solves of each LDLᵀ instead of 5)
 

@@ -3,7 +3,7 @@
 //! straight-strand estimates) and bending steps at increasing curvature (section moment against
 //! EI_min / EI_max), with the wall-time split of every step.
 //!
-//! Run (release): `cargo run --release -p moorfret-solver --example strand_six_layer -- \
+//! Run (release): `cargo run --release -p moorfret-studies --bin strand_six_layer -- \
 //!   [strain] [curvature 1/m ...]` (defaults: 2.5e-3, then 2e-3 5e-3 1e-2 2e-2 4e-2).
 //! Contact regularisation: the paper campaign's set (ε_N = 2e8 N/m, γ_e = 1e-5 m) unless
 //! `STRAND_CONTACT=ε_N,γ_e` gives another. `STRAND_LOAD_INCREMENT=Δλ` sets the first load increment of every step (default 1);
@@ -28,14 +28,9 @@ use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters
 use moorfret_solver::strand::problem::StrandProblem;
 use moorfret_solver::strand::profile::profiles_from_json;
 
-#[path = "support/directional.rs"]
-mod directional;
-#[path = "support/irregular.rs"]
-mod irregular;
-#[path = "support/logging.rs"]
-mod logging;
-use directional::{directional_check, norm, statuses};
-use irregular::irregular_history;
+use moorfret_studies::directional::{directional_check, norm, statuses};
+use moorfret_studies::irregular::irregular_history;
+use moorfret_studies::logging;
 
 const PROFILES: &str = include_str!(concat!(
     env!("CARGO_MANIFEST_DIR"),

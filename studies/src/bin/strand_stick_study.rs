@@ -2,7 +2,7 @@
 //! amplitude of the FE force variation against the stick solution, and where the outer wire's
 //! contact points depart from plane-section motion during the bending stage.
 //!
-//! `cargo run -p moorfret-solver --example strand_stick_study`
+//! `cargo run -p moorfret-studies --bin strand_stick_study`
 
 use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
 use moorfret_solver::linalg::{solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace};

@@ -14,7 +14,7 @@
 //!   variants run by default).
 //!
 //! ```text
-//! cargo run --release -p moorfret-solver --example global_convergence -- \
+//! cargo run --release -p moorfret-studies --bin global_convergence -- \
 //!     [--duration-s 300] [--transient-s 50] [--repeat 1] [--sea-duration-s S] [base dt mesh tight]
 //! ```
 //!
@@ -34,8 +34,8 @@ use moorfret_solver::floater::FloaterSpec;
 use moorfret_solver::global::results::SeriesSummary;
 use moorfret_solver::global::{run, CaseSpec, FloaterInput, GlobalModel, GlobalResult, RunParams};
 
-const CASE: &str = include_str!("../../campaigns/paper_case.json");
-const FLOATER: &str = include_str!("../../campaigns/data/oc4_semi_floater.json");
+const CASE: &str = include_str!("../../../campaigns/paper_case.json");
+const FLOATER: &str = include_str!("../../../campaigns/data/oc4_semi_floater.json");
 
 struct Options {
     duration_s: f64,

@@ -1,4 +1,4 @@
-//! An irregular (ε, κ) load history for the strand examples: five incommensurate components per
+//! An irregular (ε, κ) load history for the strand studies: five incommensurate components per
 //! channel around the wave periods of a sea state, tension and curvature out of phase.
 
 use moorfret_solver::strand::history::LoadSample;
@@ -6,7 +6,7 @@ use moorfret_solver::strand::history::LoadSample;
 /// Samples every `dt_s` over `duration_s`: ε = `mean_strain` + `strain_amplitude` e(t),
 /// κ = `curvature_amplitude` k(t), with e and k sums of unit sines of decreasing weight
 /// (|e| ≲ 2.3, |k| ≲ 3.5).
-pub(crate) fn irregular_history(
+pub fn irregular_history(
     duration_s: f64,
     dt_s: f64,
     mean_strain: f64,

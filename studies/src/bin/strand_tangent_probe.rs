@@ -2,7 +2,7 @@
 //! the 1+6+1 benchmark: per iteration ‖r‖, status changes, and the directional finite
 //! difference (r(u + h δu) − r(u))/h against K δu.
 //!
-//! `cargo run --release -p moorfret-solver --example strand_tangent_probe [kappa [dlambda [set
+//! `cargo run --release -p moorfret-studies --bin strand_tangent_probe [kappa [dlambda [set
 //! [from]]]]` with `set` 0 ('vs_analytical', default) or 1 ('vs_surface_model') and `from` the
 //! load factor reached by the driver first (1 = end of the tension stage). Also splits each
 //! correction into translation, twist about the wire tangent and other rotation. `PROBE_TOP=1`
@@ -19,9 +19,7 @@ use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters
 use moorfret_solver::strand::problem::StrandProblem;
 use moorfret_solver::strand::profile::profile_from_json;
 
-#[path = "support/directional.rs"]
-mod directional;
-use directional::{directional_check, norm, statuses, DirectionalCheck};
+use moorfret_studies::directional::{directional_check, norm, statuses, DirectionalCheck};
 
 const BENCHMARK: &str = include_str!(concat!(
     env!("CARGO_MANIFEST_DIR"),

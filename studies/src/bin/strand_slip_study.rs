@@ -3,7 +3,7 @@
 //! changes (stick ↔ slip ↔ open) between consecutive iterations, the residual history against
 //! the tolerance, and why a rejected attempt failed (iteration limit or divergence).
 //!
-//! `cargo run --release -p moorfret-solver --example strand_slip_study [kappa [set [verbose]]]`
+//! `cargo run --release -p moorfret-studies --bin strand_slip_study [kappa [set [verbose]]]`
 //! with `set` one of `vs_analytical` (default) or `vs_surface_model`; `verbose` prints every
 //! attempt of the bending stage, otherwise a summary and the first and last attempts.
 

@@ -1,0 +1,10 @@
+//! # moorfret-studies
+//!
+//! What the study binaries (`src/bin/`) share: the directional finite-difference check of a
+//! strand tangent, an irregular (ε, κ) load history and the log subscriber. The studies measure
+//! the solver (convergence, cost, tolerances, tangents); `README.md` lists them with their
+//! commands.
+
+pub mod directional;
+pub mod irregular;
+pub mod logging;
