@@ -192,8 +192,8 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
     body += "<h2>Scatter diagram: share of the annual damage per sea state</h2>\n";
     if data.fidelity.values().any(|f| f != "fe") {
         body += "<p>Every disc is a sea state; a thick blue ring marks the sea states whose \
-                 strand results come from the FE model, the others from the reduced strand \
-                 response.</p>\n";
+                 strand results come from the FE model (with extra seeds of the reduced \
+                 response where they ran), the others from the reduced strand response.</p>\n";
     }
     // the diagram itself: each sea state's occurrence, percent of the year
     let occurrence: std::collections::BTreeMap<i64, f64> = data

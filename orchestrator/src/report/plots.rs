@@ -17,8 +17,8 @@ pub(crate) fn share_colour(share: f64) -> RGBColor {
 
 /// Scatter diagram (Tp, Hs) with every sea state as a disc coloured by its share of the
 /// total, scaled so the largest share is darkest, and labelled in percent. When the strand
-/// results come from more than one fidelity, the sea states with FE results get a thick blue
-/// ring.
+/// results come from more than one fidelity, the sea states with FE results (`fe`, or `mixed`:
+/// an FE first seed and reduced extra seeds) get a thick blue ring.
 pub(crate) fn scatter_svg(
     states: &[SeaStateStatus],
     share: &BTreeMap<i64, f64>,
@@ -74,7 +74,13 @@ pub(crate) fn value_map_svg(
             chart
                 .draw_series([Circle::new((s.tp_s, s.hs_m), 9, colour.filled())])
                 .map_err(plot_err)?;
-            let fe = mark_fe && fidelity.get(&s.sea_state_index).map(String::as_str) == Some("fe");
+            // the FE result counts in an `fe` sea state, and in a `mixed` one (FE first seed,
+            // reduced extra seeds)
+            let fe = mark_fe
+                && matches!(
+                    fidelity.get(&s.sea_state_index).map(String::as_str),
+                    Some("fe" | "mixed")
+                );
             let ring = if fe {
                 RGBColor(20, 80, 220).stroke_width(4)
             } else {
@@ -83,10 +89,14 @@ pub(crate) fn value_map_svg(
             chart
                 .draw_series([Circle::new((s.tp_s, s.hs_m), 9, ring)])
                 .map_err(plot_err)?;
+        }
+        // labels over every disc, not under the next one
+        for s in states {
+            let value = share.get(&s.sea_state_index).copied();
             if let Some(text) = value.and_then(label) {
                 chart
                     .draw_series([EmptyElement::at((s.tp_s, s.hs_m))
-                        + Text::new(text, (12, -6), ("sans-serif", 12).into_font().color(&BLACK))])
+                        + Text::new(text, (8, -16), ("sans-serif", 11).into_font().color(&BLACK))])
                     .map_err(plot_err)?;
             }
         }
