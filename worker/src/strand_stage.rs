@@ -255,7 +255,9 @@ pub(crate) struct AxialStiffness {
     /// EA of ε = T / EA and of the fretting stress's metallic area EA / E (N).
     pub ea_n: f64,
     /// Where `ea_n` comes from: `line_type`, `measured` (by this job) or `cached` (measured
-    /// by an earlier job on the same model).
+    /// by an earlier job on the same model). Logged, not stored: a job's result does not depend
+    /// on which job measured first, nor on a resume.
+    #[serde(skip)]
     pub source: &'static str,
     /// EA of the global line type at the hot spot (N).
     pub line_type_ea_n: f64,
@@ -321,6 +323,7 @@ pub(crate) fn axial_stiffness(
             (ea, "measured")
         }
     };
+    tracing::info!(ea_n, source, "axial stiffness EA of the strand model");
     Ok(AxialStiffness {
         rule,
         ea_n,
