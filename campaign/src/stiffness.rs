@@ -107,23 +107,29 @@ impl StiffnessCache {
         (entry.ea_n.is_finite() && entry.ea_n > 0.0).then_some(entry.ea_n)
     }
 
-    /// Stores `ea_n` measured at `strain`, through a temporary file beside the entry and a
-    /// rename, so that a reader never sees a partial entry.
+    /// Stores `ea_n` measured at `strain` ([`replace_file`]).
     pub fn put(&self, ea_n: f64, strain: f64) -> std::io::Result<()> {
         let entry = CachedStiffness {
             ea_n,
             measured_at_strain: strain,
             model: self.description.clone(),
         };
-        if let Some(dir) = self.file.parent() {
-            std::fs::create_dir_all(dir)?;
-        }
-        let mut tmp = self.file.as_os_str().to_owned();
-        tmp.push(format!(".tmp-{}", std::process::id()));
-        let tmp = PathBuf::from(tmp);
-        std::fs::write(&tmp, serde_json::to_vec_pretty(&entry)?)?;
-        std::fs::rename(&tmp, &self.file)
+        replace_file(&self.file, &serde_json::to_vec_pretty(&entry)?)
     }
+}
+
+/// Replaces `path` by `bytes` (creating its directory) through a temporary file beside it,
+/// named by the process, and a rename, so that a reader never sees a partial file and two
+/// processes writing the same entry do not share a temporary file.
+pub fn replace_file(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(format!(".tmp-{}", std::process::id()));
+    let tmp = PathBuf::from(tmp);
+    std::fs::write(&tmp, bytes)?;
+    std::fs::rename(&tmp, path)
 }
 
 #[cfg(test)]

@@ -42,7 +42,7 @@ use anyhow::{anyhow, bail, Context};
 use clap::Args;
 use moorfret_campaign::fatigue::RunInDetection;
 use moorfret_campaign::spec::{DEFAULT_CHECKPOINT_SEGMENTS, MAX_STRAND_THREADS};
-use moorfret_campaign::stiffness::{StiffnessCache, STIFFNESS_STRAIN};
+use moorfret_campaign::stiffness::{replace_file, StiffnessCache, STIFFNESS_STRAIN};
 use moorfret_solver::contact::NormalLaw;
 use moorfret_solver::fretting::ContactRecord;
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
@@ -625,16 +625,6 @@ fn peaks_by_interface(contacts: &[ContactRecord]) -> BTreeMap<String, InterfaceP
         p.slip_cycles += c.slip_cycle_count();
     }
     out
-}
-
-/// Replaces `path` by `bytes` through a temporary file beside it and a rename, so that a
-/// reader never sees a partial file.
-fn replace_file(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(format!(".tmp-{}", std::process::id()));
-    let tmp = PathBuf::from(tmp);
-    std::fs::write(&tmp, bytes)?;
-    std::fs::rename(&tmp, path)
 }
 
 /// EA for a tension history: given (`--axial-stiffness-n`), from the cache, or measured on

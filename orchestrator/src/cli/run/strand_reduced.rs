@@ -14,6 +14,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail, Context};
 use clap::Args;
+use moorfret_campaign::stiffness::replace_file;
 use moorfret_solver::strand::history::{HistoryObserver, HistoryOptions, LoadSample};
 use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::Strand;
@@ -127,18 +128,6 @@ fn cached(dir: &Path, range: &LoadRange) -> Option<(PathBuf, ReducedStrand)> {
         }
     }
     best.map(|(_, p, r)| (p, r))
-}
-
-/// Writes `bytes` to `path` through a temporary file and a rename.
-fn replace_file(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir)?;
-    }
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".tmp");
-    let tmp = PathBuf::from(tmp);
-    std::fs::write(&tmp, bytes)?;
-    std::fs::rename(&tmp, path)
 }
 
 /// What a run needs to find or make a calibration.
