@@ -41,6 +41,30 @@ pub enum TangentialLaw {
     Mindlin,
 }
 
+/// The contact laws a model is given: its regularisation. The friction coefficient and the
+/// elastic constants are the wires' own, which the strand model adds
+/// ([`ContactParameters::with_material`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactLaws {
+    /// Normal law.
+    pub normal: NormalLaw,
+    /// Tangential law.
+    pub tangential: TangentialLaw,
+}
+
+impl Default for ContactLaws {
+    /// The seed's regularisation for comparison with the analytical solution (Sec. 2.2:
+    /// ε_N = 2e5 N/mm, γ_e = 1e-4 mm).
+    fn default() -> Self {
+        let p = ContactParameters::default();
+        Self {
+            normal: p.normal,
+            tangential: p.tangential,
+        }
+    }
+}
+
 /// Parameters shared by the contacts of a model.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -104,6 +128,23 @@ pub enum ContactError {
 }
 
 impl ContactParameters {
+    /// The parameters of contacts with `laws` between wires of friction coefficient μ, Young's
+    /// modulus E (Pa) and Poisson's ratio ν.
+    pub fn with_material(
+        laws: ContactLaws,
+        friction_coefficient: f64,
+        young_modulus_pa: f64,
+        poisson_ratio: f64,
+    ) -> Self {
+        Self {
+            normal: laws.normal,
+            tangential: laws.tangential,
+            friction_coefficient,
+            young_modulus_pa,
+            poisson_ratio,
+        }
+    }
+
     /// Checks every field; the error names the field.
     pub fn validate(&self) -> Result<(), ContactError> {
         let bad = |field, value, reason| {

@@ -22,4 +22,4 @@ pub use element::{
     ContactHistory, ContactPair, ContactResponse, ContactStatus, ElementMatrix, ElementVector,
     NodeKinematics,
 };
-pub use laws::{ContactError, ContactParameters, NormalLaw, TangentialLaw};
+pub use laws::{ContactError, ContactLaws, ContactParameters, NormalLaw, TangentialLaw};

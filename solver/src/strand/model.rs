@@ -24,7 +24,8 @@ use super::profile::Strand;
 use crate::beam::frame::{BeamFrame, DofMap, NodeId, NODE_DOFS};
 use crate::beam::section::BeamSection;
 use crate::contact::{
-    ContactHistory, ContactPair, ContactParameters, NodeKinematics, NormalLaw, TangentialLaw,
+    ContactHistory, ContactLaws, ContactPair, ContactParameters, NodeKinematics, NormalLaw,
+    TangentialLaw,
 };
 use crate::linalg::{
     Equation, FactorPrecision, GmresParams, LinalgError, SparsePattern, SplitSolver, Storage,
@@ -56,8 +57,8 @@ pub struct StrandModelParameters {
     pub mesh: MeshParameters,
     /// Contact detection.
     pub search: ContactSearchParameters,
-    /// Contact laws (the friction coefficient and elastic constants are taken from the strand).
-    pub contact: ContactParameters,
+    /// Contact laws (the friction coefficient and elastic constants are the strand's).
+    pub contact: ContactLaws,
     /// End-tie translational penalty as a multiple of the wire's EA / (shortest element).
     pub end_penalty_factor: f64,
     /// Initial interference given to every contact (m).
@@ -71,7 +72,7 @@ impl Default for StrandModelParameters {
         Self {
             mesh: MeshParameters::default(),
             search: ContactSearchParameters::default(),
-            contact: ContactParameters::default(),
+            contact: ContactLaws::default(),
             end_penalty_factor: 1e3,
             initial_interference_m: 1e-9,
             ends: EndKind::PenaltyTies,
@@ -90,12 +91,11 @@ impl StrandModelParameters {
         ends: EndKind,
     ) -> Self {
         Self {
-            contact: ContactParameters {
+            contact: ContactLaws {
                 normal: NormalLaw::Penalty {
                     stiffness_n_per_m: normal_penalty_n_per_m,
                 },
                 tangential: TangentialLaw::ElasticSlip { elastic_slip_m },
-                ..ContactParameters::default()
             },
             ends,
             ..Self::default()
@@ -211,10 +211,8 @@ impl StrandModel {
             .collect();
         let dofs = DofMap::new(frame.node_count(), &constraints)?;
 
-        let mut contact_params = params.contact;
-        contact_params.friction_coefficient = strand.friction_coefficient;
-        contact_params.young_modulus_pa = e;
-        contact_params.poisson_ratio = nu;
+        let contact_params =
+            ContactParameters::with_material(params.contact, strand.friction_coefficient, e, nu);
         contact_params
             .validate()
             .map_err(|source| StrandModelError::Contact {

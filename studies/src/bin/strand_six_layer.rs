@@ -13,7 +13,7 @@
 
 use std::time::Instant;
 
-use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
+use moorfret_solver::contact::{ContactLaws, NormalLaw, TangentialLaw};
 use moorfret_solver::linalg::{
     solve_load_path, GmresParams, NewtonParams, NewtonStats, NewtonWorkspace, SplitSolver,
 };
@@ -92,11 +92,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             Ok("ties") => EndKind::PenaltyTies,
             _ => EndKind::Periodic,
         },
-        contact: ContactParameters {
-            normal,
-            tangential,
-            ..ContactParameters::default()
-        },
+        contact: ContactLaws { normal, tangential },
         ..StrandModelParameters::default()
     };
     let model = StrandModel::new(&strand, &params)?;

@@ -4,7 +4,7 @@
 //!
 //! `cargo run -p moorfret-studies --bin strand_stick_study`
 
-use moorfret_solver::contact::{ContactParameters, NormalLaw, TangentialLaw};
+use moorfret_solver::contact::{ContactLaws, NormalLaw, TangentialLaw};
 use moorfret_solver::linalg::{solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace};
 use moorfret_solver::strand::analytical::stick_force_variation;
 use moorfret_solver::strand::contacts::ContactSearchParameters;
@@ -115,14 +115,13 @@ fn study(v: &Variant, kappa: f64) {
         search.core_line_spacing_m = s;
     }
     let params = StrandModelParameters {
-        contact: ContactParameters {
+        contact: ContactLaws {
             normal: NormalLaw::Penalty {
                 stiffness_n_per_m: v.penalty,
             },
             tangential: TangentialLaw::ElasticSlip {
                 elastic_slip_m: v.gamma,
             },
-            ..ContactParameters::default()
         },
         mesh,
         search,
