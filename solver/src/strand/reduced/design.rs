@@ -15,13 +15,6 @@
 //! stretch is sampled at the sub-steps the FE
 //! history run will solve (`ceil(max(|Δε|/Δε_max, |Δκ|/Δκ_max))` equal parts), so the
 //! calibration sees every solved state and nothing interpolated. Times are one second apart.
-//!
-//! The path is cut into [`DesignParams::parts`] independent histories, each initialised at the
-//! same start: part `p` visits the tension levels `j` with `j mod parts = p`, and the corners go
-//! to the part with the fewest samples. The parts are separate FE runs that the calibration
-//! solves side by side (the FE history run of one strand barely gains from a second thread; two
-//! runs use two cores). The parts, not the threads, set the design, so a calibration does not
-//! depend on how many threads solved it.
 
 use super::{LoadRange, LoadScaling};
 use crate::strand::history::{HistoryOptions, LoadSample};
@@ -35,8 +28,6 @@ pub struct DesignParams {
     pub amplitudes: Vec<f64>,
     /// Cycles per amplitude (≥ 1).
     pub cycles: usize,
-    /// Independent FE histories the path is cut into (≥ 1, at most `tension_levels`).
-    pub parts: usize,
 }
 
 impl Default for DesignParams {
@@ -45,7 +36,6 @@ impl Default for DesignParams {
             tension_levels: 4,
             amplitudes: vec![1.0, 0.6, 0.35, 0.2, 0.1, 0.05, 0.02],
             cycles: 2,
-            parts: 2,
         }
     }
 }
@@ -63,122 +53,78 @@ pub fn design_strain_floor(range: &LoadRange) -> f64 {
     range.strain[0].max(MIN_STRAIN_FRACTION * range.strain[1])
 }
 
-/// The start of every part: the middle tension and the smallest curvature (module docs).
-const START: (f64, f64, f64) = (0.0, -1.0, 1.0);
-
-/// The vertices of tension level `j` of `levels` in scaled coordinates, from its start at
-/// zero curvature (module docs).
-fn level_vertices(params: &DesignParams, levels: usize, j: usize) -> Vec<(f64, f64, f64)> {
-    // midpoints of `levels` equal bins: the extremes of the range are reached by the
-    // largest cycles and the corners, not held (at the smallest tension of a campaign,
-    // a near-slack instant, the strand barely carries its contacts and the FE crawls)
-    let xj = -1.0 + (2 * j + 1) as f64 / levels as f64;
-    let mut v = vec![(xj, 0.0, 1.0)];
-    for &a in &params.amplitudes {
-        for _ in 0..params.cycles.max(1) {
-            v.push((xj, a, a));
-            v.push((xj, -a, a));
-        }
-    }
-    v.push((xj, 0.0, 1.0));
-    for &a in &params.amplitudes {
-        for _ in 0..params.cycles.max(1) {
-            v.push(((xj + a).min(1.0), 0.0, a));
-            v.push(((xj - a).max(-1.0), 0.0, a));
-        }
-    }
-    v.push((xj, 0.0, 1.0));
-    for &a in params.amplitudes.iter().take(2) {
-        for sign in [1.0, -1.0] {
+/// The vertices of the path in scaled coordinates (module docs).
+pub(crate) fn design_vertices(params: &DesignParams) -> Vec<(f64, f64, f64)> {
+    let levels = params.tension_levels.max(2);
+    // start (and so initialise the FE model) at the middle tension and the smallest
+    // curvature: the FE initialisation bends the strand at a tenth of the first tension, which
+    // at the range's middle curvature costs minutes on the six-layer strand
+    let mut v = vec![(0.0, -1.0, 1.0)];
+    for j in 0..levels {
+        // midpoints of `levels` equal bins: the extremes of the range are reached by the
+        // largest cycles and the corners, not held (at the smallest tension of a campaign,
+        // a near-slack instant, the strand barely carries its contacts and the FE crawls)
+        let xj = -1.0 + (2 * j + 1) as f64 / levels as f64;
+        v.push((xj, 0.0, 1.0));
+        for &a in &params.amplitudes {
             for _ in 0..params.cycles.max(1) {
-                v.push(((xj + a).min(1.0), sign * a, a));
-                v.push(((xj - a).max(-1.0), -sign * a, a));
+                v.push((xj, a, a));
+                v.push((xj, -a, a));
             }
         }
+        v.push((xj, 0.0, 1.0));
+        for &a in &params.amplitudes {
+            for _ in 0..params.cycles.max(1) {
+                v.push(((xj + a).min(1.0), 0.0, a));
+                v.push(((xj - a).max(-1.0), 0.0, a));
+            }
+        }
+        v.push((xj, 0.0, 1.0));
+        for &a in params.amplitudes.iter().take(2) {
+            for sign in [1.0, -1.0] {
+                for _ in 0..params.cycles.max(1) {
+                    v.push(((xj + a).min(1.0), sign * a, a));
+                    v.push(((xj - a).max(-1.0), -sign * a, a));
+                }
+            }
+        }
+        v.push((xj, 0.0, 1.0));
     }
-    v.push((xj, 0.0, 1.0));
+    v.extend([
+        (-1.0, -1.0, 1.0),
+        (1.0, -1.0, 1.0),
+        (1.0, 1.0, 1.0),
+        (-1.0, 1.0, 1.0),
+        (-1.0, -1.0, 1.0),
+    ]);
     v
 }
 
-/// The corners of the range, from the lowest tension and curvature.
-const CORNERS: [(f64, f64, f64); 5] = [
-    (-1.0, -1.0, 1.0),
-    (1.0, -1.0, 1.0),
-    (1.0, 1.0, 1.0),
-    (-1.0, 1.0, 1.0),
-    (-1.0, -1.0, 1.0),
-];
-
-/// The vertices of every part's path in scaled coordinates, corners not yet placed (module
-/// docs). Every part starts at [`START`], where the FE initialisation is cheap: it bends the
-/// strand at a tenth of the first tension, which at the range's middle curvature costs minutes
-/// on the six-layer strand.
-fn part_vertices(params: &DesignParams) -> Vec<Vec<(f64, f64, f64)>> {
-    let levels = params.tension_levels.max(2);
-    let parts = params.parts.clamp(1, levels);
-    (0..parts)
-        .map(|p| {
-            let mut v = vec![START];
-            for j in (p..levels).step_by(parts) {
-                v.extend(level_vertices(params, levels, j));
-            }
-            v
-        })
-        .collect()
-}
-
-/// The designed histories of every part over `range`, sampled at the sub-steps of `options`
-/// (module docs).
-pub fn design_histories(
+/// The designed history over `range`, sampled at the sub-steps of `options`.
+pub fn design_history(
     range: &LoadRange,
     params: &DesignParams,
     options: &HistoryOptions,
-) -> Vec<Vec<LoadSample>> {
-    design_histories_weighted(range, params, options)
+) -> Vec<LoadSample> {
+    design_history_weighted(range, params, options)
         .into_iter()
-        .map(|part| part.into_iter().map(|(s, _)| s).collect())
+        .map(|(s, _)| s)
         .collect()
 }
 
-/// [`design_histories`] with the least-squares weight of every sample: 1/A² for a sample on a
+/// [`design_history`] with the least-squares weight of every sample: 1/A² for a sample on a
 /// stroke of a cycle of amplitude A, so that the small cycles, which most contacts of a mild
 /// sea state see in stick, weigh in the fit like the large sliding ones relative to their size.
-pub(crate) fn design_histories_weighted(
+pub(crate) fn design_history_weighted(
     range: &LoadRange,
     params: &DesignParams,
     options: &HistoryOptions,
-) -> Vec<Vec<(LoadSample, f64)>> {
+) -> Vec<(LoadSample, f64)> {
     let scaling = LoadScaling::of(range);
     let x_floor = scaling.scaled(design_strain_floor(range), 0.0).0;
-    let mut parts = part_vertices(params);
-    let sampled: Vec<usize> = parts
-        .iter()
-        .map(|v| sample_path(v, &scaling, x_floor, options).len())
-        .collect();
-    // the corners go to the part with the fewest samples (the first of equals)
-    let lightest = (0..parts.len())
-        .min_by_key(|&p| sampled[p])
-        .unwrap_or_default();
-    if let Some(part) = parts.get_mut(lightest) {
-        part.extend(CORNERS);
-    }
-    parts
-        .iter()
-        .map(|v| sample_path(v, &scaling, x_floor, options))
-        .collect()
-}
-
-/// A path of scaled vertices `(x, y, A)`, with its tension kept above `x_floor`, sampled at the
-/// sub-steps of `options` with the weight 1/A² of each stroke's cycle (times 1 s apart).
-fn sample_path(
-    vertices: &[(f64, f64, f64)],
-    scaling: &LoadScaling,
-    x_floor: f64,
-    options: &HistoryOptions,
-) -> Vec<(LoadSample, f64)> {
-    let vertices: Vec<(f64, f64, f64)> = vertices
-        .iter()
-        .map(|&(x, y, a)| (x.max(x_floor), y, a))
+    let vertices: Vec<(f64, f64, f64)> = design_vertices(params)
+        .into_iter()
+        .map(|(x, y, a)| (x.max(x_floor), y, a))
         .collect();
     let mut out: Vec<(LoadSample, f64)> = Vec::new();
     let push =
@@ -237,9 +183,7 @@ mod tests {
             curvature_per_m: [1e-3, 1.8e-2],
         };
         let opts = HistoryOptions::default();
-        let parts = design_histories(&range, &DesignParams::default(), &opts);
-        assert_eq!(parts.len(), 2);
-        let h: Vec<LoadSample> = parts.iter().flatten().copied().collect();
+        let h = design_history(&range, &DesignParams::default(), &opts);
         let got = LoadRange::of(&h).expect("samples");
         assert!(design_strain_floor(&range) == range.strain[0]);
         for (a, b) in got
@@ -253,7 +197,7 @@ mod tests {
                 "{got:?} vs {range:?}"
             );
         }
-        for w in parts.iter().flat_map(|p| p.windows(2)) {
+        for w in h.windows(2) {
             assert!(w[1].time_s > w[0].time_s);
             assert!((w[1].strain - w[0].strain).abs() <= opts.max_substep_strain * (1.0 + 1e-12));
             assert!(
@@ -261,52 +205,5 @@ mod tests {
                     <= opts.max_substep_curvature_per_m * (1.0 + 1e-12)
             );
         }
-    }
-
-    #[test]
-    fn the_parts_share_their_start_and_split_the_levels() {
-        let range = LoadRange {
-            strain: [2e-4, 1.2e-3],
-            curvature_per_m: [1e-3, 1.8e-2],
-        };
-        let opts = HistoryOptions::default();
-        let one = DesignParams {
-            parts: 1,
-            ..DesignParams::default()
-        };
-        let single = design_histories(&range, &one, &opts);
-        let split = design_histories(&range, &DesignParams::default(), &opts);
-        assert_eq!((single.len(), split.len()), (1, 2));
-        // every part starts where the single path starts, at the middle tension and the
-        // smallest curvature, and keeps its own time axis
-        for part in &split {
-            assert_eq!(part[0].strain, single[0][0].strain);
-            assert_eq!(part[0].curvature_per_m, single[0][0].curvature_per_m);
-            assert!(part.iter().enumerate().all(|(i, s)| s.time_s == i as f64));
-        }
-        // the parts hold the single path's strokes: the same samples but for the strokes from
-        // the start to each part's first level and between its levels
-        let (n1, n2) = (single[0].len(), split[0].len() + split[1].len());
-        assert!(
-            n2.abs_diff(n1) * 20 < n1,
-            "{n1} samples in one part, {n2} in two"
-        );
-        // each part visits its own tension levels: levels 0 and 2 in part 0, 1 and 3 in part 1
-        let anchors = |part: &[(f64, f64, f64)]| {
-            let mut x: Vec<f64> = part
-                .iter()
-                .filter(|&&(_, y, a)| y == 0.0 && a == 1.0)
-                .map(|&(x, _, _)| x)
-                .collect();
-            x.dedup();
-            x
-        };
-        // (without a cycle of amplitude 1, the only vertices (x, 0) of weight 1 are the levels)
-        let parts = part_vertices(&DesignParams {
-            amplitudes: vec![0.5, 0.2],
-            ..DesignParams::default()
-        });
-        assert_eq!(anchors(&parts[0]), vec![-0.75, 0.25]);
-        assert_eq!(anchors(&parts[1]), vec![-0.25, 0.75]);
     }
 }

@@ -44,14 +44,6 @@ impl ForceSums {
         self.yy += w * y * y;
         self.sum += w * y;
     }
-
-    fn merge(&mut self, other: &Self) {
-        for (r, o) in self.rhs.iter_mut().zip(&other.rhs) {
-            *r += o;
-        }
-        self.yy += other.yy;
-        self.sum += other.sum;
-    }
 }
 
 /// Load features of the drive: `ψ = [x, y, x y, 1]`.
@@ -137,37 +129,6 @@ impl FitAccumulator {
             normal: vec![ForceSums::default(); contacts],
             drive: vec![DriveSums::default(); contacts],
             elements: vec![ForceSums::default(); elements],
-        }
-    }
-
-    /// Adds the sums of `other` (samples of another run of the same contacts and channels).
-    pub fn merge(&mut self, other: &Self) {
-        self.force_gram += other.force_gram;
-        self.drive_gram += other.drive_gram;
-        self.samples += other.samples;
-        self.weight += other.weight;
-        for (a, b) in self.normal.iter_mut().zip(&other.normal) {
-            a.merge(b);
-        }
-        for (a, b) in self.elements.iter_mut().zip(&other.elements) {
-            a.merge(b);
-        }
-        for (a, b) in self.drive.iter_mut().zip(&other.drive) {
-            for (ra, rb) in a.psi_u.iter_mut().zip(&b.psi_u) {
-                ra[0] += rb[0];
-                ra[1] += rb[1];
-            }
-            for (x, y) in a.uu.iter_mut().zip(&b.uu) {
-                *x += y;
-            }
-            for (x, y) in a.psi_s.iter_mut().zip(&b.psi_s) {
-                *x += y;
-            }
-            for (x, y) in a.us.iter_mut().zip(&b.us) {
-                *x += y;
-            }
-            a.ss += b.ss;
-            a.s_sum += b.s_sum;
         }
     }
 

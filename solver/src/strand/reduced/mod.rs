@@ -28,8 +28,7 @@
 //!
 //! [`calibrate`] drives the FE model through a designed load history ([`design`]: curvature,
 //! tension and combined cycles of decreasing amplitude at several tension levels over the
-//! requested [`LoadRange`], cut into independent parts that separate FE runs solve side by
-//! side), and fits per contact, by linear least squares on every sample,
+//! requested [`LoadRange`]), and fits per contact, by linear least squares on every sample,
 //! weighted by the inverse square of its cycle's amplitude ([`design`], [`fit`]): `f_N` on the
 //! six quadratic load features, and `(a, b, e, c, g₀, g₁)` on the structure equation with the FE's `s` and `f_T` (the compliance refitted constant, then zero,
 //! if the fit makes it negative on the range). Wire axial forces of the monitor channels are
@@ -403,11 +402,8 @@ pub struct InterfaceFit {
 /// calibration run (in-sample; the held-out error is measured separately).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CalibrationReport {
-    /// Samples of the designed history, all parts.
+    /// Samples of the designed history.
     pub design_samples: usize,
-    /// Independent FE runs the designed history was cut into ([`design`]).
-    #[serde(default = "one_part")]
-    pub design_parts: usize,
     /// FE sub-steps solved (initialisation included).
     pub fe_substeps: usize,
     /// Newton iterations of the FE run.
@@ -418,10 +414,6 @@ pub struct CalibrationReport {
     pub fits: Vec<InterfaceFit>,
     /// The designed history replayed through the reduced model against the FE run.
     pub replay: Vec<compare::InterfaceComparison>,
-}
-
-fn one_part() -> usize {
-    1
 }
 
 /// A reduced strand response: the fitted laws of every contact of one FE model, the range they

@@ -100,7 +100,6 @@ fn a_load_outside_the_calibrated_range_is_refused_with_the_range() {
         channels: Vec::new(),
         element_fits: Vec::new(),
         calibration: CalibrationReport {
-            design_parts: 1,
             design_samples: 0,
             fe_substeps: 0,
             fe_iterations: 0,
