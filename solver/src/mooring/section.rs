@@ -11,10 +11,8 @@
 //! (m − ρ_w V) g, with V its displaced volume when given and m / ρ_steel (steel) otherwise; its
 //! own drag and added mass are neglected.
 
+use super::catenary::STEEL_DENSITY_KG_M3;
 use super::spec::{Environment, LineTypeSpec, SegmentSpec};
-
-/// Density of steel used for the buoyancy of extra masses (kg/m³).
-pub(crate) const STEEL_DENSITY_KG_M3: f64 = 7850.0;
 
 /// How a segment is discretised.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

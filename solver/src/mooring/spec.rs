@@ -83,7 +83,7 @@ impl SegmentSpec {
         let mass_kg = self.extra_mass_kg.unwrap_or(0.0);
         let volume_m3 = self
             .extra_volume_m3
-            .unwrap_or(mass_kg / super::section::STEEL_DENSITY_KG_M3);
+            .unwrap_or(mass_kg / super::catenary::STEEL_DENSITY_KG_M3);
         (mass_kg - env.water_density_kg_m3 * volume_m3) * env.gravity_m_s2
     }
 }
