@@ -118,18 +118,22 @@ impl StiffnessCache {
     }
 }
 
-/// Replaces `path` by `bytes` (creating its directory) through a temporary file beside it,
-/// named by the process, and a rename, so that a reader never sees a partial file and two
-/// processes writing the same entry do not share a temporary file.
+/// Replaces `path` by `bytes` (creating its directory) through a temporary file beside it and
+/// a rename, so that a reader never sees a partial file. The temporary name is random: two
+/// writers of the same file (a swept worker and its job's new claimant, possibly on another
+/// host sharing the directory) never share one. It is removed if the write fails.
 pub fn replace_file(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir)?;
     }
     let mut tmp = path.as_os_str().to_owned();
-    tmp.push(format!(".tmp-{}", std::process::id()));
+    tmp.push(format!(".{}.tmp", uuid::Uuid::new_v4()));
     let tmp = PathBuf::from(tmp);
-    std::fs::write(&tmp, bytes)?;
-    std::fs::rename(&tmp, path)
+    let written = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written
 }
 
 #[cfg(test)]

@@ -49,7 +49,9 @@ use crate::gate::{auto_fe_selection, unselected_fe_result, GateContext};
 use crate::global_stage::series_role;
 use crate::series::HotSpotSeries;
 use moorfret_campaign::resolve::hot_spot_line_type;
-use moorfret_campaign::stiffness::{AxialStiffnessRule, StiffnessCache, STIFFNESS_STRAIN};
+use moorfret_campaign::stiffness::{
+    replace_file, AxialStiffnessRule, StiffnessCache, STIFFNESS_STRAIN,
+};
 use moorfret_campaign::{CampaignInputs, StrandPayload};
 use moorfret_store::{
     damage_rows, ArtifactStore, ContactStatistics, FailureClass, JobFailure, JobResults, Lease,
@@ -166,17 +168,9 @@ impl CheckpointWriter<'_> {
             .artifacts
             .put("checkpoint", &bytes)
             .map_err(|e| e.to_string())?;
-        let dir = pointer.parent().unwrap_or(self.artifacts.dir());
-        std::fs::create_dir_all(dir).map_err(|e| e.to_string())?;
-        // A temp name of its own: a worker whose lease was swept away may still be writing
-        // the same job's pointer while its new claimant does.
-        let tmp = pointer.with_extension(format!("{}.tmp", uuid::Uuid::new_v4()));
-        let renamed = std::fs::write(&tmp, artifact.sha256.as_bytes())
-            .and_then(|()| std::fs::rename(&tmp, pointer));
-        if let Err(e) = renamed {
-            let _ = std::fs::remove_file(&tmp);
-            return Err(e.to_string());
-        }
+        // a worker whose lease was swept away may still be writing the same job's pointer
+        // while its new claimant does: `replace_file` gives each its own temporary file
+        replace_file(pointer, artifact.sha256.as_bytes()).map_err(|e| e.to_string())?;
         self.written += 1;
         Ok(())
     }
@@ -603,8 +597,9 @@ mod tests {
 
     /// The `strand_model` rule measures EA on the campaign's strand model once per artifact
     /// directory (the solver's measurement, to the bit) and the next job reads it back;
-    /// `line_type` takes the line type's EA. On the demo's 1+6+1 strand, whose contacts carry little, the measured EA lies just
-    /// below the straight-strand estimate E (A_core + Σ n A cos³β) (docs/strand-runs.md: −0.8 %).
+    /// `line_type` takes the line type's EA. On the demo's 1+6+1 strand, whose contacts carry
+    /// little, the measured EA lies just below the straight-strand estimate
+    /// E (A_core + Σ n A cos³β) (docs/strand-runs.md: −0.8 %).
     #[test]
     fn the_strand_model_rule_measures_ea_once_and_line_type_takes_the_line_types() {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns/demo.json");
