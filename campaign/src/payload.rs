@@ -97,6 +97,11 @@ pub struct CalibratePayload {
     pub hot_spot_index: usize,
     /// Cache keys of the global jobs whose hot-spot series set the load range.
     pub global_cache_keys: Vec<String>,
+    /// A check: cache key of the calibration job this one keeps if that calibration's range
+    /// covers the load range of `global_cache_keys`; otherwise this job calibrates over it
+    /// (`strand.calibration_hs_fraction`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub check_of: Option<String>,
 }
 
 impl CampaignInputs {

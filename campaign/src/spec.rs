@@ -191,6 +191,17 @@ pub struct StrandSpec {
         skip_serializing_if = "is_default_calibration_margin"
     )]
     pub calibration_margin: f64,
+    /// When the calibration of the reduced response starts (`reduced`, `auto`): once the
+    /// first-seed global jobs of the sea states with Hs at least this fraction of the
+    /// diagram's largest are done, over their load range widened by `calibration_margin`,
+    /// side by side with the other global jobs. A check after every global job keeps that
+    /// calibration if its range covers every global job's load, and calibrates again over all
+    /// of them if not. 0 waits for every global job (one calibration, no check).
+    #[serde(
+        default = "default_calibration_hs_fraction",
+        skip_serializing_if = "is_default_calibration_hs_fraction"
+    )]
+    pub calibration_hs_fraction: f64,
     /// EA of the tension → strain conversion ([`crate::stiffness`]): `strand_model` or
     /// `line_type`. A campaign file without it takes `strand_model`, and the resolved campaign
     /// stores that choice; stored inputs without it belong to campaigns planned before the
@@ -214,6 +225,14 @@ fn default_calibration_margin() -> f64 {
 
 fn is_default_calibration_margin(m: &f64) -> bool {
     *m == default_calibration_margin()
+}
+
+fn default_calibration_hs_fraction() -> f64 {
+    0.5
+}
+
+fn is_default_calibration_hs_fraction(f: &f64) -> bool {
+    *f == default_calibration_hs_fraction()
 }
 
 /// End conditions of the helical wires of the strand model.
@@ -504,6 +523,14 @@ impl CampaignSpec {
                 "must be in [0, 1]",
             ));
         }
+        let f = st.calibration_hs_fraction;
+        if !(f.is_finite() && (0.0..=1.0).contains(&f)) {
+            return Err(invalid(
+                "strand.calibration_hs_fraction",
+                f,
+                "must be in [0, 1]",
+            ));
+        }
         if !(1..=MAX_STRAND_THREADS).contains(&st.threads) {
             return Err(invalid(
                 "strand.threads",
@@ -695,6 +722,14 @@ mod tests {
             (
                 serde_json::json!({"calibration_margin": -0.1}),
                 "strand.calibration_margin",
+            ),
+            (
+                serde_json::json!({"calibration_hs_fraction": 1.5}),
+                "strand.calibration_hs_fraction",
+            ),
+            (
+                serde_json::json!({"calibration_hs_fraction": -0.2}),
+                "strand.calibration_hs_fraction",
             ),
         ];
         for (strand, field) in cases {

@@ -207,26 +207,60 @@ pub fn jobs(
         );
         return out;
     }
-    let global_keys: Vec<String> = globals.iter().map(|g| g.3.clone()).collect();
-    let global_indices: Vec<usize> = globals.iter().map(|g| g.0).collect();
-    let mut calibrations = Vec::with_capacity(hot_spots);
-    for hot_spot_index in 0..hot_spots {
-        let payload = CalibratePayload {
-            hot_spot_index,
-            global_cache_keys: global_keys.clone(),
-        };
+    let early = early_calibration_globals(&globals, inputs.spec.strand.calibration_hs_fraction);
+    if early.len() < globals.len() {
+        // the globals the calibration waits for run first
+        for &g in &early {
+            out[globals[g].0].priority = 1;
+        }
+    }
+    let calibration_job = |out: &mut Vec<PlannedJob>, payload: CalibratePayload, deps| {
         let json = serde_json::to_value(&payload).unwrap_or_default();
         let key = cache_key("calibrate", inputs_sha256, &json.to_string());
-        calibrations.push((out.len(), key.clone()));
         out.push(PlannedJob {
             sea_state: None,
             priority: 2,
             expected_cost_s: CALIBRATION_COST_FRACTION * strand_cost,
             max_attempts,
-            cache_key: Some(key),
-            depends_on: global_indices.clone(),
+            cache_key: Some(key.clone()),
+            depends_on: deps,
             ..PlannedJob::new(JobKind::Calibrate, json)
         });
+        (out.len() - 1, key)
+    };
+    let keys_of = |set: &mut dyn Iterator<Item = usize>| -> (Vec<usize>, Vec<String>) {
+        set.map(|g| (globals[g].0, globals[g].3.clone())).unzip()
+    };
+    let (global_indices, global_keys) = keys_of(&mut (0..globals.len()));
+    let mut calibrations = Vec::with_capacity(hot_spots);
+    for hot_spot_index in 0..hot_spots {
+        let everything = CalibratePayload {
+            hot_spot_index,
+            global_cache_keys: global_keys.clone(),
+            check_of: None,
+        };
+        if early.len() == globals.len() {
+            calibrations.push(calibration_job(
+                &mut out,
+                everything,
+                global_indices.clone(),
+            ));
+            continue;
+        }
+        let (early_indices, early_keys) = keys_of(&mut early.iter().copied());
+        let first = CalibratePayload {
+            hot_spot_index,
+            global_cache_keys: early_keys,
+            check_of: None,
+        };
+        let (first_index, first_key) = calibration_job(&mut out, first, early_indices);
+        let check = CalibratePayload {
+            check_of: Some(first_key),
+            ..everything
+        };
+        let mut deps = global_indices.clone();
+        deps.push(first_index);
+        calibrations.push(calibration_job(&mut out, check, deps));
     }
     let mut reduced_of_hot_spot = vec![Vec::with_capacity(globals.len()); hot_spots];
     for (global_index, id, global, global_key) in &globals {
@@ -272,6 +306,25 @@ pub fn jobs(
         &calibrations,
     );
     out
+}
+
+/// The first-seed global jobs (positions in `globals`) whose load range the calibration of
+/// the reduced response starts from: those of the sea states with Hs ≥ `hs_fraction` × the
+/// largest Hs, and those of the smallest Hs (every one with 0). The largest seas set the
+/// dynamic extremes of tension and curvature; the mildest sit at the mooring's static
+/// equilibrium, where the hot spot's tension is lowest on average and, near the touch-down,
+/// its curvature highest (a short demo campaign's mild cell reaches 1.6× the curvature of its
+/// largest seas). The others run beside the calibration; a check job tests them against it.
+fn early_calibration_globals(
+    globals: &[(usize, SeaStateId, GlobalPayload, String)],
+    hs_fraction: f64,
+) -> Vec<usize> {
+    let hs = |g: usize| globals[g].2.hs_m;
+    let largest = (0..globals.len()).map(hs).fold(0.0, f64::max);
+    let smallest = (0..globals.len()).map(hs).fold(f64::INFINITY, f64::min);
+    (0..globals.len())
+        .filter(|&g| hs(g) >= hs_fraction * largest || hs(g) == smallest)
+        .collect()
 }
 
 /// The FE strand jobs of an `auto` campaign (see [`jobs`]).
@@ -466,9 +519,16 @@ mod tests {
 
     /// The demo campaign's inputs with `fidelity`, and its planned jobs over its sea states.
     fn planned(fidelity: StrandFidelity) -> Vec<PlannedJob> {
+        planned_from(fidelity, 0.0)
+    }
+
+    /// The demo campaign, two seeds per sea state, with `fidelity` and the calibration's Hs
+    /// fraction, planned.
+    fn planned_from(fidelity: StrandFidelity, hs_fraction: f64) -> Vec<PlannedJob> {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns/demo.json");
         let mut resolved = moorfret_campaign::resolve(&path).unwrap();
         resolved.inputs.spec.strand.fidelity = fidelity;
+        resolved.inputs.spec.strand.calibration_hs_fraction = hs_fraction;
         let inputs = &resolved.inputs;
         let states = sea_states(&resolved.scatter, inputs.spec.scatter.reading, 2, 0, 1);
         let ids: Vec<SeaStateId> = (0..states.len() as i64).map(SeaStateId).collect();
@@ -537,6 +597,75 @@ mod tests {
         let reduced_only = planned(StrandFidelity::Reduced);
         assert_eq!(kinds(&reduced_only, JobKind::Strand), 0);
         assert_eq!(reduced_only.len(), 6 + 1 + 6);
+    }
+
+    #[test]
+    fn the_calibration_starts_from_the_largest_seas_and_a_check_follows_every_global_job() {
+        // demo: Hs 2.25, 4.25 and 6.25 m, two seeds each; with 0.9 the first calibration waits
+        // for the global jobs of Hs >= 5.625 m and of the smallest Hs only
+        let auto = planned_from(StrandFidelity::Auto, 0.9);
+        let of_kind =
+            |k: JobKind| -> Vec<usize> { (0..auto.len()).filter(|&i| auto[i].kind == k).collect() };
+        let globals = of_kind(JobKind::Global);
+        let hs = |i: usize| {
+            serde_json::from_value::<GlobalPayload>(auto[i].payload.clone())
+                .unwrap()
+                .hs_m
+        };
+        let early: Vec<usize> = globals
+            .iter()
+            .copied()
+            .filter(|&g| hs(g) > 6.0 || hs(g) < 2.5)
+            .collect();
+        assert_eq!((globals.len(), early.len()), (6, 4));
+        for &g in &globals {
+            assert_eq!(
+                auto[g].priority,
+                i64::from(early.contains(&g)),
+                "global {g}"
+            );
+        }
+        let calibrations = of_kind(JobKind::Calibrate);
+        assert_eq!(calibrations.len(), 2);
+        let (first, check) = (calibrations[0], calibrations[1]);
+        let payload = |i: usize| -> CalibratePayload {
+            serde_json::from_value(auto[i].payload.clone()).unwrap()
+        };
+        let key = |i: usize| auto[i].cache_key.clone().unwrap();
+        assert_eq!(auto[first].depends_on, early);
+        assert_eq!(
+            payload(first).global_cache_keys,
+            early.iter().map(|&g| key(g)).collect::<Vec<_>>()
+        );
+        assert_eq!(payload(first).check_of, None);
+        let mut after_all = globals.clone();
+        after_all.push(first);
+        assert_eq!(auto[check].depends_on, after_all);
+        assert_eq!(payload(check).check_of, Some(key(first)));
+        assert_eq!(payload(check).global_cache_keys.len(), 6);
+        // every reduced job reads the check's calibration
+        for (k, &i) in of_kind(JobKind::StrandReduced).iter().enumerate() {
+            assert_eq!(auto[i].depends_on, [globals[k], check]);
+            let p: StrandPayload = serde_json::from_value(auto[i].payload.clone()).unwrap();
+            assert_eq!(p.calibration_cache_key, Some(key(check)));
+        }
+        // 1: the largest and the smallest sea state; a fraction that leaves out only the
+        // smallest sea state: one calibration
+        let largest = planned_from(StrandFidelity::Reduced, 1.0);
+        let c = largest
+            .iter()
+            .position(|j| j.kind == JobKind::Calibrate)
+            .unwrap();
+        assert_eq!(largest[c].depends_on.len(), 4);
+        let all = planned_from(StrandFidelity::Reduced, 0.5);
+        assert_eq!(
+            all.iter().filter(|j| j.kind == JobKind::Calibrate).count(),
+            1
+        );
+        assert!(all
+            .iter()
+            .filter(|j| j.kind == JobKind::Global)
+            .all(|j| j.priority == 0));
     }
 
     /// The demo campaign (one seed per sea state) with `fidelity` and the extra-seed rule
@@ -615,7 +744,8 @@ mod tests {
             let extra = &jobs[plain.len()..];
             // per sea state and extra seed: a global job and one strand job (one hot spot)
             assert_eq!(extra.len(), 3 * 2 * 2, "{fidelity:?}");
-            let calibration = jobs.iter().position(|j| j.kind == JobKind::Calibrate);
+            // the extra seeds read the calibration the first seeds' reduced jobs read (the check)
+            let calibration = jobs.iter().rposition(|j| j.kind == JobKind::Calibrate);
             for (k, pair) in extra.chunks(2).enumerate() {
                 let global_index = plain.len() + 2 * k;
                 let (g, st) = (&pair[0], &pair[1]);

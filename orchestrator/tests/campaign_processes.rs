@@ -1129,13 +1129,16 @@ fn auto_campaign_settles_its_unselected_fe_jobs_and_runs_extra_seeds_reduced() {
             spec["strand"]["fidelity"] = serde_json::json!("auto");
             spec["strand"]["auto_fe"] = serde_json::json!({ "sea_states": 1 });
             spec["strand"]["contact_records"] = serde_json::json!(false);
+            spec["strand"]["calibration_hs_fraction"] = serde_json::json!(0.9);
+            spec["strand"]["calibration_margin"] = serde_json::json!(1.0);
         },
     );
     rt().block_on(async {
         let store = Store::open(&db, StoreOptions::default()).await.unwrap();
         let jobs = store.jobs_of_campaign(id).await.unwrap();
         let count = |k: JobKind| jobs.iter().filter(|j| j.kind == k).count();
-        // first seeds: 4 global, 1 calibration, 4 reduced, 4 FE; extra: 4 global, 4 reduced
+        // first seeds: 4 global, 2 calibrations (the first from Hs 2.25 and 8.25 m, the check
+        // after all four), 4 reduced, 4 FE; extra: 4 global, 4 reduced
         assert_eq!(
             (
                 count(JobKind::Global),
@@ -1143,8 +1146,26 @@ fn auto_campaign_settles_its_unselected_fe_jobs_and_runs_extra_seeds_reduced() {
                 count(JobKind::StrandReduced),
                 count(JobKind::Strand)
             ),
-            (8, 1, 8, 4)
+            (8, 2, 8, 4)
         );
+        let calibrations: Vec<_> = jobs
+            .iter()
+            .filter(|j| j.kind == JobKind::Calibrate)
+            .collect();
+        let first = store.results_of(calibrations[0].id).await.unwrap();
+        let check = store.results_of(calibrations[1].id).await.unwrap();
+        assert_eq!(first.result["global_jobs"], 2);
+        assert_eq!(check.result["global_jobs"], 4);
+        // the other two cells stay inside the range of Hs 2.25 and 8.25 m widened by the
+        // margin (30 s of Hs 8.25 m reach only 2/3 of the strain of Hs 4.25 m: without the
+        // margin the check calibrates again): kept, the same artifact, no FE run of its own
+        assert_eq!(check.result["kept"], true, "{}", check.result);
+        assert_eq!(
+            check.result["check_of"].as_str(),
+            calibrations[0].cache_key.as_deref()
+        );
+        assert_eq!(check.artifacts, first.artifacts);
+        assert!(check.result["fe_wall_time_s"].is_null());
         let (mut fe_ran, mut fe_settled) = (0, 0);
         for job in jobs.iter().filter(|j| j.kind == JobKind::Strand) {
             assert_ne!(job.payload["global"]["extra_seed"], true);

@@ -1,14 +1,17 @@
 //! The reduced strand stages of a `reduced` or `auto` campaign
 //! (`moorfret_campaign::fidelity`, `moorfret_solver::strand::reduced`).
 //!
-//! - `calibrate` (one job per hot spot, after every global job): the load range of the hot
-//!   spot over every global job of the campaign (ε = T / EA and κ, as the strand jobs load
-//!   them; under the `strand_model` rule this job measures EA first and caches it for the
-//!   reduced and FE jobs), widened by `strand.calibration_margin` on each side, and the reduced response
+//! - `calibrate` (per hot spot, once its global jobs are done): the load range of the hot spot
+//!   over its payload's global jobs (ε = T / EA and κ, as the strand jobs load them; under the
+//!   `strand_model` rule the first such job measures EA and caches it for the reduced and FE
+//!   jobs), widened by `strand.calibration_margin` on each side, and the reduced response
 //!   calibrated on the campaign's FE strand model over it. The calibration is stored as a
 //!   content-addressed artifact (`reduced_strand`); its job result holds the range, the
-//!   calibration's own report and its cost. The FE run of the calibration uses every core of
-//!   the machine: every reduced job of the hot spot waits for it.
+//!   calibration's own report and its cost. With `strand.calibration_hs_fraction` > 0 a hot
+//!   spot has two such jobs: the first over the largest seas' global jobs, which runs beside
+//!   the other global jobs, and a check (`check_of`) after every global job, which keeps the
+//!   first calibration (same artifact, no FE run) if its range covers every global job's load
+//!   and calibrates again over all of them otherwise. The reduced jobs read the check's.
 //! - `strand_reduced` (one job per sea state, seed and hot spot): the strand load of its global
 //!   job through the calibrated response; results as an FE strand job's (contact records,
 //!   contact rows, damage inputs), marked `"fidelity": "reduced"`.
@@ -27,7 +30,7 @@ use tokio::runtime::Handle;
 use crate::failure::{permanent, transient};
 use crate::strand_stage::{
     axial_stiffness, campaign_strand, model_parameters, series_of, strand_load, strand_results,
-    upstream_series, Upstream,
+    upstream_series, AxialStiffness, Upstream,
 };
 use moorfret_campaign::{CalibratePayload, CampaignInputs, StrandPayload};
 use moorfret_store::{
@@ -96,6 +99,24 @@ pub fn run_calibrate(
             "the campaign's global jobs gave no strand load samples",
         )
     })?;
+    if let Some(first) = &payload.check_of {
+        let (bytes, kept) = calibration_of(first, store, retry, artifacts, rt)?;
+        if kept.range.covers(&loads) {
+            tracing::info!(job = %lease.job, global_jobs = payload.global_cache_keys.len(),
+                "every global job's load lies within the first calibration's range: kept");
+            let kept = Kept {
+                first,
+                bytes: &bytes,
+                calibration: &kept,
+            };
+            return kept_calibration(payload, stiffness, loads, &kept, artifacts);
+        }
+        tracing::warn!(job = %lease.job, load_strain = ?loads.strain,
+            load_curvature_per_m = ?loads.curvature_per_m, calibrated_strain = ?kept.range.strain,
+            calibrated_curvature_per_m = ?kept.range.curvature_per_m,
+            "a global job's load leaves the first calibration's range: calibrating again over \
+             every global job");
+    }
     let range = loads.widened(inputs.spec.strand.calibration_margin);
     let options = calibration_options(inputs);
     tracing::info!(job = %lease.job, strain = ?range.strain, curvature_per_m = ?range.curvature_per_m,
@@ -130,20 +151,61 @@ pub fn run_calibrate(
             "threads": options.history.threads,
             "fits": c.fits,
             "replay": c.replay,
+            "check_of": payload.check_of,
         }),
         artifacts: vec![artifact],
         ..JobResults::default()
     })
 }
 
-/// The calibration of a reduced job's hot spot, from its calibration job's artifact.
+/// A first calibration that a check job keeps.
+struct Kept<'a> {
+    /// Cache key of its job.
+    first: &'a str,
+    /// Its artifact.
+    bytes: &'a [u8],
+    calibration: &'a ReducedStrand,
+}
+
+/// The result of a check job that keeps the first calibration: the same artifact, the load
+/// range of every global job, and no FE run of its own.
+fn kept_calibration(
+    payload: &CalibratePayload,
+    stiffness: AxialStiffness,
+    loads: LoadRange,
+    kept: &Kept<'_>,
+    artifacts: &ArtifactStore,
+) -> Result<JobResults, JobFailure> {
+    let artifact = artifacts
+        .put(CALIBRATION_ROLE, kept.bytes)
+        .map_err(|e| transient(FailureClass::ArtifactIo, e))?;
+    Ok(JobResults {
+        result: json!({
+            "hot_spot_index": payload.hot_spot_index,
+            "global_jobs": payload.global_cache_keys.len(),
+            "axial_stiffness": stiffness,
+            "load_range": loads,
+            "calibrated_range": kept.calibration.range,
+            "design_strain_floor": design_strain_floor(&kept.calibration.range),
+            "model_key": kept.calibration.model_key,
+            "calibration_sha256": artifact.sha256,
+            "check_of": kept.first,
+            "kept": true,
+        }),
+        artifacts: vec![artifact],
+        ..JobResults::default()
+    })
+}
+
+/// The calibration of a reduced job's hot spot, from its calibration job's artifact: the
+/// artifact's bytes and the validated calibration.
 fn calibration_of(
     key: &str,
     store: &Store,
     retry: &RetryPolicy,
     artifacts: &ArtifactStore,
     rt: &Handle,
-) -> Result<ReducedStrand, JobFailure> {
+) -> Result<(Vec<u8>, ReducedStrand), JobFailure> {
     let upstream = Upstream {
         what: "calibration",
         cache_key: key,
@@ -152,9 +214,10 @@ fn calibration_of(
     let bytes = upstream.artifact(store, retry, artifacts, rt)?;
     let reduced: ReducedStrand =
         serde_json::from_slice(&bytes).map_err(|e| permanent(FailureClass::BadArtifact, e))?;
-    reduced
+    let reduced = reduced
         .validated()
-        .map_err(|e| permanent(FailureClass::BadArtifact, e))
+        .map_err(|e| permanent(FailureClass::BadArtifact, e))?;
+    Ok((bytes, reduced))
 }
 
 /// Runs one reduced strand job (module docs).
@@ -172,7 +235,7 @@ pub fn run_strand_reduced(
             "a strand_reduced job needs calibration_cache_key",
         )
     })?;
-    let reduced = calibration_of(key, store, retry, artifacts, rt)?;
+    let (_, reduced) = calibration_of(key, store, retry, artifacts, rt)?;
     let series = upstream_series(payload, store, retry, artifacts, rt)?;
     let stiffness = axial_stiffness(inputs, payload.hot_spot_index, artifacts, None)?;
     let load = strand_load(inputs, series, stiffness)?;

@@ -121,6 +121,18 @@ fn fidelity_section(data: &ReportData) -> String {
         count("mixed")
     );
     for c in &data.calibrations {
+        if c["kept"].as_bool() == Some(true) {
+            let _ = writeln!(
+                body,
+                "<p>Check of hot spot {}: the load of all {} global jobs (strain {} to {}) lies \
+                 within the calibration above, which every reduced job uses.</p>",
+                c["hot_spot_index"],
+                c["global_jobs"],
+                number(c["load_range"]["strain"][0].as_f64().unwrap_or(f64::NAN)),
+                number(c["load_range"]["strain"][1].as_f64().unwrap_or(f64::NAN)),
+            );
+            continue;
+        }
         let range = |k: &str, i: usize| c[k]["strain"][i].as_f64().unwrap_or(f64::NAN);
         let curv = |i: usize| {
             c["calibrated_range"]["curvature_per_m"][i]
