@@ -228,10 +228,14 @@ pub fn jobs(
         });
         (out.len() - 1, key)
     };
-    let keys_of = |set: &mut dyn Iterator<Item = usize>| -> (Vec<usize>, Vec<String>) {
-        set.map(|g| (globals[g].0, globals[g].3.clone())).unzip()
+    // (indices in `out`, cache keys) of the global jobs at `positions` in `globals`
+    let keys_of = |positions: &[usize]| -> (Vec<usize>, Vec<String>) {
+        positions
+            .iter()
+            .map(|&g| (globals[g].0, globals[g].3.clone()))
+            .unzip()
     };
-    let (global_indices, global_keys) = keys_of(&mut (0..globals.len()));
+    let (global_indices, global_keys) = keys_of(&(0..globals.len()).collect::<Vec<_>>());
     let mut calibrations = Vec::with_capacity(hot_spots);
     for hot_spot_index in 0..hot_spots {
         let everything = CalibratePayload {
@@ -247,7 +251,7 @@ pub fn jobs(
             ));
             continue;
         }
-        let (early_indices, early_keys) = keys_of(&mut early.iter().copied());
+        let (early_indices, early_keys) = keys_of(&early);
         let first = CalibratePayload {
             hot_spot_index,
             global_cache_keys: early_keys,
