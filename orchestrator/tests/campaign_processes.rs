@@ -1056,7 +1056,13 @@ fn a_load_outside_the_first_calibration_makes_the_check_calibrate_again() {
         assert!(!covers(range(&first.result, "calibrated_range"), all_loads));
         // calibrated again, over every global job's load
         assert!(check.result["kept"].is_null(), "{}", check.result);
-        assert_eq!((first.result["global_jobs"].clone(), check.result["global_jobs"].clone()), (2.into(), 4.into()));
+        assert_eq!(
+            (
+                first.result["global_jobs"].clone(),
+                check.result["global_jobs"].clone()
+            ),
+            (2.into(), 4.into())
+        );
         assert!(check.result["design_samples"].as_u64().unwrap() > 0);
         assert!(covers(range(&check.result, "calibrated_range"), all_loads));
         assert_ne!(check.artifacts, first.artifacts);

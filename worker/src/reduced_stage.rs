@@ -34,7 +34,7 @@ use crate::strand_stage::{
 };
 use moorfret_campaign::{CalibratePayload, CampaignInputs, StrandPayload};
 use moorfret_store::{
-    ArtifactStore, FailureClass, JobFailure, JobResults, Lease, RetryPolicy, Store,
+    ArtifactStore, FailureClass, JobArtifact, JobFailure, JobResults, Lease, RetryPolicy, Store,
 };
 
 /// Artifact role of a calibration.
@@ -105,12 +105,16 @@ pub fn run_calibrate(
         if kept.range.covers(&loads) {
             tracing::info!(job = %lease.job, global_jobs = payload.global_cache_keys.len(),
                 "every global job's load lies within the first calibration's range: kept");
-            let kept = Kept {
-                first,
-                bytes: &bytes,
-                calibration: &kept,
-            };
-            return kept_calibration(payload, stiffness, loads, &kept, artifacts);
+            // the same artifact, no FE run of its own
+            let artifact = put_calibration(artifacts, &bytes)?;
+            let mut result = calibration_result(payload, stiffness, loads, &kept, &artifact);
+            result["check_of"] = json!(first);
+            result["kept"] = json!(true);
+            return Ok(JobResults {
+                result,
+                artifacts: vec![artifact],
+                ..JobResults::default()
+            });
         }
         tracing::warn!(job = %lease.job, load_strain = ?loads.strain,
             load_curvature_per_m = ?loads.curvature_per_m, calibrated_strain = ?kept.range.strain,
@@ -131,70 +135,53 @@ pub fn run_calibrate(
     reduced.model_key = model_key(&strand, &params, &options);
     let bytes =
         serde_json::to_vec(&reduced).map_err(|e| permanent(FailureClass::SerialiseResults, e))?;
-    let artifact = artifacts
-        .put(CALIBRATION_ROLE, &bytes)
-        .map_err(|e| transient(FailureClass::ArtifactIo, e))?;
+    let artifact = put_calibration(artifacts, &bytes)?;
     let c = &reduced.calibration;
+    let mut result = calibration_result(payload, stiffness, loads, &reduced, &artifact);
+    for (field, value) in [
+        ("design_samples", json!(c.design_samples)),
+        ("fe_substeps", json!(c.fe_substeps)),
+        ("fe_iterations", json!(c.fe_iterations)),
+        ("fe_wall_time_s", json!(c.fe_wall_time_s)),
+        ("threads", json!(options.history.threads)),
+        ("fits", json!(c.fits)),
+        ("replay", json!(c.replay)),
+        ("check_of", json!(payload.check_of)),
+    ] {
+        result[field] = value;
+    }
     Ok(JobResults {
-        result: json!({
-            "hot_spot_index": payload.hot_spot_index,
-            "global_jobs": payload.global_cache_keys.len(),
-            "axial_stiffness": stiffness,
-            "load_range": loads,
-            "calibrated_range": reduced.range,
-            "design_strain_floor": design_strain_floor(&reduced.range),
-            "model_key": reduced.model_key,
-            "calibration_sha256": artifact.sha256,
-            "design_samples": c.design_samples,
-            "fe_substeps": c.fe_substeps,
-            "fe_iterations": c.fe_iterations,
-            "fe_wall_time_s": c.fe_wall_time_s,
-            "threads": options.history.threads,
-            "fits": c.fits,
-            "replay": c.replay,
-            "check_of": payload.check_of,
-        }),
+        result,
         artifacts: vec![artifact],
         ..JobResults::default()
     })
 }
 
-/// A first calibration that a check job keeps.
-struct Kept<'a> {
-    /// Cache key of its job.
-    first: &'a str,
-    /// Its artifact.
-    bytes: &'a [u8],
-    calibration: &'a ReducedStrand,
+/// Stores a calibration as a content-addressed artifact.
+fn put_calibration(artifacts: &ArtifactStore, bytes: &[u8]) -> Result<JobArtifact, JobFailure> {
+    artifacts
+        .put(CALIBRATION_ROLE, bytes)
+        .map_err(|e| transient(FailureClass::ArtifactIo, e))
 }
 
-/// The result of a check job that keeps the first calibration: the same artifact, the load
-/// range of every global job, and no FE run of its own.
-fn kept_calibration(
+/// What every calibration job's result holds: the load range of its global jobs, the
+/// calibration's range, model key and artifact.
+fn calibration_result(
     payload: &CalibratePayload,
     stiffness: AxialStiffness,
     loads: LoadRange,
-    kept: &Kept<'_>,
-    artifacts: &ArtifactStore,
-) -> Result<JobResults, JobFailure> {
-    let artifact = artifacts
-        .put(CALIBRATION_ROLE, kept.bytes)
-        .map_err(|e| transient(FailureClass::ArtifactIo, e))?;
-    Ok(JobResults {
-        result: json!({
-            "hot_spot_index": payload.hot_spot_index,
-            "global_jobs": payload.global_cache_keys.len(),
-            "axial_stiffness": stiffness,
-            "load_range": loads,
-            "calibrated_range": kept.calibration.range,
-            "design_strain_floor": design_strain_floor(&kept.calibration.range),
-            "model_key": kept.calibration.model_key,
-            "calibration_sha256": artifact.sha256,
-            "check_of": kept.first,
-            "kept": true,
-        }),
-        artifacts: vec![artifact],
-        ..JobResults::default()
+    calibration: &ReducedStrand,
+    artifact: &JobArtifact,
+) -> serde_json::Value {
+    json!({
+        "hot_spot_index": payload.hot_spot_index,
+        "global_jobs": payload.global_cache_keys.len(),
+        "axial_stiffness": stiffness,
+        "load_range": loads,
+        "calibrated_range": calibration.range,
+        "design_strain_floor": design_strain_floor(&calibration.range),
+        "model_key": calibration.model_key,
+        "calibration_sha256": artifact.sha256,
     })
 }
 
