@@ -428,3 +428,144 @@ fn mirrored_lines_share_their_precomputed_sea() {
     assert!(worst < 1e-9 * largest, "{worst} vs {largest}");
     assert_eq!(caches[5].misses() + own.misses(), 0);
 }
+
+/// Runs `model` with and without the mirroring of symmetric lines.
+fn with_and_without_mirror(
+    model: &GlobalModel,
+) -> (
+    moorfret_solver::global::GlobalResult,
+    moorfret_solver::global::GlobalResult,
+) {
+    let mirrored = run(model, &RunParams::default(), |_, _| {}).unwrap();
+    let mut params = RunParams::default();
+    params.dynamics.mirror_lines = false;
+    let solved = run(model, &params, |_, _| {}).unwrap();
+    (mirrored, solved)
+}
+
+/// Largest difference between two series.
+fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The two runs agree within the lines' force tolerance (1 N) in tension, 1e-9 1/m in
+/// curvature and 1e-6 m or rad in the floater's motion.
+fn assert_same_response(
+    m: &moorfret_solver::global::GlobalResult,
+    s: &moorfret_solver::global::GlobalResult,
+) {
+    let (a, b) = (&m.hot_spots[0], &s.hot_spots[0]);
+    let dt = largest_difference(&a.tension_n, &b.tension_n);
+    let dk = largest_difference(&a.curvature_per_m, &b.curvature_per_m);
+    let df = (0..6)
+        .map(|j| {
+            let col = |r: &moorfret_solver::global::GlobalResult| -> Vec<f64> {
+                r.floater.motion.iter().map(|x| x[j]).collect()
+            };
+            largest_difference(&col(m), &col(s))
+        })
+        .fold(0.0, f64::max);
+    let dl = m
+        .lines
+        .iter()
+        .zip(&s.lines)
+        .map(|(x, y)| largest_difference(&x.fairlead_tension_n, &y.fairlead_tension_n))
+        .fold(0.0, f64::max);
+    println!("largest differences: hot spot T {dt:.2e} N, κ {dk:.2e} 1/m, floater {df:.2e}, fairlead T {dl:.2e} N");
+    assert!(dt < 1.0 && dl < 1.0, "tension {dt} N, fairlead {dl} N");
+    assert!(dk < 1e-9, "curvature {dk}");
+    assert!(df < 1e-6, "floater {df}");
+}
+
+/// Lines 2, 6 and 5 of the paper case in its head sea are the mirror images of lines 1, 3 and
+/// 4: writing them as such halves the line work and gives the response of a run that solves
+/// every line within the lines' own tolerance.
+#[test]
+fn mirrored_lines_give_the_response_of_solving_every_line() {
+    let c = short_case(10.0, 10.0);
+    let model = GlobalModel::new(&c, floater(), Some(20.0)).unwrap();
+    let (m, s) = with_and_without_mirror(&model);
+    println!("mirrored {:?}\nsolved {:?}", m.stats, s.stats);
+    // Three of the six lines are written as mirror images at every coupling pass.
+    assert_eq!(m.stats.mirrored_line_steps, 3 * m.stats.coupling_iterations);
+    assert_eq!(s.stats.mirrored_line_steps, 0);
+    assert_eq!(m.stats.coupling_iterations, s.stats.coupling_iterations);
+    assert_eq!(2 * m.stats.line_iterations, s.stats.line_iterations);
+    assert_same_response(&m, &s);
+    // Line 2 repeats line 1's fairlead tension.
+    assert_eq!(m.lines[0].fairlead_tension_n, m.lines[1].fairlead_tension_n);
+}
+
+/// The mirror pairs hold at every wind speed of the scatter diagram's cells (the static
+/// shapes of mirrored lines differ by up to 2e-8 m at Hs 4.75 m, the statics' tolerance), and
+/// throughout the step (floater within round-off of its plane of symmetry).
+#[test]
+fn every_cell_mirrors_its_symmetric_lines() {
+    for (hs, tp) in [(0.25, 3.0), (2.75, 10.0), (4.75, 16.0), (8.75, 16.5)] {
+        let mut c = short_case(5.0, 5.0);
+        c.sea_state.hs_m = hs;
+        c.sea_state.tp_s = tp;
+        let model = GlobalModel::new(&c, floater(), Some(5.0)).unwrap();
+        let r = run(&model, &RunParams::default(), |_, _| {}).unwrap();
+        assert_eq!(
+            r.stats.mirrored_line_steps,
+            3 * r.stats.coupling_iterations,
+            "Hs {hs} Tp {tp}"
+        );
+    }
+}
+
+/// A sea from 30° off the x axis breaks the symmetry: no line is mirrored.
+#[test]
+fn an_oblique_sea_mirrors_no_line() {
+    let mut c = short_case(2.0, 2.0);
+    c.sea_state.heading_deg = 30.0;
+    let model = GlobalModel::new(&c, floater(), Some(2.0)).unwrap();
+    let r = run(&model, &RunParams::default(), |_, _| {}).unwrap();
+    assert!(r.stats.steps > 0);
+    assert_eq!(r.stats.mirrored_line_steps, 0);
+}
+
+/// A floater that leaves the symmetry plane (a prescribed sway growing from t = 5 s, whose
+/// kink the table's natural cubic spline rings ahead of, by a factor 2 − √3 per 0.1 s knot)
+/// ends the mirroring: the lines are mirrored
+/// before, solved after, and the run gives the response of one that solves every line
+/// throughout.
+#[test]
+fn a_floater_leaving_the_symmetry_plane_ends_the_mirroring() {
+    let mut c = case();
+    c.sea_state = Default::default();
+    c.floater = FloaterSource::PrescribedMotion {
+        csv_path: "motion.csv".into(),
+    };
+    c.timing.transient_s = 0.0;
+    c.timing.duration_s = 12.0;
+    c.timing.output_interval_s = 0.5;
+    let mut text = String::from("time_s,surge_m,sway_m,heave_m,roll_rad,pitch_rad,yaw_rad\n");
+    for k in 0..=150 {
+        let t = 0.1 * k as f64;
+        let sway = 0.2 * (t - 5.0).max(0.0).powi(2);
+        text += &format!("{t},{},{sway},0,0,0,0\n", 0.1 * t);
+    }
+    let table = PrescribedMotion::from_csv_str(&text).unwrap();
+    let model = GlobalModel::new(&c, FloaterInput::Prescribed(table), None).unwrap();
+    let (m, s) = with_and_without_mirror(&model);
+    println!(
+        "{} mirrored line steps, {} coupling passes",
+        m.stats.mirrored_line_steps, m.stats.coupling_iterations
+    );
+    assert!(m.stats.mirrored_line_steps >= 3 * 30);
+    assert!(m.stats.mirrored_line_steps < 3 * m.stats.coupling_iterations);
+    assert_same_response(&m, &s);
+    // Line 2 follows its own fairlead once the floater sways.
+    let last = m.lines[0].fairlead_tension_n.len() - 1;
+    let (t1, t2) = (
+        m.lines[0].fairlead_tension_n[last],
+        m.lines[1].fairlead_tension_n[last],
+    );
+    assert!((t1 - t2).abs() > 100.0, "{t1} vs {t2}");
+}

@@ -94,6 +94,8 @@ pub fn run_global(
             "coupling_iterations": result.stats.coupling_iterations,
             "line_iterations": result.stats.line_iterations,
             "cut_steps": result.stats.cut_steps,
+            // Line steps written as the mirror image of a symmetric partner's.
+            "mirrored_line_steps": result.stats.mirrored_line_steps,
         },
         "hot_spot_series_sha256": series_hashes,
     });

@@ -26,6 +26,7 @@
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
 use super::error::GlobalError;
+use super::mirror::{reflect_stiffness, MirrorMap};
 use super::motion::StepMotion;
 use super::params::DynamicsParams;
 use super::results::RunStats;
@@ -121,6 +122,8 @@ impl Alpha {
 pub(crate) struct StepContext<'a> {
     pub(crate) model: &'a GlobalModel,
     pub(crate) caches: &'a [Option<LineSeaCache<'a>>],
+    /// Lines solved as the mirror image of another while the floater stays symmetric.
+    pub(crate) mirror: &'a MirrorMap,
     pub(crate) ramped: &'a RampedSea<'a, crate::waves::IrregularSea>,
     /// The floater's sea samples, held over the inner iterations of a pass.
     pub(crate) floater_sea: &'a PassSea<'a>,
@@ -202,7 +205,10 @@ fn advance(start: &FloaterStart, a: &Alpha, h: f64, acc1: &Vector6<f64>) -> Body
 }
 
 /// Steps every line over [t0, t1] to the fairlead motions `ends` (warm-started unless
-/// `first`); returns the Newton iterations of all lines.
+/// `first`); with `mirroring`, the lines of `ctx.mirror` that mirror another are not solved but
+/// take the mirror image of their partner's end state, force and stiffness. Returns the Newton
+/// iterations of all lines.
+#[allow(clippy::too_many_arguments)]
 fn step_lines(
     ctx: &StepContext<'_>,
     runs: &mut [LineRun<'_>],
@@ -211,9 +217,13 @@ fn step_lines(
     t0: f64,
     t1: f64,
     first: bool,
+    mirroring: bool,
 ) -> Result<usize, StepFailure> {
     let h = t1 - t0;
     let step_line = |(k, run): (usize, &mut LineRun<'_>)| {
+        if mirroring && ctx.mirror.partner(k).is_some() {
+            return Ok(0);
+        }
         let motion = StepMotion {
             t0_s: t0,
             t1_s: t1,
@@ -254,6 +264,9 @@ fn step_lines(
         }
         None => runs.iter_mut().enumerate().map(step_line).collect(),
     };
+    if mirroring {
+        reflect_partners(ctx.mirror, runs);
+    }
     let mut iterations = 0;
     for o in outcomes {
         match o {
@@ -278,6 +291,22 @@ fn step_lines(
         }
     }
     Ok(iterations)
+}
+
+/// Writes every mirrored line's end state, force, stiffness and fairlead position as the mirror
+/// image of its partner's (partners come first in line order).
+fn reflect_partners(mirror: &MirrorMap, runs: &mut [LineRun<'_>]) {
+    for j in 0..runs.len() {
+        let Some(i) = mirror.partner(j) else {
+            continue;
+        };
+        let (before, after) = runs.split_at_mut(j);
+        let (from, to) = (&before[i], &mut after[0]);
+        mirror.reflect_state(&from.trial, &mut to.trial);
+        to.force = mirror.reflect_vector(&from.force);
+        to.stiffness = reflect_stiffness(&from.stiffness);
+        to.at = mirror.reflect_vector(&from.at);
+    }
 }
 
 /// Floater residual with every line force linearised about its last pass, and its Jacobian
@@ -321,6 +350,8 @@ pub(crate) fn coupled_step(
     let h = t1 - t0;
     let ratio = (1.0 - a.af) / (1.0 - a.am);
     let starts = fairlead_motions(model, &start.body, &start.acc);
+    let mirroring =
+        params.mirror_lines && ctx.mirror.count() > 0 && ctx.mirror.holds_at(&starts, h);
     let (mut acc1, mut trial) = match &model.floater {
         FloaterModel::RigidBody(_) => (start.acc, advance(start, &a, h, &start.acc)),
         FloaterModel::Prescribed(m) => {
@@ -353,7 +384,10 @@ pub(crate) fn coupled_step(
         passes += 1;
         let ends = fairlead_motions(model, &trial, &acc1);
         let c = std::time::Instant::now();
-        let lines = step_lines(ctx, runs, &starts, &ends, t0, t1, passes == 1);
+        if mirroring {
+            stats.mirrored_line_steps += ctx.mirror.count();
+        }
+        let lines = step_lines(ctx, runs, &starts, &ends, t0, t1, passes == 1, mirroring);
         stats.lines_s += c.elapsed().as_secs_f64();
         stats.line_iterations += lines.map_err(|f| StepFailure { passes, ..f })?;
         let Some((f, jac)) = &floater else {

@@ -24,6 +24,7 @@ use nalgebra::{Matrix3, Vector6};
 
 use super::coupling::{coupled_step, Alpha, FloaterStart, LineRun, StepContext};
 use super::error::GlobalError;
+use super::mirror::MirrorMap;
 use super::params::DynamicsParams;
 use super::resolution::WaveResolution;
 use super::results::{FloaterSeries, GlobalResult, HotSpotResult, LineResult, RunStats};
@@ -184,9 +185,16 @@ pub fn run_dynamics(
         None => &ramped,
     };
     let floater_sea = PassSea::new(floater_source, FLOATER_SEA_HOLD_M);
+    let mirror = if params.mirror_lines {
+        MirrorMap::of(model, eq)
+    } else {
+        MirrorMap::none(model.lines.len())
+    };
+    tracing::debug!(mirrored_lines = mirror.count(), "mirror pairs");
     let ctx = StepContext {
         model,
         caches: &caches,
+        mirror: &mirror,
         ramped: &ramped,
         floater_sea: &floater_sea,
         params,

@@ -16,6 +16,7 @@ pub mod case;
 mod coupling;
 pub mod dynamics;
 pub(crate) mod error;
+mod mirror;
 pub(crate) mod motion;
 pub(crate) mod params;
 pub(crate) mod resolution;

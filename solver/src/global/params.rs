@@ -27,6 +27,9 @@ pub struct DynamicsParams {
     /// Resolution of the floater's kinematics table; `None` samples the floater's sea by direct
     /// summation.
     pub floater_table: Option<TableParams>,
+    /// Whether a line that is the mirror image of another about the waves' vertical plane is
+    /// written as that mirror image instead of being solved (`super::mirror`).
+    pub mirror_lines: bool,
 }
 
 impl Default for DynamicsParams {
@@ -53,6 +56,7 @@ impl Default for DynamicsParams {
             },
             guard_distance_m: 30.0,
             floater_table: Some(TableParams::default()),
+            mirror_lines: true,
         }
     }
 }

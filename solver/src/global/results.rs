@@ -75,6 +75,9 @@ pub struct RunStats {
     pub cut_steps: usize,
     /// Line Newton attempts given up for lack of progress (each followed by a step cut).
     pub line_stalled_attempts: usize,
+    /// Line steps written as the mirror image of another line's instead of being solved
+    /// (one per coupling pass and mirrored line).
+    pub mirrored_line_steps: usize,
     /// Coupled steps that failed and were retried with half the step.
     pub cut_coupled_steps: usize,
     /// Deepest coupled step cut reached (the step was Δt / 2^deepest_cut).

@@ -19,7 +19,8 @@
 //!
 //! `--tp-max`/`--tp-min`/`--hs-max`/`--hs-min` restrict the sweep to a part of the diagram,
 //! `--every N` keeps every N-th remaining cell (a sample), `--cell HS,TP` runs the given sea
-//! states instead of the diagram's cells. Paths inside the case are resolved relative to it.
+//! states instead of the diagram's cells, `--no-mirror` solves every line (also those the
+//! stage would write as the mirror image of another). Paths inside the case are resolved relative to it.
 
 use std::path::Path;
 use std::time::Instant;
@@ -53,6 +54,8 @@ struct Variant {
     cut_off_rad_s: Option<f64>,
     /// Node spacing of the floater table (m).
     table_spacing_m: Option<f64>,
+    /// Every line solved, also those that mirror another.
+    no_mirror: bool,
 }
 
 fn options() -> Result<Options, String> {
@@ -82,6 +85,7 @@ fn options() -> Result<Options, String> {
             "--hs-max" => o.hs_range.1 = number("--hs-max")?,
             "--hs-min" => o.hs_range.0 = number("--hs-min")?,
             "--direct-floater" => o.variant.direct_floater = true,
+            "--no-mirror" => o.variant.no_mirror = true,
             "--cut-off" => o.variant.cut_off_rad_s = Some(number("--cut-off")?),
             "--table-spacing" => o.variant.table_spacing_m = Some(number("--table-spacing")?),
             "--every" => o.every = number("--every")?.max(1.0) as usize,
@@ -175,6 +179,7 @@ fn run_cell(case: &CaseSpec, floater: &FloaterInput, v: Variant) -> CellOutcome 
         if v.direct_floater {
             params.dynamics.floater_table = None;
         }
+        params.dynamics.mirror_lines = !v.no_mirror;
         if let (Some(t), Some(d)) = (params.dynamics.floater_table.as_mut(), v.table_spacing_m) {
             t.spacing_along_m = d;
             t.spacing_stretched_m = d;

@@ -1,4 +1,5 @@
-//! `moorfret run global CASE.json --out DIR [--duration-s X] [--transient-s X] [--threads N]`.
+//! `moorfret run global CASE.json --out DIR [--duration-s X] [--transient-s X] [--threads N]
+//! [--no-mirror]`.
 //!
 //! Reads the case and the floater file it names (relative to the case file), runs the coupled
 //! statics and dynamics, and writes into DIR:
@@ -47,6 +48,10 @@ pub(crate) struct GlobalArgs {
     /// Worker threads for the lines (at most 256; more than the lines gain nothing).
     #[arg(long, default_value_t = 1, value_parser = clap::builder::TypedValueParser::map(clap::value_parser!(u16).range(1..=256), usize::from))]
     pub(crate) threads: usize,
+    /// Solve every line, also those the stage writes as the mirror image of a symmetric
+    /// partner (a check: the results agree within the lines' force tolerance).
+    #[arg(long)]
+    pub(crate) no_mirror: bool,
 }
 
 fn read(path: &Path) -> anyhow::Result<String> {
@@ -106,10 +111,11 @@ pub(crate) fn execute(args: &GlobalArgs) -> anyhow::Result<()> {
         t_end,
         "global run"
     );
-    let params = RunParams {
+    let mut params = RunParams {
         threads: args.threads,
         ..RunParams::default()
     };
+    params.dynamics.mirror_lines = !args.no_mirror;
     let bar = std::io::stderr().is_terminal().then(|| {
         let b = indicatif::ProgressBar::new(1000);
         b.set_style(
