@@ -58,7 +58,8 @@ pub(crate) fn reflect_stiffness(k: &Matrix3<f64>) -> Matrix3<f64> {
 pub(crate) struct MirrorMap {
     /// For each line, the earlier line it mirrors.
     partner: Vec<Option<usize>>,
-    /// The unknowns that are y components (positions and gradients) of the line mesh.
+    /// The unknowns that are y components (positions and gradients) of the line mesh, which
+    /// every paired line shares.
     y_dofs: Vec<usize>,
 }
 
@@ -88,7 +89,8 @@ impl MirrorMap {
             partner[j] = (0..j).find(|&i| {
                 partner[i].is_none()
                     && !partner.contains(&Some(i))
-                    && same_mesh(&eq.line_models[i], &eq.line_models[j])
+                    && same_mesh(first, &eq.line_models[i])
+                    && same_mesh(first, &eq.line_models[j])
                     && mirrored(&eq.line_solutions[i].q, &eq.line_solutions[j].q, &y_dofs)
             });
         }
