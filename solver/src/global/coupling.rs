@@ -26,7 +26,7 @@
 use nalgebra::{Matrix3, Matrix6, Vector3, Vector6};
 
 use super::error::GlobalError;
-use super::mirror::{reflect_stiffness, MirrorMap};
+use super::mirror::{reflect, reflect_stiffness, MirrorMap};
 use super::motion::StepMotion;
 use super::params::DynamicsParams;
 use super::results::RunStats;
@@ -303,9 +303,9 @@ fn reflect_partners(mirror: &MirrorMap, runs: &mut [LineRun<'_>]) {
         let (before, after) = runs.split_at_mut(j);
         let (from, to) = (&before[i], &mut after[0]);
         mirror.reflect_state(&from.trial, &mut to.trial);
-        to.force = mirror.reflect_vector(&from.force);
+        to.force = reflect(&from.force);
         to.stiffness = reflect_stiffness(&from.stiffness);
-        to.at = mirror.reflect_vector(&from.at);
+        to.at = reflect(&from.at);
     }
 }
 
@@ -350,8 +350,8 @@ pub(crate) fn coupled_step(
     let h = t1 - t0;
     let ratio = (1.0 - a.af) / (1.0 - a.am);
     let starts = fairlead_motions(model, &start.body, &start.acc);
-    let mirroring =
-        params.mirror_lines && ctx.mirror.count() > 0 && ctx.mirror.holds_at(&starts, h);
+    // `ctx.mirror` is empty when `params.mirror_lines` is off.
+    let mirroring = ctx.mirror.count() > 0 && ctx.mirror.holds_at(&starts, h);
     let (mut acc1, mut trial) = match &model.floater {
         FloaterModel::RigidBody(_) => (start.acc, advance(start, &a, h, &start.acc)),
         FloaterModel::Prescribed(m) => {

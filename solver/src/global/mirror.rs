@@ -42,8 +42,8 @@ pub(crate) const STATIC_MIRROR_TOLERANCE_M: f64 = super::sea::SHARED_SERIES_TOLE
 /// 2e-9 m of their mirror images (the static equilibrium's tolerance, then round-off).
 pub(crate) const MIRROR_TOLERANCE_M: f64 = 1e-7;
 
-/// The reflection y → −y.
-fn reflect(v: &Vector3<f64>) -> Vector3<f64> {
+/// The reflection y → −y of a fairlead position or force.
+pub(crate) fn reflect(v: &Vector3<f64>) -> Vector3<f64> {
     Vector3::new(v.x, -v.y, v.z)
 }
 
@@ -134,11 +134,6 @@ impl MirrorMap {
             to.acc[d] = -to.acc[d];
             to.alg_acc[d] = -to.alg_acc[d];
         }
-    }
-
-    /// The mirror image of a fairlead force or position.
-    pub(crate) fn reflect_vector(&self, v: &Vector3<f64>) -> Vector3<f64> {
-        reflect(v)
     }
 }
 
