@@ -229,7 +229,7 @@ pub async fn run(
         let outcome = tokio::select! {
             joined = job => joined.unwrap_or_else(|e| Err(transient(FailureClass::WorkerPanic, e))),
             _ = shutdown.changed() => {
-                heartbeat.abort();
+                heartbeat.stop().await;
                 let released = retry
                     .run("release lease", || store.release(&lease, "worker stopped by signal"))
                     .await;
@@ -241,7 +241,7 @@ pub async fn run(
                 return Ok(summary);
             }
         };
-        heartbeat.abort();
+        heartbeat.stop().await;
         match outcome {
             Ok(results) => match complete_with_retry(&store, &lease, &results, retry).await {
                 Ok(()) => {
@@ -315,12 +315,35 @@ async fn inputs_of(
     Ok(Some(inputs))
 }
 
-/// Renews the lease every heartbeat interval until aborted or the lease is lost.
-fn spawn_heartbeat(store: Store, lease: Lease) -> tokio::task::JoinHandle<()> {
+/// The task renewing a running job's lease.
+struct Heartbeat {
+    stop: tokio::sync::oneshot::Sender<()>,
+    task: tokio::task::JoinHandle<()>,
+}
+
+impl Heartbeat {
+    /// Stops the renewals and waits for the task: a renewal under way finishes first. Aborting
+    /// the task instead could drop a write transaction between its `BEGIN IMMEDIATE` and its
+    /// commit, leaving the database locked for the release or completion that follows.
+    async fn stop(self) {
+        drop(self.stop);
+        if let Err(e) = self.task.await {
+            tracing::warn!(error = %e, "heartbeat task ended abnormally");
+        }
+    }
+}
+
+/// Renews the lease every heartbeat interval until stopped or the lease is lost.
+fn spawn_heartbeat(store: Store, lease: Lease) -> Heartbeat {
     let every = Duration::from_millis(store.policy().heartbeat_interval_ms.unsigned_abs());
-    tokio::spawn(async move {
+    let (stop, mut stopped) = tokio::sync::oneshot::channel::<()>();
+    let task = tokio::spawn(async move {
         loop {
-            tokio::time::sleep(every).await;
+            // Only the wait between renewals is interrupted, never a store call.
+            tokio::select! {
+                _ = tokio::time::sleep(every) => {}
+                _ = &mut stopped => return,
+            }
             match store.heartbeat(&lease).await {
                 Ok(_) => {}
                 Err(StoreError::LeaseLost { .. }) => {
@@ -330,5 +353,6 @@ fn spawn_heartbeat(store: Store, lease: Lease) -> tokio::task::JoinHandle<()> {
                 Err(e) => tracing::warn!(job = %lease.job, error = %e, "heartbeat failed"),
             }
         }
-    })
+    });
+    Heartbeat { stop, task }
 }
