@@ -229,7 +229,7 @@ pub async fn run(
         let outcome = tokio::select! {
             joined = job => joined.unwrap_or_else(|e| Err(transient(FailureClass::WorkerPanic, e))),
             _ = shutdown.changed() => {
-                heartbeat.stop().await;
+                heartbeat.stop();
                 let released = retry
                     .run("release lease", || store.release(&lease, "worker stopped by signal"))
                     .await;
@@ -241,7 +241,7 @@ pub async fn run(
                 return Ok(summary);
             }
         };
-        heartbeat.stop().await;
+        heartbeat.stop();
         match outcome {
             Ok(results) => match complete_with_retry(&store, &lease, &results, retry).await {
                 Ok(()) => {
@@ -318,18 +318,17 @@ async fn inputs_of(
 /// The task renewing a running job's lease.
 struct Heartbeat {
     stop: tokio::sync::oneshot::Sender<()>,
-    task: tokio::task::JoinHandle<()>,
 }
 
 impl Heartbeat {
-    /// Stops the renewals and waits for the task: a renewal under way finishes first. Aborting
-    /// the task instead could drop a write transaction between its `BEGIN IMMEDIATE` and its
-    /// commit, leaving the database locked for the release or completion that follows.
-    async fn stop(self) {
+    /// Stops the renewals. A renewal under way is neither aborted nor awaited: aborting it could
+    /// drop a write transaction between its `BEGIN IMMEDIATE` and its commit, leaving the
+    /// database locked for the release or completion that follows; awaiting it would hold that
+    /// release or completion behind a call that may be stuck in an outage, out of its retries.
+    /// The renewal ends on its own; after the completion or release it matches no running
+    /// lease and changes nothing.
+    fn stop(self) {
         drop(self.stop);
-        if let Err(e) = self.task.await {
-            tracing::warn!(error = %e, "heartbeat task ended abnormally");
-        }
     }
 }
 
@@ -337,14 +336,22 @@ impl Heartbeat {
 fn spawn_heartbeat(store: Store, lease: Lease) -> Heartbeat {
     let every = Duration::from_millis(store.policy().heartbeat_interval_ms.unsigned_abs());
     let (stop, mut stopped) = tokio::sync::oneshot::channel::<()>();
-    let task = tokio::spawn(async move {
+    tokio::spawn(async move {
         loop {
             // Only the wait between renewals is interrupted, never a store call.
             tokio::select! {
                 _ = tokio::time::sleep(every) => {}
                 _ = &mut stopped => return,
             }
-            match store.heartbeat(&lease).await {
+            let renewed = store.heartbeat(&lease).await;
+            if !matches!(
+                stopped.try_recv(),
+                Err(tokio::sync::oneshot::error::TryRecvError::Empty)
+            ) {
+                // Stopped during the call: the job was completed or released meanwhile.
+                return;
+            }
+            match renewed {
                 Ok(_) => {}
                 Err(StoreError::LeaseLost { .. }) => {
                     tracing::warn!(job = %lease.job, "lease lost during the run");
@@ -354,5 +361,5 @@ fn spawn_heartbeat(store: Store, lease: Lease) -> Heartbeat {
             }
         }
     });
-    Heartbeat { stop, task }
+    Heartbeat { stop }
 }
