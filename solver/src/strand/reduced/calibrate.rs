@@ -7,15 +7,17 @@ use super::compare::compare_records;
 use super::design::{design_history_weighted, DesignParams};
 use super::fit::FitAccumulator;
 use super::{
-    CalibrationReport, InterfaceFit, LoadRange, LoadScaling, ReducedError, ReducedStrand,
-    FORMAT_VERSION,
+    CalibrationReport, InterfaceFit, LoadRange, LoadScaling, PlayParams, Plays, ReducedError,
+    ReducedStrand, FORMAT_VERSION,
 };
 use crate::contact::TangentialLaw;
 use crate::fretting::ContactSample;
 use crate::strand::history::checkpoint::HistoryCheckpoint;
-use crate::strand::history::monitors::contact_sites;
+use crate::strand::history::monitors::{
+    contact_sites, default_channels, ContactSite, MonitorChannel, MonitorTarget,
+};
 use crate::strand::history::{
-    run_history, HistoryObserver, HistoryOptions, HistoryProgress, LoadSample,
+    run_history, HistoryObserver, HistoryOptions, HistoryProgress, HistoryStats, LoadSample,
 };
 use crate::strand::model::{StrandModel, StrandModelParameters};
 use crate::strand::profile::Strand;
@@ -28,6 +30,8 @@ pub struct CalibrationOptions {
     pub history: HistoryOptions,
     /// The designed history.
     pub design: DesignParams,
+    /// The play operators of the drives.
+    pub plays: PlayParams,
     /// Threshold of the counted slip cycles of the in-sample comparison (m).
     pub min_slip_range_m: f64,
 }
@@ -37,6 +41,7 @@ impl Default for CalibrationOptions {
         Self {
             history: HistoryOptions::default(),
             design: DesignParams::default(),
+            plays: PlayParams::default(),
             min_slip_range_m: 1e-6,
         }
     }
@@ -56,9 +61,10 @@ pub fn model_key(
     };
     let text = format!(
         "moorfret {} reduced strand format {FORMAT_VERSION}; strand {strand:?}; model \
-         {params:?}; history {history:?}; design {:?}",
+         {params:?}; history {history:?}; design {:?}; plays {:?}",
         env!("CARGO_PKG_VERSION"),
-        options.design
+        options.design,
+        options.plays
     );
     Sha256::digest(text.as_bytes())
         .iter()
@@ -66,25 +72,27 @@ pub fn model_key(
         .collect()
 }
 
-/// Feeds every sample of the FE run to the fit, and passes progress on.
-struct Learner<'a> {
+/// Turns the samples of the calibration's FE run, in order, into least-squares sums.
+struct Fitter {
     scaling: LoadScaling,
+    plays: Option<Plays>,
+    play_params: PlayParams,
+    range: LoadRange,
     /// Least-squares weight of every designed sample, by index (= its time in s).
     weights: Vec<f64>,
     fit: FitAccumulator,
     buffer: Vec<(f64, f64, f64)>,
-    inner: &'a mut dyn HistoryObserver,
 }
 
-impl HistoryObserver for Learner<'_> {
-    fn progress(&mut self, progress: &HistoryProgress) {
-        self.inner.progress(progress);
-    }
-
-    fn checkpoint(&mut self, _checkpoint: &HistoryCheckpoint) {}
-
-    fn sample(&mut self, sample: &LoadSample, contacts: &[ContactSample], elements: &[f64]) {
+impl Fitter {
+    fn add(&mut self, sample: &LoadSample, contacts: &[ContactSample], elements: &[f64]) {
         let (x, y) = self.scaling.scaled(sample.strain, sample.curvature_per_m);
+        // the plays start at rest on the straight strand, where the FE initialisation starts
+        let (scaling, params, range) = (self.scaling, self.play_params, self.range);
+        let plays = self.plays.get_or_insert_with(|| {
+            Plays::at_rest(params, &range, scaling.scaled(sample.strain, 0.0).1)
+        });
+        let lags = plays.advance(sample.strain, y);
         self.buffer.clear();
         self.buffer.extend(
             contacts
@@ -96,7 +104,25 @@ impl HistoryObserver for Learner<'_> {
             .get(sample.time_s as usize)
             .copied()
             .unwrap_or(1.0);
-        self.fit.add(x, y, w, &self.buffer, elements);
+        self.fit.add((x, y), &lags, w, &self.buffer, elements);
+    }
+}
+
+/// Feeds every sample of the FE run to the fit, and passes progress on.
+struct Learner<'a> {
+    fitter: Fitter,
+    inner: &'a mut dyn HistoryObserver,
+}
+
+impl HistoryObserver for Learner<'_> {
+    fn progress(&mut self, progress: &HistoryProgress) {
+        self.inner.progress(progress);
+    }
+
+    fn checkpoint(&mut self, _checkpoint: &HistoryCheckpoint) {}
+
+    fn sample(&mut self, sample: &LoadSample, contacts: &[ContactSample], elements: &[f64]) {
+        self.fitter.add(sample, contacts, elements);
     }
 
     fn should_stop(&mut self) -> bool {
@@ -116,15 +142,22 @@ fn elastic_slip_of(model: &StrandModel) -> Result<f64, ReducedError> {
     }
 }
 
-/// Calibrates the reduced response of `model` over `range` (module docs of [`super`]);
-/// `observer` sees the progress of the FE run and may stop it.
-pub fn calibrate(
+/// What a calibration fits from: the designed history and the sums it feeds.
+struct Prepared {
+    range: LoadRange,
+    elastic_slip_m: f64,
+    history: HistoryOptions,
+    design: Vec<LoadSample>,
+    sites: Vec<ContactSite>,
+    channels: Vec<MonitorChannel>,
+    fitter: Fitter,
+}
+
+fn prepare(
     model: &StrandModel,
     range: LoadRange,
     options: &CalibrationOptions,
-    observer: &mut dyn HistoryObserver,
-) -> Result<ReducedStrand, ReducedError> {
-    let start = Instant::now();
+) -> Result<Prepared, ReducedError> {
     let range = range.validated()?;
     let elastic_slip_m = elastic_slip_of(model)?;
     let history = HistoryOptions {
@@ -135,38 +168,101 @@ pub fn calibrate(
     let weighted = design_history_weighted(&range, &options.design, &history);
     let weights: Vec<f64> = weighted.iter().map(|(_, w)| *w).collect();
     let design: Vec<LoadSample> = weighted.into_iter().map(|(s, _)| s).collect();
-    let scaling = LoadScaling::of(&range);
     let sites = contact_sites(model);
-    let mut learner = Learner {
-        scaling,
-        weights,
-        fit: FitAccumulator::new(model.contacts.len(), 0),
-        buffer: Vec::with_capacity(model.contacts.len()),
-        inner: observer,
-    };
-    // the element channels are known once the run has made its monitors: size the sums then
-    let channels = crate::strand::history::monitors::default_channels(model, &sites);
+    let channels = default_channels(model, &sites);
     let elements = channels
         .iter()
-        .filter(|c| {
-            matches!(
-                c.target,
-                crate::strand::history::monitors::MonitorTarget::Element(_)
-            )
-        })
+        .filter(|c| matches!(c.target, MonitorTarget::Element(_)))
         .count();
-    learner.fit = FitAccumulator::new(model.contacts.len(), elements);
-    let fe = run_history(model, &design, &history, &mut learner)?;
-    let fits = learner.fit.contact_fits();
-    let element_fits = learner
-        .fit
+    let fitter = Fitter {
+        scaling: LoadScaling::of(&range),
+        plays: None,
+        play_params: options.plays,
+        range,
+        weights,
+        fit: FitAccumulator::new(model.contacts.len(), elements),
+        buffer: Vec::with_capacity(model.contacts.len()),
+    };
+    Ok(Prepared {
+        range,
+        elastic_slip_m,
+        history,
+        design,
+        sites,
+        channels,
+        fitter,
+    })
+}
+
+/// The designed history of a calibration of `model` over `range` (what its FE run solves, and
+/// what [`fit_recorded`] expects to be given, sample by sample).
+pub fn calibration_design(
+    model: &StrandModel,
+    range: LoadRange,
+    options: &CalibrationOptions,
+) -> Result<(Vec<LoadSample>, HistoryOptions), ReducedError> {
+    let p = prepare(model, range, options)?;
+    Ok((p.design, p.history))
+}
+
+/// Calibrates the reduced response of `model` over `range` (module docs of [`super`]);
+/// `observer` sees the progress of the FE run and may stop it.
+pub fn calibrate(
+    model: &StrandModel,
+    range: LoadRange,
+    options: &CalibrationOptions,
+    observer: &mut dyn HistoryObserver,
+) -> Result<ReducedStrand, ReducedError> {
+    let start = Instant::now();
+    let p = prepare(model, range, options)?;
+    let mut learner = Learner {
+        fitter: p.fitter,
+        inner: observer,
+    };
+    let fe = run_history(model, &p.design, &p.history, &mut learner)?;
+    let p = Prepared {
+        fitter: learner.fitter,
+        ..p
+    };
+    let mut reduced = assemble(model, &p, &fe.stats, start);
+    let replay = super::run_reduced(&reduced, &p.design, p.history.slip_gate_m)?;
+    reduced.calibration.replay =
+        compare_records(&fe.contacts, &replay.contacts, options.min_slip_range_m, 0);
+    Ok(reduced)
+}
+
+/// One sample of a calibration's FE run: the load, every contact's state and every
+/// wire-element channel's axial force, as the run's observer sees them.
+pub type RecordedSample = (LoadSample, Vec<ContactSample>, Vec<f64>);
+
+/// The reduced response fitted on a recorded FE run of [`calibration_design`] (the samples in
+/// order, as [`HistoryObserver::sample`] saw them), without running the FE model: for studies
+/// of the reduced model's form on one FE run. The report has no FE cost and no replay.
+pub fn fit_recorded(
+    model: &StrandModel,
+    range: LoadRange,
+    options: &CalibrationOptions,
+    samples: impl IntoIterator<Item = RecordedSample>,
+) -> Result<ReducedStrand, ReducedError> {
+    let start = Instant::now();
+    let mut p = prepare(model, range, options)?;
+    for (load, contacts, elements) in samples {
+        p.fitter.add(&load, &contacts, &elements);
+    }
+    Ok(assemble(model, &p, &HistoryStats::default(), start))
+}
+
+/// The reduced response of the fitted sums, with its in-sample fit report (no replay yet).
+fn assemble(model: &StrandModel, p: &Prepared, fe: &HistoryStats, start: Instant) -> ReducedStrand {
+    let fit = &p.fitter.fit;
+    let fits = fit.contact_fits();
+    let element_fits = fit
         .element_fits()
         .into_iter()
         .map(|f| f.coefficients)
         .collect();
-
     let mut per_interface: BTreeMap<usize, InterfaceFit> = BTreeMap::new();
-    for (site, f) in sites.iter().zip(&fits) {
+    for (site, f) in p.sites.iter().zip(&fits) {
         let e = per_interface.entry(site.interface).or_insert(InterfaceFit {
             interface: site.interface,
             contacts: 0,
@@ -184,7 +280,7 @@ pub fn calibrate(
         e.compliance_clamped += usize::from(f.compliance_clamped);
     }
     // weighted root mean squares (the weights of the design, `design::design_history_weighted`)
-    let n = learner.fit.weight().max(f64::MIN_POSITIVE);
+    let n = fit.weight().max(f64::MIN_POSITIVE);
     let fits_report = per_interface
         .into_values()
         .map(|mut e| {
@@ -197,17 +293,20 @@ pub fn calibrate(
         })
         .collect();
 
-    let mut reduced = ReducedStrand {
+    ReducedStrand {
         format: FORMAT_VERSION,
         model_key: String::new(),
         friction_coefficient: model.strand.friction_coefficient,
-        elastic_slip_m,
-        range,
-        scaling,
-        sites,
+        elastic_slip_m: p.elastic_slip_m,
+        range: p.range,
+        scaling: p.fitter.scaling,
+        plays: p.fitter.play_params,
+        sites: p.sites.clone(),
         laws: fits.iter().map(|f| f.law).collect(),
-        channels: channels
-            .into_iter()
+        channels: p
+            .channels
+            .iter()
+            .cloned()
             .map(|mut c| {
                 c.values.clear();
                 c
@@ -215,16 +314,12 @@ pub fn calibrate(
             .collect(),
         element_fits,
         calibration: CalibrationReport {
-            design_samples: design.len(),
-            fe_substeps: fe.stats.substeps,
-            fe_iterations: fe.stats.iterations,
+            design_samples: p.design.len(),
+            fe_substeps: fe.substeps,
+            fe_iterations: fe.iterations,
             fe_wall_time_s: start.elapsed().as_secs_f64(),
             fits: fits_report,
             replay: Vec::new(),
         },
-    };
-    let replay = super::run_reduced(&reduced, &design, history.slip_gate_m)?;
-    reduced.calibration.replay =
-        compare_records(&fe.contacts, &replay.contacts, options.min_slip_range_m, 0);
-    Ok(reduced)
+    }
 }

@@ -1,0 +1,357 @@
+//! Forms of the reduced strand response compared on one recorded FE calibration run.
+//!
+//! The FE run of a calibration is what costs (minutes); the fit is seconds. This study records
+//! the FE run of the six-layer paper strand's calibration once (every contact's slip, normal and
+//! tangential force at every designed sample, about 150 MB), then fits the reduced response
+//! with several settings of its play operators and runs each through held-out hot-spot
+//! histories whose FE results are on disk, printing per layer interface the reduced-versus-FE
+//! difference of the largest slip range, the accumulated slip Σ n Δs over cycles of at least
+//! 1 µm and their number.
+//!
+//! ```text
+//! reduced_strand_forms record --ea EA --margin 0.05 --load A.csv [--load B.csv …] REC.bin
+//! reduced_strand_forms fit REC.bin --ea EA --margin 0.05 --load A.csv … \
+//!     --held-out LOAD.csv FE_DIR [--held-out …] [--run-in-s 100] [--write CALIB.json] \
+//!     [--plays w1,w2,w3,w4[,fixed]]…
+//! ```
+//!
+//! The model is the paper campaign's: the six-layer strand, periodic ends, ε_N = 2e8 N/m,
+//! γ_e = 10 µm; loads are `moorfret run global` hot-spot files (hot spot 0), ε = T / EA. The
+//! range is the loads' widened by `--margin`, as `moorfret strand calibrate` makes it. Each
+//! `--plays` is one form (half widths on the scaled curvature at the highest strain; `fixed`:
+//! not scaled with the tension; `none`: no plays); the default form of the library is always
+//! fitted first. `--write` stores the first form's calibration, labelled with the key of the
+//! library's default calibration of this model so that `moorfret run strand --calibration`
+//! accepts it (for studies only).
+
+use std::io::{BufReader, BufWriter, Read, Write};
+use std::path::Path;
+
+use moorfret_solver::fretting::{ContactRecord, ContactSample};
+use moorfret_solver::strand::history::stiffness::{samples_from_tension, SlackTension};
+use moorfret_solver::strand::history::{
+    checkpoint::HistoryCheckpoint, run_history, HistoryObserver, HistoryProgress, LoadSample,
+};
+use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
+use moorfret_solver::strand::profile::profiles_from_json;
+use moorfret_solver::strand::reduced::compare::compare_records;
+use moorfret_solver::strand::reduced::{
+    calibration_design, fit_recorded, model_key, run_reduced, CalibrationOptions, LoadRange,
+    PlayParams, RecordedSample, PLAYS,
+};
+
+const PROFILES: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../campaigns/data/strand_profiles.json"
+));
+
+type Error = Box<dyn std::error::Error>;
+
+/// The paper campaign's strand model.
+fn model() -> Result<(StrandModel, String), Error> {
+    let strand = profiles_from_json(PROFILES)?
+        .get("paper_six_layer")
+        .ok_or("profile paper_six_layer missing")?
+        .validate()?;
+    let params = StrandModelParameters::penalty_contact(2e8, 1e-5, EndKind::Periodic);
+    let key = model_key(&strand, &params, &CalibrationOptions::default());
+    Ok((StrandModel::new(&strand, &params)?, key))
+}
+
+/// Hot spot 0 of a `moorfret run global` hot-spot file as load samples, ε = T / EA.
+fn read_load(path: &str, ea: f64) -> Result<Vec<LoadSample>, Error> {
+    let text = std::fs::read_to_string(path)?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().ok_or("empty load file")?.split(',').collect();
+    let col = |names: &[&str]| {
+        header
+            .iter()
+            .position(|h| names.contains(&h.trim()))
+            .ok_or(format!("{path}: no column {names:?}"))
+    };
+    let it = col(&["time_s"])?;
+    let iten = col(&["tension_n", "tension_n_0"])?;
+    let ik = col(&["curvature_per_m", "curvature_per_m_0"])?;
+    let (mut t, mut tension, mut kappa) = (Vec::new(), Vec::new(), Vec::new());
+    for (n, line) in lines.enumerate() {
+        let v: Vec<f64> = line
+            .split(',')
+            .map(|x| x.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|e| format!("{path}: line {}: {e}", n + 2))?;
+        t.push(v[it]);
+        tension.push(v[iten]);
+        kappa.push(v[ik]);
+    }
+    Ok(samples_from_tension(&t, &tension, &kappa, ea, 1, SlackTension::Refuse)?.0)
+}
+
+/// The range of the loads widened by `margin`.
+fn range_of(loads: &[String], ea: f64, margin: f64) -> Result<LoadRange, Error> {
+    let mut range: Option<LoadRange> = None;
+    for path in loads {
+        let r = LoadRange::of(&read_load(path, ea)?).ok_or("empty load")?;
+        range = Some(range.map_or(r, |a| a.union(r)));
+    }
+    Ok(range.ok_or("give --load")?.widened(margin))
+}
+
+/// Writes every sample the FE run solves.
+struct Recorder<W: Write> {
+    out: W,
+    error: Option<std::io::Error>,
+    samples: usize,
+}
+
+impl<W: Write> Recorder<W> {
+    fn put(&mut self, values: impl IntoIterator<Item = f64>) {
+        for v in values {
+            if self.error.is_none() {
+                if let Err(e) = self.out.write_all(&v.to_le_bytes()) {
+                    self.error = Some(e);
+                }
+            }
+        }
+    }
+}
+
+impl<W: Write> HistoryObserver for Recorder<W> {
+    fn progress(&mut self, _progress: &HistoryProgress) {}
+
+    fn checkpoint(&mut self, _checkpoint: &HistoryCheckpoint) {}
+
+    fn sample(&mut self, sample: &LoadSample, contacts: &[ContactSample], elements: &[f64]) {
+        self.put([
+            sample.time_s,
+            sample.strain,
+            sample.curvature_per_m,
+            contacts.len() as f64,
+            elements.len() as f64,
+        ]);
+        self.put(
+            contacts
+                .iter()
+                .flat_map(|c| [c.slip_m, c.normal_force_n, c.tangential_force_n]),
+        );
+        self.put(elements.iter().copied());
+        self.samples += 1;
+        if self.samples % 100 == 0 {
+            eprintln!("  {} samples recorded", self.samples);
+        }
+    }
+
+    fn should_stop(&mut self) -> bool {
+        self.error.is_some()
+    }
+}
+
+/// Reads a recording written by [`Recorder`].
+fn read_recording(path: &Path) -> Result<Vec<RecordedSample>, Error> {
+    let mut r = BufReader::new(std::fs::File::open(path)?);
+    let next = |r: &mut BufReader<std::fs::File>| -> std::io::Result<f64> {
+        let mut b = [0u8; 8];
+        r.read_exact(&mut b)?;
+        Ok(f64::from_le_bytes(b))
+    };
+    let mut out = Vec::new();
+    loop {
+        let time_s = match next(&mut r) {
+            Ok(v) => v,
+            Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => break,
+            Err(e) => return Err(e.into()),
+        };
+        let (strain, curvature_per_m) = (next(&mut r)?, next(&mut r)?);
+        let (nc, ne) = (next(&mut r)? as usize, next(&mut r)? as usize);
+        let mut contacts = Vec::with_capacity(nc);
+        for _ in 0..nc {
+            contacts.push(ContactSample {
+                slip_m: next(&mut r)?,
+                normal_force_n: next(&mut r)?,
+                tangential_force_n: next(&mut r)?,
+            });
+        }
+        let elements = (0..ne).map(|_| next(&mut r)).collect::<Result<_, _>>()?;
+        out.push((
+            LoadSample {
+                time_s,
+                strain,
+                curvature_per_m,
+            },
+            contacts,
+            elements,
+        ));
+    }
+    Ok(out)
+}
+
+/// Per interface: the distribution of the reduced / FE ratio of each contact's largest slip
+/// range, and the contacts holding the interface's largest range in each.
+fn per_contact(fe: &[ContactRecord], reduced: &[ContactRecord]) {
+    let max_range = |r: &ContactRecord| r.cycles.iter().map(|c| c.slip.range).fold(0.0, f64::max);
+    let interfaces = fe.iter().map(|r| r.interface + 1).max().unwrap_or(0);
+    for i in 0..interfaces {
+        let mut ratios = Vec::new();
+        let (mut best_fe, mut best_red) = ((0.0, 0), (0.0, 0));
+        for (c, (a, b)) in fe.iter().zip(reduced).enumerate() {
+            if a.interface != i {
+                continue;
+            }
+            let (ra, rb) = (max_range(a), max_range(b));
+            if ra > 0.0 {
+                ratios.push(rb / ra);
+            }
+            if ra > best_fe.0 {
+                best_fe = (ra, c);
+            }
+            if rb > best_red.0 {
+                best_red = (rb, c);
+            }
+        }
+        ratios.sort_by(f64::total_cmp);
+        let q = |f: f64| {
+            ratios
+                .get(((ratios.len() as f64 - 1.0) * f) as usize)
+                .copied()
+                .unwrap_or(0.0)
+        };
+        println!(
+            "    interface {i}: contact ratio p10 {:.3} median {:.3} p90 {:.3} max {:.3}; FE max at {} ({:.3e}, reduced {:.3e}); reduced max at {} ({:.3e}, FE {:.3e})",
+            q(0.1), q(0.5), q(0.9), q(1.0),
+            best_fe.1, best_fe.0, max_range(&reduced[best_fe.1]),
+            best_red.1, best_red.0, max_range(&fe[best_red.1])
+        );
+    }
+}
+
+fn parse_plays(text: &str) -> Result<PlayParams, Error> {
+    if text == "none" {
+        return Ok(PlayParams {
+            half_widths: [0.0; PLAYS],
+            scale_with_tension: false,
+        });
+    }
+    let mut parts: Vec<&str> = text.split(',').collect();
+    let fixed = parts.last() == Some(&"fixed");
+    if fixed {
+        parts.pop();
+    }
+    let v: Vec<f64> = parts
+        .iter()
+        .map(|p| p.parse::<f64>())
+        .collect::<Result<_, _>>()?;
+    let half_widths: [f64; PLAYS] = v
+        .try_into()
+        .map_err(|_| format!("--plays {text}: give {PLAYS} widths"))?;
+    Ok(PlayParams {
+        half_widths,
+        scale_with_tension: !fixed,
+    })
+}
+
+fn main() -> Result<(), Error> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mode = args.first().ok_or("record | fit")?.clone();
+    let (mut ea, mut margin, mut run_in_s) = (None, 0.05, 100.0);
+    let (mut loads, mut held_out, mut forms, mut positional) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut write: Option<String> = None;
+    let mut centres: Vec<f64> = Vec::new();
+    let mut it = args[1..].iter();
+    while let Some(a) = it.next() {
+        let mut value = || it.next().cloned().ok_or(format!("{a} needs a value"));
+        match a.as_str() {
+            "--ea" => ea = Some(value()?.parse::<f64>()?),
+            "--margin" => margin = value()?.parse()?,
+            "--run-in-s" => run_in_s = value()?.parse()?,
+            "--load" => loads.push(value()?),
+            "--held-out" => {
+                let load = value()?;
+                held_out.push((load, value()?));
+            }
+            "--plays" => forms.push(parse_plays(&value()?)?),
+            "--write" => write = Some(value()?),
+            "--centres" => {
+                centres = value()?
+                    .split(',')
+                    .map(|c| c.parse::<f64>())
+                    .collect::<Result<_, _>>()?
+            }
+            _ => positional.push(a.clone()),
+        }
+    }
+    let ea = ea.ok_or("--ea N (the strand model's EA, as `moorfret run strand` prints it)")?;
+    let recording = positional.first().ok_or("REC.bin")?;
+    let (model, key) = model()?;
+    let range = range_of(&loads, ea, margin)?;
+    println!(
+        "range: strain {:?}, curvature {:?} 1/m",
+        range.strain, range.curvature_per_m
+    );
+    let mut base = CalibrationOptions::default();
+    base.design.curvature_centres = centres;
+    if mode == "record" {
+        let options = base.clone();
+        let (design, history) = calibration_design(&model, range, &options)?;
+        println!("{} designed samples", design.len());
+        let mut recorder = Recorder {
+            out: BufWriter::new(std::fs::File::create(recording)?),
+            error: None,
+            samples: 0,
+        };
+        let t = std::time::Instant::now();
+        let fe = run_history(&model, &design, &history, &mut recorder)?;
+        recorder.out.flush()?;
+        if let Some(e) = recorder.error {
+            return Err(e.into());
+        }
+        println!(
+            "recorded {} samples: {} sub-steps, {} Newton iterations, {:.1} s",
+            recorder.samples,
+            fe.stats.substeps,
+            fe.stats.iterations,
+            t.elapsed().as_secs_f64()
+        );
+        return Ok(());
+    }
+    let samples = read_recording(Path::new(recording))?;
+    println!("{} recorded samples", samples.len());
+    let mut references = Vec::new();
+    for (load, dir) in &held_out {
+        let text = std::fs::read_to_string(Path::new(dir).join("contact_records.json"))?;
+        let fe: Vec<ContactRecord> = serde_json::from_str(&text)?;
+        references.push((read_load(load, ea)?, fe, dir.clone()));
+    }
+    forms.insert(0, PlayParams::default());
+    for (k, plays) in forms.iter().enumerate() {
+        let options = CalibrationOptions {
+            plays: *plays,
+            ..base.clone()
+        };
+        let mut reduced = fit_recorded(&model, range, &options, samples.iter().cloned())?;
+        reduced.model_key = key.clone();
+        println!("\nform {k}: {plays:?}");
+        for f in &reduced.calibration.fits {
+            println!(
+                "  fit interface {}: slip rms residual / spread {:.3}",
+                f.interface,
+                f.slip_rms_residual_m / f.slip_rms_m.max(f64::MIN_POSITIVE)
+            );
+        }
+        if k == 0 {
+            if let Some(path) = &write {
+                std::fs::write(path, serde_json::to_string(&reduced)?)?;
+            }
+        }
+        for (load, fe, dir) in &references {
+            let r = run_reduced(&reduced, load, 1e-8)?;
+            let dt = load.get(1).map_or(0.1, |s| s.time_s) - load[0].time_s;
+            let from = (run_in_s / dt).round() as usize;
+            println!("  {dir}:");
+            per_contact(fe, &r.contacts);
+            for c in compare_records(fe, &r.contacts, 1e-6, from) {
+                println!("    {c:?}");
+            }
+        }
+    }
+    Ok(())
+}
