@@ -1,28 +1,27 @@
-//! Forms of the reduced strand response compared on one recorded FE calibration run.
+//! The reduced strand response against the FE model, from one recorded FE calibration run.
 //!
-//! The FE run of a calibration is what costs (minutes); the fit is seconds. This study records
-//! the FE run of the six-layer paper strand's calibration once (every contact's slip, normal and
-//! tangential force at every designed sample, about 150 MB), then fits the reduced response
-//! with several settings of its play operators and runs each through held-out hot-spot
-//! histories whose FE results are on disk, printing per layer interface the reduced-versus-FE
-//! difference of the largest slip range, the accumulated slip Σ n Δs over cycles of at least
-//! 1 µm and their number.
+//! The FE run of a calibration is what costs (minutes); the fit and a reduced history are
+//! seconds. This study records the FE run of the six-layer paper strand's calibration once
+//! (every contact's slip, normal and tangential force at every designed sample: 110 MB), then
+//! fits the reduced response on the recording ([`fit_recorded`]) and runs it through held-out
+//! hot-spot histories whose FE results are on disk, printing per layer interface the
+//! reduced-versus-FE difference of the largest slip range, of the accumulated slip Σ n Δs over
+//! cycles of at least 1 µm and of their number, and the spread over the interface's contacts
+//! of the reduced / FE ratio of each contact's largest slip range. A change to the fit or to
+//! the drive's form is then measured in seconds on the same FE data
+//! (docs/notes/2026-11-27-reduced-strand-forms.md).
 //!
 //! ```text
 //! reduced_strand_forms record --ea EA --margin 0.05 --load A.csv [--load B.csv …] REC.bin
 //! reduced_strand_forms fit REC.bin --ea EA --margin 0.05 --load A.csv … \
-//!     --held-out LOAD.csv FE_DIR [--held-out …] [--run-in-s 100] [--write CALIB.json] \
-//!     [--plays w1,w2,w3,w4[,fixed]]…
+//!     --held-out LOAD.csv FE_DIR [--held-out …] [--run-in-s 100] [--write CALIB.json]
 //! ```
 //!
 //! The model is the paper campaign's: the six-layer strand, periodic ends, ε_N = 2e8 N/m,
-//! γ_e = 10 µm; loads are `moorfret run global` hot-spot files (hot spot 0), ε = T / EA. The
-//! range is the loads' widened by `--margin`, as `moorfret strand calibrate` makes it. Each
-//! `--plays` is one form (half widths on the scaled curvature at the highest strain; `fixed`:
-//! not scaled with the tension; `none`: no plays); the default form of the library is always
-//! fitted first. `--write` stores the first form's calibration, labelled with the key of the
-//! library's default calibration of this model so that `moorfret run strand --calibration`
-//! accepts it (for studies only).
+//! γ_e = 10 µm; loads are `moorfret run global` hot-spot files (hot spot 0), ε = T / EA with
+//! the EA that `moorfret run strand` prints. The range is the loads' widened by `--margin`, as
+//! `moorfret strand calibrate` makes it. `--write` stores the fitted calibration with the key
+//! of this model, for `moorfret run strand --fidelity reduced --calibration`.
 
 use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::Path;
@@ -30,14 +29,15 @@ use std::path::Path;
 use moorfret_solver::fretting::{ContactRecord, ContactSample};
 use moorfret_solver::strand::history::stiffness::{samples_from_tension, SlackTension};
 use moorfret_solver::strand::history::{
-    checkpoint::HistoryCheckpoint, run_history, HistoryObserver, HistoryProgress, LoadSample,
+    checkpoint::HistoryCheckpoint, run_history, HistoryObserver, HistoryOptions, HistoryProgress,
+    LoadSample,
 };
 use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::profiles_from_json;
 use moorfret_solver::strand::reduced::compare::compare_records;
 use moorfret_solver::strand::reduced::{
     calibration_design, fit_recorded, model_key, run_reduced, CalibrationOptions, LoadRange,
-    PlayParams, RecordedSample, PLAYS,
+    RecordedSample,
 };
 
 const PROFILES: &str = include_str!(concat!(
@@ -214,48 +214,34 @@ fn per_contact(fe: &[ContactRecord], reduced: &[ContactRecord]) {
                 .copied()
                 .unwrap_or(0.0)
         };
+        let (fe_at_best, reduced_at_best) = (
+            reduced.get(best_fe.1).map_or(0.0, max_range),
+            fe.get(best_red.1).map_or(0.0, max_range),
+        );
         println!(
-            "    interface {i}: contact ratio p10 {:.3} median {:.3} p90 {:.3} max {:.3}; FE max at {} ({:.3e}, reduced {:.3e}); reduced max at {} ({:.3e}, FE {:.3e})",
-            q(0.1), q(0.5), q(0.9), q(1.0),
-            best_fe.1, best_fe.0, max_range(&reduced[best_fe.1]),
-            best_red.1, best_red.0, max_range(&fe[best_red.1])
+            "    interface {i}: contact ratio p10 {:.3}, median {:.3}, p90 {:.3}, max {:.3}; \
+             FE largest at contact {} ({:.3e} m, reduced {:.3e}); reduced largest at {} \
+             ({:.3e} m, FE {:.3e})",
+            q(0.1),
+            q(0.5),
+            q(0.9),
+            q(1.0),
+            best_fe.1,
+            best_fe.0,
+            fe_at_best,
+            best_red.1,
+            best_red.0,
+            reduced_at_best
         );
     }
-}
-
-fn parse_plays(text: &str) -> Result<PlayParams, Error> {
-    if text == "none" {
-        return Ok(PlayParams {
-            half_widths: [0.0; PLAYS],
-            scale_with_tension: false,
-        });
-    }
-    let mut parts: Vec<&str> = text.split(',').collect();
-    let fixed = parts.last() == Some(&"fixed");
-    if fixed {
-        parts.pop();
-    }
-    let v: Vec<f64> = parts
-        .iter()
-        .map(|p| p.parse::<f64>())
-        .collect::<Result<_, _>>()?;
-    let half_widths: [f64; PLAYS] = v
-        .try_into()
-        .map_err(|_| format!("--plays {text}: give {PLAYS} widths"))?;
-    Ok(PlayParams {
-        half_widths,
-        scale_with_tension: !fixed,
-    })
 }
 
 fn main() -> Result<(), Error> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mode = args.first().ok_or("record | fit")?.clone();
     let (mut ea, mut margin, mut run_in_s) = (None, 0.05, 100.0);
-    let (mut loads, mut held_out, mut forms, mut positional) =
-        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut loads, mut held_out, mut positional) = (Vec::new(), Vec::new(), Vec::new());
     let mut write: Option<String> = None;
-    let mut centres: Vec<f64> = Vec::new();
     let mut it = args[1..].iter();
     while let Some(a) = it.next() {
         let mut value = || it.next().cloned().ok_or(format!("{a} needs a value"));
@@ -268,14 +254,7 @@ fn main() -> Result<(), Error> {
                 let load = value()?;
                 held_out.push((load, value()?));
             }
-            "--plays" => forms.push(parse_plays(&value()?)?),
             "--write" => write = Some(value()?),
-            "--centres" => {
-                centres = value()?
-                    .split(',')
-                    .map(|c| c.parse::<f64>())
-                    .collect::<Result<_, _>>()?
-            }
             _ => positional.push(a.clone()),
         }
     }
@@ -287,10 +266,8 @@ fn main() -> Result<(), Error> {
         "range: strain {:?}, curvature {:?} 1/m",
         range.strain, range.curvature_per_m
     );
-    let mut base = CalibrationOptions::default();
-    base.design.curvature_centres = centres;
+    let options = CalibrationOptions::default();
     if mode == "record" {
-        let options = base.clone();
         let (design, history) = calibration_design(&model, range, &options)?;
         println!("{} designed samples", design.len());
         let mut recorder = Recorder {
@@ -321,37 +298,40 @@ fn main() -> Result<(), Error> {
         let fe: Vec<ContactRecord> = serde_json::from_str(&text)?;
         references.push((read_load(load, ea)?, fe, dir.clone()));
     }
-    forms.insert(0, PlayParams::default());
-    for (k, plays) in forms.iter().enumerate() {
-        let options = CalibrationOptions {
-            plays: *plays,
-            ..base.clone()
-        };
-        let mut reduced = fit_recorded(&model, range, &options, samples.iter().cloned())?;
-        reduced.model_key = key.clone();
-        println!("\nform {k}: {plays:?}");
-        for f in &reduced.calibration.fits {
+    let mut reduced = fit_recorded(&model, range, &options, samples)?;
+    reduced.model_key = key;
+    for f in &reduced.calibration.fits {
+        println!(
+            "fit interface {}: slip rms residual / spread {:.3}",
+            f.interface,
+            f.slip_rms_residual_m / f.slip_rms_m.max(f64::MIN_POSITIVE)
+        );
+    }
+    if let Some(path) = &write {
+        std::fs::write(path, serde_json::to_string(&reduced)?)?;
+    }
+    for (load, fe, dir) in &references {
+        let r = run_reduced(&reduced, load, HistoryOptions::default().slip_gate_m)?;
+        let dt = load.get(1).map_or(0.1, |s| s.time_s) - load[0].time_s;
+        let from = (run_in_s / dt).round() as usize;
+        println!("{dir}: largest slip range, accumulated slip, cycles ≥ 1 µm (reduced / FE − 1)");
+        for c in compare_records(fe, &r.contacts, 1e-6, from) {
             println!(
-                "  fit interface {}: slip rms residual / spread {:.3}",
-                f.interface,
-                f.slip_rms_residual_m / f.slip_rms_m.max(f64::MIN_POSITIVE)
+                "  interface {}: {:.3e} → {:.3e} m ({:+.1} %), {:.4e} → {:.4e} m ({:+.1} %), \
+                 {} → {} ({:+.1} %)",
+                c.interface,
+                c.reference.max_slip_range_m,
+                c.compared.max_slip_range_m,
+                100.0 * c.max_slip_range_error,
+                c.reference.accumulated_slip_m,
+                c.compared.accumulated_slip_m,
+                100.0 * c.accumulated_slip_error,
+                c.reference.cycles,
+                c.compared.cycles,
+                100.0 * c.cycles_error
             );
         }
-        if k == 0 {
-            if let Some(path) = &write {
-                std::fs::write(path, serde_json::to_string(&reduced)?)?;
-            }
-        }
-        for (load, fe, dir) in &references {
-            let r = run_reduced(&reduced, load, 1e-8)?;
-            let dt = load.get(1).map_or(0.1, |s| s.time_s) - load[0].time_s;
-            let from = (run_in_s / dt).round() as usize;
-            println!("  {dir}:");
-            per_contact(fe, &r.contacts);
-            for c in compare_records(fe, &r.contacts, 1e-6, from) {
-                println!("    {c:?}");
-            }
-        }
+        per_contact(fe, &r.contacts);
     }
     Ok(())
 }

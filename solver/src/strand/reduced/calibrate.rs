@@ -7,8 +7,8 @@ use super::compare::compare_records;
 use super::design::{design_history_weighted, DesignParams};
 use super::fit::FitAccumulator;
 use super::{
-    CalibrationReport, InterfaceFit, LoadRange, LoadScaling, PlayParams, Plays, ReducedError,
-    ReducedStrand, FORMAT_VERSION,
+    CalibrationReport, InterfaceFit, LoadRange, LoadScaling, ReducedError, ReducedStrand,
+    FORMAT_VERSION,
 };
 use crate::contact::TangentialLaw;
 use crate::fretting::ContactSample;
@@ -30,8 +30,6 @@ pub struct CalibrationOptions {
     pub history: HistoryOptions,
     /// The designed history.
     pub design: DesignParams,
-    /// The play operators of the drives.
-    pub plays: PlayParams,
     /// Threshold of the counted slip cycles of the in-sample comparison (m).
     pub min_slip_range_m: f64,
 }
@@ -41,7 +39,6 @@ impl Default for CalibrationOptions {
         Self {
             history: HistoryOptions::default(),
             design: DesignParams::default(),
-            plays: PlayParams::default(),
             min_slip_range_m: 1e-6,
         }
     }
@@ -61,10 +58,9 @@ pub fn model_key(
     };
     let text = format!(
         "moorfret {} reduced strand format {FORMAT_VERSION}; strand {strand:?}; model \
-         {params:?}; history {history:?}; design {:?}; plays {:?}",
+         {params:?}; history {history:?}; design {:?}",
         env!("CARGO_PKG_VERSION"),
-        options.design,
-        options.plays
+        options.design
     );
     Sha256::digest(text.as_bytes())
         .iter()
@@ -75,9 +71,6 @@ pub fn model_key(
 /// Turns the samples of the calibration's FE run, in order, into least-squares sums.
 struct Fitter {
     scaling: LoadScaling,
-    plays: Option<Plays>,
-    play_params: PlayParams,
-    range: LoadRange,
     /// Least-squares weight of every designed sample, by index (= its time in s).
     weights: Vec<f64>,
     fit: FitAccumulator,
@@ -87,12 +80,6 @@ struct Fitter {
 impl Fitter {
     fn add(&mut self, sample: &LoadSample, contacts: &[ContactSample], elements: &[f64]) {
         let (x, y) = self.scaling.scaled(sample.strain, sample.curvature_per_m);
-        // the plays start at rest on the straight strand, where the FE initialisation starts
-        let (scaling, params, range) = (self.scaling, self.play_params, self.range);
-        let plays = self.plays.get_or_insert_with(|| {
-            Plays::at_rest(params, &range, scaling.scaled(sample.strain, 0.0).1)
-        });
-        let lags = plays.advance(sample.strain, y);
         self.buffer.clear();
         self.buffer.extend(
             contacts
@@ -104,7 +91,7 @@ impl Fitter {
             .get(sample.time_s as usize)
             .copied()
             .unwrap_or(1.0);
-        self.fit.add((x, y), &lags, w, &self.buffer, elements);
+        self.fit.add(x, y, w, &self.buffer, elements);
     }
 }
 
@@ -176,9 +163,6 @@ fn prepare(
         .count();
     let fitter = Fitter {
         scaling: LoadScaling::of(&range),
-        plays: None,
-        play_params: options.plays,
-        range,
         weights,
         fit: FitAccumulator::new(model.contacts.len(), elements),
         buffer: Vec::with_capacity(model.contacts.len()),
@@ -300,7 +284,6 @@ fn assemble(model: &StrandModel, p: &Prepared, fe: &HistoryStats, start: Instant
         elastic_slip_m: p.elastic_slip_m,
         range: p.range,
         scaling: p.fitter.scaling,
-        plays: p.fitter.play_params,
         sites: p.sites.clone(),
         laws: fits.iter().map(|f| f.law).collect(),
         channels: p

@@ -28,9 +28,6 @@ pub struct DesignParams {
     pub amplitudes: Vec<f64>,
     /// Cycles per amplitude (≥ 1).
     pub cycles: usize,
-    /// Further centres of curvature cycles at every tension level, scaled curvature in
-    /// (−1, 1): about each, the cycles of every amplitude that stays in the range.
-    pub curvature_centres: Vec<f64>,
 }
 
 impl Default for DesignParams {
@@ -39,7 +36,6 @@ impl Default for DesignParams {
             tension_levels: 4,
             amplitudes: vec![1.0, 0.6, 0.35, 0.2, 0.1, 0.05, 0.02],
             cycles: 2,
-            curvature_centres: Vec::new(),
         }
     }
 }
@@ -75,26 +71,6 @@ pub(crate) fn design_vertices(params: &DesignParams) -> Vec<(f64, f64, f64)> {
                 v.push((xj, a, a));
                 v.push((xj, -a, a));
             }
-        }
-        for &yc in &params.curvature_centres {
-            let room = 1.0 - yc.abs();
-            let amplitudes: Vec<f64> = params
-                .amplitudes
-                .iter()
-                .copied()
-                .filter(|&a| a <= room + 1e-12)
-                .collect();
-            let Some(&largest) = amplitudes.first() else {
-                continue;
-            };
-            v.push((xj, yc, largest));
-            for &a in &amplitudes {
-                for _ in 0..params.cycles.max(1) {
-                    v.push((xj, yc + a, a));
-                    v.push((xj, yc - a, a));
-                }
-            }
-            v.push((xj, yc, largest));
         }
         v.push((xj, 0.0, 1.0));
         for &a in &params.amplitudes {

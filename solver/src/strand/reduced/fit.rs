@@ -19,7 +19,7 @@
 
 use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 
-use super::{force_features, ContactLaw, FORCE_FEATURES, PLAYS};
+use super::{force_features, ContactLaw, FORCE_FEATURES};
 
 /// Relative ridge of the scaled normal equations.
 pub(crate) const RIDGE: f64 = 1e-10;
@@ -46,17 +46,13 @@ impl ForceSums {
     }
 }
 
-/// Load features of the drive: `ψ = [x, y, x y, 1, z_1 − y, …, z_P − y]`, the last the lags of
-/// the play operators ([`super::PlayParams`]).
-pub const DRIVE_FEATURES: usize = 4 + PLAYS;
+/// Load features of the drive: `ψ = [x, y, x y, 1]`.
+pub(crate) const DRIVE_FEATURES: usize = 4;
 
-/// The drive features at scaled loads (x, y) and play lags.
+/// The drive features at scaled loads (x, y).
 #[inline]
-pub(crate) fn drive_features(x: f64, y: f64, lags: &[f64; PLAYS]) -> [f64; DRIVE_FEATURES] {
-    let mut f = [0.0; DRIVE_FEATURES];
-    f[..4].copy_from_slice(&[x, y, x * y, 1.0]);
-    f[4..].copy_from_slice(lags);
-    f
+pub(crate) fn drive_features(x: f64, y: f64) -> [f64; DRIVE_FEATURES] {
+    [x, y, x * y, 1.0]
 }
 
 /// Unknowns of the structure equation: the drive's four coefficients and the compliance
@@ -146,20 +142,12 @@ impl FitAccumulator {
         self.weight
     }
 
-    /// Adds one sample at scaled loads (x, y) and play lags with least-squares weight `w`
-    /// (> 0): every contact's (slip, f_N, f_T) and every element channel's value. Slices
-    /// shorter or longer than the sums are a caller's error and are ignored beyond the shorter
-    /// length.
-    pub fn add(
-        &mut self,
-        (x, y): (f64, f64),
-        lags: &[f64; PLAYS],
-        w: f64,
-        contacts: &[(f64, f64, f64)],
-        elements: &[f64],
-    ) {
+    /// Adds one sample at scaled loads (x, y) with least-squares weight `w` (> 0): every
+    /// contact's (slip, f_N, f_T) and every element channel's value. Slices shorter or longer
+    /// than the sums are a caller's error and are ignored beyond the shorter length.
+    pub fn add(&mut self, x: f64, y: f64, w: f64, contacts: &[(f64, f64, f64)], elements: &[f64]) {
         let phi = force_features(x, y);
-        let psi = drive_features(x, y, lags);
+        let psi = drive_features(x, y);
         let phi_v = ForceVec::from_column_slice(&phi);
         self.force_gram += w * phi_v * phi_v.transpose();
         let psi_v = SVector::<f64, DRIVE_FEATURES>::from_column_slice(&psi);
@@ -189,7 +177,7 @@ impl FitAccumulator {
     }
 
     /// The fitted laws of every contact.
-    pub fn contact_fits(&self) -> Vec<ContactFit> {
+    pub(crate) fn contact_fits(&self) -> Vec<ContactFit> {
         let n = self.weight.max(f64::MIN_POSITIVE);
         let normal_solver = ScaledSolver::new(&self.force_gram);
         self.normal
@@ -215,7 +203,7 @@ impl FitAccumulator {
     }
 
     /// The fitted element channels.
-    pub fn element_fits(&self) -> Vec<ForceFit> {
+    pub(crate) fn element_fits(&self) -> Vec<ForceFit> {
         let solver = ScaledSolver::new(&self.force_gram);
         self.elements
             .iter()
@@ -369,7 +357,7 @@ mod tests {
                 .zip(&truth)
                 .map(|(a, b)| a * b)
                 .sum();
-            acc.add((x, y), &[0.0; PLAYS], 1.0, &[(0.0, f, 0.0)], &[f]);
+            acc.add(x, y, 1.0, &[(0.0, f, 0.0)], &[f]);
         }
         let fits = acc.contact_fits();
         for (a, b) in fits[0].law.normal.iter().zip(&truth) {
@@ -391,7 +379,7 @@ mod tests {
             let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.53).cos());
             let f_t = 40.0 * (i as f64 * 1.7).sin();
             let s = a * x + b * y + e * x * y + c - (g0 + g1 * x) * f_t;
-            acc.add((x, y), &[0.0; PLAYS], 1.0, &[(s, 100.0, f_t)], &[]);
+            acc.add(x, y, 1.0, &[(s, 100.0, f_t)], &[]);
         }
         let fit = acc.contact_fits()[0];
         let rel = |p: f64, q: f64| (p - q).abs() / q.abs();
@@ -406,50 +394,6 @@ mod tests {
     }
 
     #[test]
-    fn the_play_coefficients_of_the_drive_are_recovered() {
-        // a drive with a hysteretic part, s = a x + b y + c + Σ h_j (z_j − y), through
-        // curvature cycles of decreasing amplitude (the design's): every h_j identifiable
-        let params = super::super::PlayParams {
-            half_widths: [0.02, 0.1, 0.3, 0.7],
-            scale_with_tension: true,
-        };
-        let range = super::super::LoadRange {
-            strain: [0.0, 1e-3],
-            curvature_per_m: [0.0, 0.02],
-        };
-        let h = [0.4e-6, -1.1e-6, 0.8e-6, 2.5e-6];
-        let (a, b, c) = (2e-6, -5e-6, 1e-7);
-        let mut plays = super::super::Plays::at_rest(params, &range, -1.0);
-        let mut acc = FitAccumulator::new(1, 0);
-        for level in [-0.5, 0.5] {
-            let strain = 0.5e-3 * (1.0 + level);
-            for amplitude in [1.0, 0.6, 0.35, 0.2, 0.1, 0.05, 0.02] {
-                for i in 0..40 {
-                    let y = amplitude * (i as f64 * std::f64::consts::PI / 10.0).sin();
-                    let lags = plays.advance(strain, y);
-                    let s = a * level + b * y + c + dot(&h, &lags);
-                    acc.add((level, y), &lags, 1.0, &[(s, 100.0, 0.0)], &[]);
-                }
-            }
-        }
-        let fit = acc.contact_fits()[0];
-        let rel = |p: f64, q: f64| (p - q).abs() / q.abs();
-        for (j, &hj) in h.iter().enumerate() {
-            assert!(
-                rel(fit.law.drive[4 + j], hj) < 1e-6,
-                "h_{j}: {} vs {hj}",
-                fit.law.drive[4 + j]
-            );
-        }
-        assert!(rel(fit.law.drive[1], b) < 1e-6);
-        assert!(fit.slip_residual_ss < 1e-10 * fit.slip_spread_ss);
-    }
-
-    fn dot(a: &[f64; PLAYS], b: &[f64; PLAYS]) -> f64 {
-        a.iter().zip(b).map(|(p, q)| p * q).sum()
-    }
-
-    #[test]
     fn a_negative_compliance_is_refitted_at_zero() {
         // data made with g < 0: the fit falls back to the pure drive
         let mut acc = FitAccumulator::new(1, 0);
@@ -457,7 +401,7 @@ mod tests {
             let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.53).cos());
             let f_t = 40.0 * (i as f64 * 1.7).sin();
             let s = 1e-6 * x + 4e-8 * f_t;
-            acc.add((x, y), &[0.0; PLAYS], 1.0, &[(s, 100.0, f_t)], &[]);
+            acc.add(x, y, 1.0, &[(s, 100.0, f_t)], &[]);
         }
         let fit = acc.contact_fits()[0];
         assert_eq!(fit.law.compliance, [0.0, 0.0]);

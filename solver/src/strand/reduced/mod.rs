@@ -72,7 +72,7 @@ pub use run::run_reduced;
 /// Version of the stored calibration and of the fit that made it; a file of another version is
 /// refused. Part of the cache key of a calibration, so every change to the model, the design or
 /// the fit bumps it.
-pub(crate) const FORMAT_VERSION: u32 = 4;
+pub(crate) const FORMAT_VERSION: u32 = 3;
 
 /// Slack of the calibrated range, as a fraction of each channel's range: a sample this far
 /// outside is still accepted (round-off of the tension-to-strain conversion).
@@ -311,82 +311,12 @@ fn dot<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
     a.iter().zip(b).map(|(p, q)| p * q).sum()
 }
 
-/// Number of play operators in the drive.
-pub const PLAYS: usize = 4;
-
-/// The play operators of the drive (module docs): rate-independent hysteresis of the strand
-/// around a contact, the state of the sliding layers, as a Prandtl-Ishlinskii sum. Play `j`
-/// follows the scaled curvature `y` with the half width `r_j`: its output `z_j` stays put while
-/// `|y − z_j| < r_j` and is dragged along by `y` otherwise; the drive uses its lag `z_j − y`
-/// (within ±r_j). With `scale_with_tension`, `r_j` is proportional to the axial strain, as the
-/// friction that holds the layers is proportional to the tension: it is `half_widths[j]` at the
-/// range's highest strain.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct PlayParams {
-    /// Half widths on the scaled curvature at the highest strain of the range (≥ 0).
-    pub half_widths: [f64; PLAYS],
-    /// Whether the widths are proportional to the axial strain.
-    pub scale_with_tension: bool,
-}
-
-impl Default for PlayParams {
-    fn default() -> Self {
-        Self {
-            half_widths: [0.02, 0.05, 0.15, 0.4],
-            scale_with_tension: true,
-        }
-    }
-}
-
-/// The state of the play operators along a history.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Plays {
-    params: PlayParams,
-    reference_strain: f64,
-    output: [f64; PLAYS],
-}
-
-impl Plays {
-    /// The plays at rest at scaled curvature `y` (the straight strand of the FE
-    /// initialisation), over `range`.
-    pub(crate) fn at_rest(params: PlayParams, range: &LoadRange, y: f64) -> Self {
-        Self {
-            params,
-            reference_strain: range.strain[1],
-            output: [y; PLAYS],
-        }
-    }
-
-    /// Moves every play to strain `strain` and scaled curvature `y`; returns the lags `z_j − y`.
-    #[inline]
-    pub(crate) fn advance(&mut self, strain: f64, y: f64) -> [f64; PLAYS] {
-        let factor = if self.params.scale_with_tension && self.reference_strain > 0.0 {
-            (strain / self.reference_strain).max(0.0)
-        } else {
-            1.0
-        };
-        let mut lags = [0.0; PLAYS];
-        for ((z, &w), lag) in self
-            .output
-            .iter_mut()
-            .zip(&self.params.half_widths)
-            .zip(&mut lags)
-        {
-            let r = (w * factor).max(0.0);
-            *z = z.max(y - r).min(y + r);
-            *lag = *z - y;
-        }
-        lags
-    }
-}
-
 /// The fitted law of one contact (module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ContactLaw {
     /// Coefficients of `f_N` on `force_features` (N).
     pub normal: [f64; FORCE_FEATURES],
-    /// Drive `d = a x + b y + e x y + c + Σ h_j (z_j − y)`: `[a, b, e, c, h_1 … h_P]` (m).
+    /// Drive `d = a x + b y + e x y + c`: `[a, b, e, c]` (m).
     pub drive: [f64; fit::DRIVE_FEATURES],
     /// Compliance of the strand at the contact, `g = g₀ + g₁ x ≥ 0` on the range: `[g₀, g₁]`
     /// (m/N).
@@ -400,10 +330,10 @@ impl ContactLaw {
         dot(&self.normal, f).max(0.0)
     }
 
-    /// Drive `d` at scaled loads (x, y) and play lags (m).
+    /// Drive `d` at scaled loads (x, y) (m).
     #[inline]
-    pub(crate) fn drive_m(&self, x: f64, y: f64, lags: &[f64; PLAYS]) -> f64 {
-        dot(&self.drive, &fit::drive_features(x, y, lags))
+    pub(crate) fn drive_m(&self, x: f64, y: f64) -> f64 {
+        dot(&self.drive, &fit::drive_features(x, y))
     }
 
     /// Compliance `g` at scaled tension x (m/N, ≥ 0).
@@ -506,8 +436,6 @@ pub struct ReducedStrand {
     pub range: LoadRange,
     /// Scaling of the loads used by the fits.
     pub scaling: LoadScaling,
-    /// The play operators of the drives.
-    pub plays: PlayParams,
     /// Where every contact sits, mesh contact order.
     pub sites: Vec<ContactSite>,
     /// Fitted law of every contact, mesh contact order.

@@ -9,9 +9,7 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::{
-    force_features, JenkinsState, Plays, ReducedError, ReducedStrand, FORCE_FEATURES, PLAYS,
-};
+use super::{force_features, JenkinsState, ReducedError, ReducedStrand, FORCE_FEATURES};
 use crate::fretting::{ContactCycleAccumulator, ContactRecord, ContactSample, SlipCycle};
 use crate::strand::history::monitors::{MonitorQuantity, MonitorSeries, MonitorTarget};
 use crate::strand::history::{HistoryResult, HistoryStats, LoadSample};
@@ -51,10 +49,9 @@ fn check_samples(reduced: &ReducedStrand, samples: &[LoadSample]) -> Result<(), 
 /// One contact through the history: its record and, if asked, its sample series.
 fn run_contact(
     reduced: &ReducedStrand,
-    straight: ((f64, f64), [f64; PLAYS]),
+    straight_y: f64,
     c: usize,
     loads: &[(f64, f64)],
-    lags: &[[f64; PLAYS]],
     features: &[[f64; FORCE_FEATURES]],
     slip_gate_m: f64,
     keep_series: bool,
@@ -71,12 +68,11 @@ fn run_contact(
     let mut cycles: Vec<SlipCycle> = Vec::new();
     let mut series = Vec::with_capacity(if keep_series { loads.len() } else { 0 });
     let mut max_normal = 0.0_f64;
-    let ((x0, y0), lags0) = straight;
-    let mut state = JenkinsState::unloaded(law.drive_m(x0, y0, &lags0));
-    for ((&(x, y), f), lag) in loads.iter().zip(features).zip(lags) {
+    let mut state = JenkinsState::unloaded(law.drive_m(loads[0].0, straight_y));
+    for (&(x, y), f) in loads.iter().zip(features) {
         let normal = law.normal_force_n(f);
         let (slip, tangential) = state.step(
-            law.drive_m(x, y, lag),
+            law.drive_m(x, y),
             normal,
             law.compliance_m_per_n(x),
             stick_per_m,
@@ -132,14 +128,7 @@ pub fn run_reduced(
         .collect();
     // the FE initialisation bends the tensioned strand from the straight state: every
     // contact starts unloaded tangentially at zero curvature and the first tension
-    let straight = reduced.scaling.scaled(samples[0].strain, 0.0);
-    let mut plays = Plays::at_rest(reduced.plays, &reduced.range, straight.1);
-    let straight = (straight, plays.advance(samples[0].strain, straight.1));
-    let lags: Vec<[f64; PLAYS]> = samples
-        .iter()
-        .zip(&loads)
-        .map(|(s, &(_, y))| plays.advance(s.strain, y))
-        .collect();
+    let straight_y = reduced.scaling.scaled(samples[0].strain, 0.0).1;
     let features: Vec<[f64; FORCE_FEATURES]> =
         loads.iter().map(|&(x, y)| force_features(x, y)).collect();
     let monitored: Vec<bool> = {
@@ -158,10 +147,9 @@ pub fn run_reduced(
         .map(|c| {
             run_contact(
                 reduced,
-                straight,
+                straight_y,
                 c,
                 &loads,
-                &lags,
                 &features,
                 slip_gate_m,
                 monitored[c],

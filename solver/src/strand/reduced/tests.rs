@@ -54,41 +54,6 @@ fn a_jenkins_element_follows_its_closed_form_loops() {
     );
 }
 
-#[test]
-fn a_play_holds_within_its_width_and_is_dragged_beyond_it() {
-    let params = PlayParams {
-        half_widths: [0.1, 0.2, 0.4, 0.0],
-        scale_with_tension: true,
-    };
-    let range = LoadRange {
-        strain: [0.0, 1e-3],
-        curvature_per_m: [0.0, 0.02],
-    };
-    let mut plays = Plays::at_rest(params, &range, 0.0);
-    // at the highest strain: y up to 0.3 drags the 0.1 and 0.2 plays, not the 0.4 one
-    let lags = plays.advance(1e-3, 0.3);
-    assert_eq!(lags, [-0.1, -0.2, -0.3, 0.0]);
-    // back down to 0.1: the 0.1 play (at 0.2) is dragged back to 0.2, the 0.2 play holds at 0.1
-    let lags = plays.advance(1e-3, 0.1);
-    assert!((lags[0] - 0.1).abs() < 1e-15 && (lags[1] - 0.0).abs() < 1e-15);
-    // at half the strain the widths halve: y = 0.1 → 0.25 drags the 0.2 play (width 0.1 now)
-    let lags = plays.advance(0.5e-3, 0.25);
-    assert!((lags[1] + 0.1).abs() < 1e-15, "{lags:?}");
-    // a play of width zero is the input itself
-    assert_eq!(lags[3], 0.0);
-    // not scaled with the tension: the width holds at any strain
-    let mut fixed = Plays::at_rest(
-        PlayParams {
-            scale_with_tension: false,
-            ..params
-        },
-        &range,
-        0.0,
-    );
-    let lags = fixed.advance(0.1e-3, 0.3);
-    assert!((lags[0] + 0.1).abs() < 1e-15 && (lags[2] + 0.3).abs() < 1e-15);
-}
-
 fn model() -> StrandModel {
     let strand = profile_from_json(BENCHMARK)
         .expect("benchmark profile parses")
@@ -130,7 +95,6 @@ fn a_load_outside_the_calibrated_range_is_refused_with_the_range() {
         elastic_slip_m: 1e-5,
         range,
         scaling: LoadScaling::of(&range),
-        plays: PlayParams::default(),
         sites: Vec::new(),
         laws: Vec::new(),
         channels: Vec::new(),
