@@ -19,7 +19,7 @@ pub(crate) enum RunCommand {
     Global(global::GlobalArgs),
     /// Detailed strand FE model: tension, then each curvature of the profile's loading; with
     /// `--load LOAD.csv`, a tension (or strain) and curvature history instead.
-    Strand(strand::StrandArgs),
+    Strand(Box<strand::StrandArgs>),
 }
 
 /// Execute a `run` subcommand.
@@ -27,6 +27,6 @@ pub(crate) fn execute(cmd: RunCommand) -> anyhow::Result<()> {
     match cmd {
         RunCommand::Catenary(args) => catenary::execute(args),
         RunCommand::Global(args) => global::execute(&args),
-        RunCommand::Strand(args) => strand::execute(args),
+        RunCommand::Strand(args) => strand::execute(*args),
     }
 }

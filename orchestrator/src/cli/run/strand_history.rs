@@ -47,7 +47,7 @@ use moorfret_solver::contact::NormalLaw;
 use moorfret_solver::fretting::ContactRecord;
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
 use moorfret_solver::strand::history::monitors::{MonitorChannel, MonitorGroup, MonitorTarget};
-use moorfret_solver::strand::history::reduce::reduce_history;
+use moorfret_solver::strand::history::reduce::reduce_history_on_scale;
 use moorfret_solver::strand::history::stiffness::{
     contact_compliant_stiffness_n, measure_axial_stiffness_n, samples_from_tension,
     straight_strand_stiffness, SlackTension,
@@ -82,6 +82,10 @@ pub(crate) struct HistoryArgs {
     /// Turning-point tolerance of the history reduction, as a fraction of each channel's range.
     #[arg(long)]
     pub(crate) turning_point_tolerance: Option<f64>,
+    /// Lower bounds of the scales the turning-point tolerance is a fraction of: strain and
+    /// curvature (1/m); a channel whose range is smaller is reduced as if its range were this.
+    #[arg(long, num_args = 2, value_names = ["STRAIN", "CURVATURE_PER_M"])]
+    pub(crate) turning_point_scale: Option<Vec<f64>>,
     /// Threads of the sparse factorisation and solves (results equal to round-off).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=MAX_STRAND_THREADS as i64))]
     pub(crate) threads: u16,
@@ -784,6 +788,9 @@ pub(super) fn execute(
     if let Some(t) = h.turning_point_tolerance {
         options.turning_point_tolerance = t;
     }
+    if let Some([e, k]) = h.turning_point_scale.as_deref() {
+        options.turning_point_scale = [*e, *k];
+    }
     let options = options.validated()?;
     let (samples, stiffness, slack_samples) =
         samples_of(&table, &mut lazy, &h.stiffness, &options)?;
@@ -965,7 +972,11 @@ impl ReducedRun<'_> {
             .map_err(|e| anyhow!("{}: {e}", self.load.display()))?;
         std::fs::create_dir_all(self.out)
             .with_context(|| format!("creating {}", self.out.display()))?;
-        let turning_points = reduce_history(self.samples, self.options.turning_point_tolerance)?;
+        let turning_points = reduce_history_on_scale(
+            self.samples,
+            self.options.turning_point_tolerance,
+            self.options.turning_point_scale,
+        )?;
         write_outputs(self.out, &result, self.table, h.monitors, &turning_points)?;
         let summary = Summary {
             model: ModelDescription::of(self.args),

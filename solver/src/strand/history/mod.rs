@@ -148,6 +148,9 @@ pub struct HistoryOptions {
     /// Turning-point tolerance as a fraction of each channel's range ([`reduce`]); 0 keeps
     /// every sample off the chords.
     pub turning_point_tolerance: f64,
+    /// Lower bounds (strain, curvature in 1/m) of the channel scales the turning-point
+    /// tolerance is a fraction of ([`reduce::reduce_history_on_scale`]); 0: each channel's range.
+    pub turning_point_scale: [f64; 2],
     /// Largest strain change of one sub-step.
     pub max_substep_strain: f64,
     /// Largest curvature change of one sub-step (1/m).
@@ -185,6 +188,7 @@ impl Default for HistoryOptions {
             // but accumulated slip off by up to 2.0 % and counts by up to 3.1 % at 0.005
             // (studies/src/bin/strand_history_tolerance.rs, README "Strand runs")
             turning_point_tolerance: 0.0025,
+            turning_point_scale: [0.0; 2],
             max_substep_strain: 5e-4,
             max_substep_curvature_per_m: 5e-3,
             newton: NewtonParams {
@@ -265,6 +269,20 @@ impl HistoryOptions {
             t,
             "must lie in [0, 1)",
         )?;
+        for (field, v) in [
+            ("turning_point_scale.strain", self.turning_point_scale[0]),
+            (
+                "turning_point_scale.curvature_per_m",
+                self.turning_point_scale[1],
+            ),
+        ] {
+            check(
+                v >= 0.0 && v.is_finite(),
+                field,
+                v,
+                "must be finite and ≥ 0",
+            )?;
+        }
         let (de, dk) = (self.max_substep_strain, self.max_substep_curvature_per_m);
         check(
             de > 0.0 && de.is_finite(),

@@ -23,6 +23,11 @@ const CHORD_FLOOR: f64 = 1e-9;
 
 /// Scale of each channel: its range over the history, 1 for a constant channel.
 fn channel_scales(samples: &[LoadSample]) -> [f64; 2] {
+    channel_scales_at_least(samples, [0.0; 2])
+}
+
+/// [`channel_scales`], each at least `floor` (strain, curvature in 1/m; 0: no floor).
+fn channel_scales_at_least(samples: &[LoadSample], floor: [f64; 2]) -> [f64; 2] {
     let range = |f: &dyn Fn(&LoadSample) -> f64| {
         let (lo, hi) = samples
             .iter()
@@ -37,7 +42,15 @@ fn channel_scales(samples: &[LoadSample]) -> [f64; 2] {
             1.0
         }
     };
-    [range(&|s| s.strain), range(&|s| s.curvature_per_m)]
+    let [e, k] = [range(&|s| s.strain), range(&|s| s.curvature_per_m)];
+    let at_least = |r: f64, f: f64| {
+        if f > 0.0 && f.is_finite() {
+            r.max(f)
+        } else {
+            r
+        }
+    };
+    [at_least(e, floor[0]), at_least(k, floor[1])]
 }
 
 fn scaled(s: &LoadSample, scales: &[f64; 2]) -> [f64; 2] {
@@ -61,10 +74,21 @@ fn distance_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
 /// `tolerance` is a fraction of each channel's range (≥ 0; 0 keeps every sample that is off
 /// the chords by more than 1e-9 of the ranges).
 pub fn reduce_history(samples: &[LoadSample], tolerance: f64) -> Result<Vec<usize>, HistoryError> {
+    reduce_history_on_scale(samples, tolerance, [0.0; 2])
+}
+
+/// [`reduce_history`] with the tolerance a fraction of each channel's range or of
+/// `scale_floor` (strain, curvature in 1/m), whichever is larger: on the strand's own scale,
+/// a history of small load changes is not resolved more finely than a large one.
+pub fn reduce_history_on_scale(
+    samples: &[LoadSample],
+    tolerance: f64,
+    scale_floor: [f64; 2],
+) -> Result<Vec<usize>, HistoryError> {
     if samples.is_empty() {
         return Ok(Vec::new());
     }
-    let scales = channel_scales(samples);
+    let scales = channel_scales_at_least(samples, scale_floor);
     let last = samples.len() - 1;
     let mut keep = vec![false; samples.len()];
     keep[0] = true;
@@ -212,5 +236,30 @@ mod tests {
         let mut r = h.clone();
         r[7].curvature_per_m += 0.01;
         assert_eq!(reduce_history(&r, 0.05).unwrap(), vec![0, 5, 10]);
+    }
+
+    #[test]
+    fn a_scale_floor_coarsens_only_histories_smaller_than_it() {
+        // a bump of 2 % of the curvature range off a straight ramp of both channels (1.4 % of
+        // the scaled diagonal): kept at a tolerance of 1 % of the ranges, dropped when the
+        // curvature's scale is ten times its range, and the floor changes nothing when it lies
+        // below the range
+        let h: Vec<LoadSample> = (0..=20)
+            .map(|i| LoadSample {
+                time_s: i as f64,
+                strain: 1e-3 * i as f64 / 20.0,
+                curvature_per_m: 1e-3 * i as f64 / 20.0 + if i == 10 { 2e-5 } else { 0.0 },
+            })
+            .collect();
+        let fine = reduce_history(&h, 0.01).unwrap();
+        assert!(fine.contains(&10), "{fine:?}");
+        assert_eq!(
+            reduce_history_on_scale(&h, 0.01, [0.0, 1e-4]).unwrap(),
+            fine
+        );
+        assert_eq!(
+            reduce_history_on_scale(&h, 0.01, [0.0, 1e-2]).unwrap(),
+            vec![0, 20]
+        );
     }
 }

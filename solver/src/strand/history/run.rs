@@ -9,7 +9,7 @@ use super::monitors::{
     MonitorTarget,
 };
 use super::recording::{Recorder, Snapshot};
-use super::reduce::{chord_positions, history_scales, reduce_history};
+use super::reduce::{chord_positions, history_scales, reduce_history_on_scale};
 use super::timing::{TimedProblem, TimedSolver, WorkTimes};
 use super::{
     motion_of, reference_problem, validate_samples, HistoryError, HistoryObserver, HistoryOptions,
@@ -171,7 +171,11 @@ pub fn run_history_from(
         });
     };
     let t_start = Instant::now();
-    let kept = reduce_history(samples, options.turning_point_tolerance)?;
+    let kept = reduce_history_on_scale(
+        samples,
+        options.turning_point_tolerance,
+        options.turning_point_scale,
+    )?;
     let scales = history_scales(samples);
     let mut runner = Runner::new(model, &options)?;
     let (mut recorder, mut previous, start) = match checkpoint {

@@ -87,6 +87,17 @@ fn bad_samples_are_refused_with_their_index() {
             ..
         })
     ));
+    let bad_scale = HistoryOptions {
+        turning_point_scale: [0.0, -1e-3],
+        ..options
+    };
+    assert!(matches!(
+        run_history(&model, &good, &bad_scale, &mut NoObserver),
+        Err(HistoryError::InvalidOption {
+            field: "turning_point_scale.curvature_per_m",
+            ..
+        })
+    ));
 }
 
 /// EA measured on the model against the straight-strand estimates of
