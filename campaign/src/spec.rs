@@ -169,6 +169,10 @@ pub struct StrandSpec {
     /// range (`run strand --turning-point-tolerance`; default: the solver's, 0.0025).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub turning_point_tolerance: Option<f64>,
+    /// Lower bounds of the scales the turning-point tolerance is a fraction of (`run strand
+    /// --turning-point-scale`; default: none, each channel's range).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub turning_point_scale: Option<TurningPointScale>,
     /// Threads of a strand job's element kernels and solves (`run strand --threads`).
     #[serde(default = "one_thread", skip_serializing_if = "is_one")]
     pub threads: usize,
@@ -262,9 +266,25 @@ impl StrandSpec {
             turning_point_tolerance: self
                 .turning_point_tolerance
                 .unwrap_or(defaults.turning_point_tolerance),
+            turning_point_scale: self
+                .turning_point_scale
+                .map_or(defaults.turning_point_scale, |s| {
+                    [s.strain, s.curvature_per_m]
+                }),
             ..defaults
         }
     }
+}
+
+/// Load scale of the turning-point tolerance on the strand's own scale
+/// ([`HistoryOptions::turning_point_scale`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TurningPointScale {
+    /// Axial strain.
+    pub strain: f64,
+    /// Curvature (1/m).
+    pub curvature_per_m: f64,
 }
 
 impl StrandEnds {
@@ -731,6 +751,10 @@ mod tests {
                 serde_json::json!({"calibration_hs_fraction": -0.2}),
                 "strand.calibration_hs_fraction",
             ),
+            (
+                serde_json::json!({"turning_point_scale": {"strain": 1e-4, "curvature_per_m": -1.0}}),
+                "strand.turning_point_scale.curvature_per_m",
+            ),
         ];
         for (strand, field) in cases {
             match with(strand.clone()).unwrap().validate() {
@@ -743,5 +767,15 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("fast") && e.contains("reduced"), "{e}");
+        // the strand-scale tolerance reaches the history options
+        let scaled = with(serde_json::json!({
+            "turning_point_scale": {"strain": 1e-4, "curvature_per_m": 2.5e-3}
+        }))
+        .unwrap();
+        assert!(scaled.validate().is_ok());
+        assert_eq!(
+            scaled.strand.history_options().turning_point_scale,
+            [1e-4, 2.5e-3]
+        );
     }
 }
