@@ -39,6 +39,7 @@ use moorfret_solver::strand::reduced::{
     calibration_design, fit_recorded, model_key, run_reduced, CalibrationOptions, LoadRange,
     RecordedSample,
 };
+use moorfret_studies::load_file;
 
 const PROFILES: &str = include_str!(concat!(
     env!("CARGO_MANIFEST_DIR"),
@@ -60,29 +61,7 @@ fn model() -> Result<(StrandModel, String), Error> {
 
 /// Hot spot 0 of a `moorfret run global` hot-spot file as load samples, ε = T / EA.
 fn read_load(path: &str, ea: f64) -> Result<Vec<LoadSample>, Error> {
-    let text = std::fs::read_to_string(path)?;
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().ok_or("empty load file")?.split(',').collect();
-    let col = |names: &[&str]| {
-        header
-            .iter()
-            .position(|h| names.contains(&h.trim()))
-            .ok_or(format!("{path}: no column {names:?}"))
-    };
-    let it = col(&["time_s"])?;
-    let iten = col(&["tension_n", "tension_n_0"])?;
-    let ik = col(&["curvature_per_m", "curvature_per_m_0"])?;
-    let (mut t, mut tension, mut kappa) = (Vec::new(), Vec::new(), Vec::new());
-    for (n, line) in lines.enumerate() {
-        let v: Vec<f64> = line
-            .split(',')
-            .map(|x| x.trim().parse::<f64>())
-            .collect::<Result<_, _>>()
-            .map_err(|e| format!("{path}: line {}: {e}", n + 2))?;
-        t.push(v[it]);
-        tension.push(v[iten]);
-        kappa.push(v[ik]);
-    }
+    let [t, tension, kappa] = load_file::read_load(path, f64::NEG_INFINITY, f64::INFINITY)?;
     Ok(samples_from_tension(&t, &tension, &kappa, ea, 1, SlackTension::Refuse)?.0)
 }
 

@@ -7,7 +7,7 @@
 //!   library's);
 //! - `--six-layer LOAD.csv`: the paper's six-layer strand (periodic ends, the paper campaign's
 //!   contact regularisation ε_N = 2e8 N/m, γ_e = 10 µm) driven by a hot-spot history
-//!   `time_s,tension_n,curvature_per_m` (as written by `moorfret run global`, header renamed),
+//!   `time_s,tension_n,curvature_per_m` (or a `moorfret run global` hot-spot file, hot spot 0),
 //!   optionally cut to `--from-s A --to-s B`, with ε = T / EA (EA measured on the model unless
 //!   `--ea N` is given), solved at every tolerance listed; the first is the reference (one tolerance: that run
 //!   alone, e.g. to profile it with `RUST_LOG=moorfret_solver::linalg=trace`).
@@ -39,6 +39,7 @@ use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters
 use moorfret_solver::strand::profile::{profile_from_json, profiles_from_json};
 
 use moorfret_studies::irregular::irregular_history;
+use moorfret_studies::load_file::read_load;
 use moorfret_studies::logging;
 
 const BENCHMARK: &str = include_str!(concat!(
@@ -175,34 +176,6 @@ fn run(
         l.lu_fallbacks
     );
     Ok(r)
-}
-
-/// (t, T, κ) columns of a `time_s,tension_n,curvature_per_m` file within [from, to].
-fn read_load(path: &str, from: f64, to: f64) -> Result<[Vec<f64>; 3], Error> {
-    let text = std::fs::read_to_string(path)?;
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().ok_or("empty load file")?.split(',').collect();
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| h.trim() == name)
-            .ok_or(format!("{path}: no column {name}"))
-    };
-    let (it, iten, ik) = (col("time_s")?, col("tension_n")?, col("curvature_per_m")?);
-    let mut out = [Vec::new(), Vec::new(), Vec::new()];
-    for (n, line) in lines.enumerate() {
-        let v: Vec<f64> = line
-            .split(',')
-            .map(|x| x.trim().parse::<f64>())
-            .collect::<Result<_, _>>()
-            .map_err(|e| format!("{path}: line {}: {e}", n + 2))?;
-        if v[it] >= from && v[it] <= to {
-            out[0].push(v[it]);
-            out[1].push(v[iten]);
-            out[2].push(v[ik]);
-        }
-    }
-    Ok(out)
 }
 
 fn six_layer(args: &[String]) -> Result<(), Error> {
