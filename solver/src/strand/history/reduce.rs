@@ -21,13 +21,9 @@ use crate::fretting::ReversalDetector;
 /// straight stretch is one segment even with a zero tolerance.
 const CHORD_FLOOR: f64 = 1e-9;
 
-/// Scale of each channel: its range over the history, 1 for a constant channel.
-fn channel_scales(samples: &[LoadSample]) -> [f64; 2] {
-    channel_scales_at_least(samples, [0.0; 2])
-}
-
-/// [`channel_scales`], each at least `floor` (strain, curvature in 1/m; 0: no floor).
-fn channel_scales_at_least(samples: &[LoadSample], floor: [f64; 2]) -> [f64; 2] {
+/// Scale of each channel: its range over the history (1 for a constant channel), at least
+/// `floor` (strain, curvature in 1/m; 0: no floor).
+fn channel_scales(samples: &[LoadSample], floor: [f64; 2]) -> [f64; 2] {
     let range = |f: &dyn Fn(&LoadSample) -> f64| {
         let (lo, hi) = samples
             .iter()
@@ -88,7 +84,7 @@ pub fn reduce_history_on_scale(
     if samples.is_empty() {
         return Ok(Vec::new());
     }
-    let scales = channel_scales_at_least(samples, scale_floor);
+    let scales = channel_scales(samples, scale_floor);
     let last = samples.len() - 1;
     let mut keep = vec![false; samples.len()];
     keep[0] = true;
@@ -176,7 +172,7 @@ pub(crate) fn chord_positions(
 
 /// The channel scales used by [`reduce_history`] and [`chord_positions`].
 pub(crate) fn history_scales(samples: &[LoadSample]) -> [f64; 2] {
-    channel_scales(samples)
+    channel_scales(samples, [0.0; 2])
 }
 
 #[cfg(test)]

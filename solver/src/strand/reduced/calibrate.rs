@@ -140,11 +140,15 @@ struct Prepared {
     fitter: Fitter,
 }
 
-fn prepare(
+/// The checked range, the model's elastic slip, the FE run's settings and the weighted
+/// designed history of a calibration.
+type Designed = (LoadRange, f64, HistoryOptions, Vec<(LoadSample, f64)>);
+
+fn designed(
     model: &StrandModel,
     range: LoadRange,
     options: &CalibrationOptions,
-) -> Result<Prepared, ReducedError> {
+) -> Result<Designed, ReducedError> {
     let range = range.validated()?;
     let elastic_slip_m = elastic_slip_of(model)?;
     let history = HistoryOptions {
@@ -153,6 +157,15 @@ fn prepare(
         ..options.history
     };
     let weighted = design_history_weighted(&range, &options.design, &history);
+    Ok((range, elastic_slip_m, history, weighted))
+}
+
+fn prepare(
+    model: &StrandModel,
+    range: LoadRange,
+    options: &CalibrationOptions,
+) -> Result<Prepared, ReducedError> {
+    let (range, elastic_slip_m, history, weighted) = designed(model, range, options)?;
     let weights: Vec<f64> = weighted.iter().map(|(_, w)| *w).collect();
     let design: Vec<LoadSample> = weighted.into_iter().map(|(s, _)| s).collect();
     let sites = contact_sites(model);
@@ -185,8 +198,8 @@ pub fn calibration_design(
     range: LoadRange,
     options: &CalibrationOptions,
 ) -> Result<(Vec<LoadSample>, HistoryOptions), ReducedError> {
-    let p = prepare(model, range, options)?;
-    Ok((p.design, p.history))
+    let (_, _, history, weighted) = designed(model, range, options)?;
+    Ok((weighted.into_iter().map(|(s, _)| s).collect(), history))
 }
 
 /// Calibrates the reduced response of `model` over `range` (module docs of [`super`]);
