@@ -36,8 +36,8 @@ use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters
 use moorfret_solver::strand::profile::profiles_from_json;
 use moorfret_solver::strand::reduced::compare::compare_records;
 use moorfret_solver::strand::reduced::{
-    calibration_design, fit_recorded, model_key, run_reduced, CalibrationOptions, LoadRange,
-    RecordedSample,
+    calibration_design, contact_series, fit_recorded, model_key, run_reduced, CalibrationOptions,
+    LoadRange, RecordedSample, ReducedStrand,
 };
 use moorfret_studies::load_file;
 
@@ -215,10 +215,126 @@ fn per_contact(fe: &[ContactRecord], reduced: &[ContactRecord]) {
     }
 }
 
+/// Percentiles 10, 50, 90 of `v` (sorted in place).
+fn percentiles(v: &mut [f64]) -> [f64; 3] {
+    v.sort_by(f64::total_cmp);
+    let q = |f: f64| {
+        v.get(((v.len() as f64 - 1.0) * f) as usize)
+            .copied()
+            .unwrap_or(f64::NAN)
+    };
+    [q(0.1), q(0.5), q(0.9)]
+}
+
+/// Least squares of `y` on the columns `x` (all the same length): coefficients and the
+/// residual's root mean square.
+fn least_squares(x: &[Vec<f64>], y: &[f64]) -> (Vec<f64>, f64) {
+    let k = x.len();
+    let a = nalgebra::DMatrix::<f64>::from_fn(y.len(), k, |i, j| x[j][i]);
+    let b = nalgebra::DVector::<f64>::from_column_slice(y);
+    let svd = a.clone().svd(true, true);
+    let beta = svd
+        .solve(&b, 1e-12)
+        .unwrap_or_else(|_| nalgebra::DVector::zeros(k));
+    let r = &a * &beta - &b;
+    (
+        beta.as_slice().to_vec(),
+        (r.norm_squared() / y.len() as f64).sqrt(),
+    )
+}
+
+/// Sample by sample, per contact, the FE slip of a recorded held-out run against the reduced
+/// model's and against the best function of the loads alone fitted on that run itself; per
+/// interface the spread over contacts of: the gain of the FE slip on the reduced slip, the FE
+/// slip's slope on the curvature in the reduced model and in the FE run, and the share of the
+/// FE slip's spread that a quadratic in the loads leaves.
+fn probe_recorded(
+    reduced: &ReducedStrand,
+    held: &[RecordedSample],
+    run_in_s: f64,
+) -> Result<(), Error> {
+    let loads: Vec<LoadSample> = held.iter().map(|h| h.0).collect();
+    let series = contact_series(reduced, &loads)?;
+    let from = loads.iter().position(|s| s.time_s >= run_in_s).unwrap_or(0);
+    let xy: Vec<(f64, f64)> = loads[from..]
+        .iter()
+        .map(|s| reduced.scaling.scaled(s.strain, s.curvature_per_m))
+        .collect();
+    let col = |f: &dyn Fn(f64, f64) -> f64| xy.iter().map(|&(x, y)| f(x, y)).collect::<Vec<_>>();
+    let linear = vec![col(&|_, _| 1.0), col(&|x, _| x), col(&|_, y| y)];
+    let quadratic = vec![
+        col(&|_, _| 1.0),
+        col(&|x, _| x),
+        col(&|_, y| y),
+        col(&|x, y| x * y),
+        col(&|x, _| x * x),
+        col(&|_, y| y * y),
+    ];
+    let interfaces = reduced
+        .sites
+        .iter()
+        .map(|s| s.interface + 1)
+        .max()
+        .unwrap_or(0);
+    println!(
+        "probe: {} samples from t = {run_in_s} s; per interface p10 / median / p90 over contacts",
+        xy.len()
+    );
+    for i in 0..interfaces {
+        let (mut gain, mut slope_ratio, mut quad_left, mut lin_left, mut range_ratio) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut x_slope_ratio = Vec::new();
+        for (c, site) in reduced.sites.iter().enumerate() {
+            if site.interface != i {
+                continue;
+            }
+            let fe: Vec<f64> = held[from..].iter().map(|h| h.1[c].slip_m).collect();
+            let red: Vec<f64> = series[c][from..].iter().map(|s| s.slip_m).collect();
+            let spread = {
+                let m = fe.iter().sum::<f64>() / fe.len() as f64;
+                (fe.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / fe.len() as f64).sqrt()
+            };
+            if spread <= 0.0 {
+                continue;
+            }
+            let range = |v: &[f64]| {
+                v.iter().cloned().fold(f64::MIN, f64::max)
+                    - v.iter().cloned().fold(f64::MAX, f64::min)
+            };
+            range_ratio.push(range(&red) / range(&fe));
+            let (g, _) = least_squares(&[linear[0].clone(), red.clone()], &fe);
+            gain.push(1.0 / g[1]);
+            let (bf, rl) = least_squares(&linear, &fe);
+            let (br, _) = least_squares(&linear, &red);
+            slope_ratio.push(br[2] / bf[2]);
+            x_slope_ratio.push(br[1] / bf[1]);
+            lin_left.push(rl / spread);
+            let (_, rq) = least_squares(&quadratic, &fe);
+            quad_left.push(rq / spread);
+        }
+        let show = |name: &str, v: &mut Vec<f64>| {
+            let [a, b, c] = percentiles(v);
+            format!("{name} {a:.3} / {b:.3} / {c:.3}")
+        };
+        println!(
+            "  interface {i}: {}; {}; {}; {}; {}; {}",
+            show("range red/FE", &mut range_ratio),
+            show("gain red/FE", &mut gain),
+            show("dy slope red/FE", &mut slope_ratio),
+            show("dx slope red/FE", &mut x_slope_ratio),
+            show("FE left by linear", &mut lin_left),
+            show("by quadratic", &mut quad_left)
+        );
+    }
+    Ok(())
+}
+
 fn main() -> Result<(), Error> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mode = args.first().ok_or("record | fit")?.clone();
-    let (mut ea, mut margin, mut run_in_s) = (None, 0.05, 100.0);
+    let (mut ea, mut margin, mut run_in_s, mut to_s) = (None, 0.05, 100.0, f64::INFINITY);
+    let mut probe: Option<String> = None;
+    let (mut path, mut parts) = (String::new(), 8usize);
     let (mut loads, mut held_out, mut positional) = (Vec::new(), Vec::new(), Vec::new());
     let mut write: Option<String> = None;
     let mut it = args[1..].iter();
@@ -228,6 +344,10 @@ fn main() -> Result<(), Error> {
             "--ea" => ea = Some(value()?.parse::<f64>()?),
             "--margin" => margin = value()?.parse()?,
             "--run-in-s" => run_in_s = value()?.parse()?,
+            "--to-s" => to_s = value()?.parse()?,
+            "--path" => path = value()?,
+            "--parts" => parts = value()?.parse()?,
+            "--probe" => probe = Some(value()?),
             "--load" => loads.push(value()?),
             "--held-out" => {
                 let load = value()?;
@@ -238,7 +358,8 @@ fn main() -> Result<(), Error> {
         }
     }
     let ea = ea.ok_or("--ea N (the strand model's EA, as `moorfret run strand` prints it)")?;
-    let recording = positional.first().ok_or("REC.bin")?;
+    let recording = positional.first().ok_or("REC.bin")?.clone();
+    let recording = &recording;
     let (model, key) = model()?;
     let range = range_of(&loads, ea, margin)?;
     println!(
@@ -246,6 +367,148 @@ fn main() -> Result<(), Error> {
         range.strain, range.curvature_per_m
     );
     let options = CalibrationOptions::default();
+    if mode == "record-path" {
+        // a straight-line path through scaled load vertices "x,y;x,y;…", `parts` samples per
+        // stretch, one second apart
+        let scaling = moorfret_solver::strand::reduced::LoadScaling::of(&range);
+        let mut vertices = Vec::new();
+        for v in path.split(';') {
+            let (x, y) = v.split_once(',').ok_or("--path x,y;x,y;…")?;
+            vertices.push((x.trim().parse::<f64>()?, y.trim().parse::<f64>()?));
+        }
+        let mut samples = Vec::new();
+        let mut push = |x: f64, y: f64| {
+            let (strain, curvature_per_m) = scaling.load(x, y);
+            samples.push(LoadSample {
+                time_s: samples.len() as f64,
+                strain,
+                curvature_per_m,
+            });
+        };
+        push(vertices[0].0, vertices[0].1);
+        for w in vertices.windows(2) {
+            for k in 1..=parts {
+                let f = k as f64 / parts as f64;
+                push(
+                    w[0].0 + f * (w[1].0 - w[0].0),
+                    w[0].1 + f * (w[1].1 - w[0].1),
+                );
+            }
+        }
+        let mut recorder = Recorder {
+            out: BufWriter::new(std::fs::File::create(recording)?),
+            error: None,
+            samples: 0,
+        };
+        let t = std::time::Instant::now();
+        let fe = run_history(&model, &samples, &HistoryOptions::default(), &mut recorder)?;
+        recorder.out.flush()?;
+        println!(
+            "recorded {} samples: {} sub-steps, {} Newton iterations, {:.1} s",
+            recorder.samples,
+            fe.stats.substeps,
+            fe.stats.iterations,
+            t.elapsed().as_secs_f64()
+        );
+        return Ok(());
+    }
+    if mode == "slopes" {
+        // per contact, the slip's slope on y (linear fit on 1, x, y) over a window of each
+        // recording "REC.bin:t0:t1"; per interface the spread of the ratio to the first's
+        let scaling = moorfret_solver::strand::reduced::LoadScaling::of(&range);
+        let mut fits: Vec<Vec<(usize, f64, f64)>> = Vec::new();
+        for spec in &positional[0..] {
+            let mut it = spec.split(':');
+            let file = it.next().ok_or("REC.bin:t0:t1")?;
+            let t0: f64 = it.next().ok_or("t0")?.parse()?;
+            let t1: f64 = it.next().ok_or("t1")?.parse()?;
+            let rec: Vec<RecordedSample> = read_recording(Path::new(file))?
+                .into_iter()
+                .filter(|r| r.0.time_s >= t0 && r.0.time_s <= t1)
+                .collect();
+            let xy: Vec<(f64, f64)> = rec
+                .iter()
+                .map(|r| scaling.scaled(r.0.strain, r.0.curvature_per_m))
+                .collect();
+            let cols = vec![
+                vec![1.0; xy.len()],
+                xy.iter().map(|p| p.0).collect::<Vec<_>>(),
+                xy.iter().map(|p| p.1).collect::<Vec<_>>(),
+            ];
+            let nc = rec.first().map_or(0, |r| r.1.len());
+            let sites = moorfret_solver::strand::history::monitors::contact_sites(&model);
+            let mut f = Vec::with_capacity(nc);
+            for (c, site) in sites.iter().enumerate().take(nc) {
+                let y: Vec<f64> = rec.iter().map(|r| r.1[c].slip_m).collect();
+                let (beta, rms) = least_squares(&cols, &y);
+                f.push((site.interface, beta[2], rms));
+            }
+            println!(
+                "{spec}: {} samples, y from {:.3} to {:.3}, x from {:.3} to {:.3}",
+                xy.len(),
+                xy.iter().map(|p| p.1).fold(f64::MAX, f64::min),
+                xy.iter().map(|p| p.1).fold(f64::MIN, f64::max),
+                xy.iter().map(|p| p.0).fold(f64::MAX, f64::min),
+                xy.iter().map(|p| p.0).fold(f64::MIN, f64::max)
+            );
+            fits.push(f);
+        }
+        let interfaces = fits[0].iter().map(|f| f.0 + 1).max().unwrap_or(0);
+        for (k, f) in fits.iter().enumerate().skip(1) {
+            println!("{} against {}:", positional[k], positional[0]);
+            for i in 0..interfaces {
+                let mut r: Vec<f64> = f
+                    .iter()
+                    .zip(&fits[0])
+                    .filter(|(a, b)| a.0 == i && b.1.abs() > 0.0)
+                    .map(|(a, b)| a.1 / b.1)
+                    .collect();
+                let [p10, p50, p90] = percentiles(&mut r);
+                let mut big: Vec<(f64, f64)> = f
+                    .iter()
+                    .zip(&fits[0])
+                    .filter(|(a, _)| a.0 == i)
+                    .map(|(a, b)| (b.1.abs(), a.1 / b.1))
+                    .collect();
+                big.sort_by(|a, b| b.0.total_cmp(&a.0));
+                let top: Vec<String> = big.iter().take(5).map(|v| format!("{:.3}", v.1)).collect();
+                println!(
+                    "  interface {i}: slope ratio p10 {p10:.3}, median {p50:.3}, p90 {p90:.3};                      five steepest {}",
+                    top.join(" ")
+                );
+            }
+        }
+        return Ok(());
+    }
+    if mode == "record-load" {
+        let load = positional
+            .get(1)
+            .ok_or("record-load REC.bin LOAD.csv --to-s T")?;
+        let samples: Vec<LoadSample> = read_load(load, ea)?
+            .into_iter()
+            .filter(|s| s.time_s <= to_s)
+            .collect();
+        println!("{} load samples up to t = {to_s} s", samples.len());
+        let mut recorder = Recorder {
+            out: BufWriter::new(std::fs::File::create(recording)?),
+            error: None,
+            samples: 0,
+        };
+        let t = std::time::Instant::now();
+        let fe = run_history(&model, &samples, &HistoryOptions::default(), &mut recorder)?;
+        recorder.out.flush()?;
+        if let Some(e) = recorder.error {
+            return Err(e.into());
+        }
+        println!(
+            "recorded {} samples: {} sub-steps, {} Newton iterations, {:.1} s",
+            recorder.samples,
+            fe.stats.substeps,
+            fe.stats.iterations,
+            t.elapsed().as_secs_f64()
+        );
+        return Ok(());
+    }
     if mode == "record" {
         let (design, history) = calibration_design(&model, range, &options)?;
         println!("{} designed samples", design.len());
@@ -285,6 +548,9 @@ fn main() -> Result<(), Error> {
             f.interface,
             f.slip_rms_residual_m / f.slip_rms_m.max(f64::MIN_POSITIVE)
         );
+    }
+    if let Some(path) = &probe {
+        probe_recorded(&reduced, &read_recording(Path::new(path))?, run_in_s)?;
     }
     if let Some(path) = &write {
         std::fs::write(path, serde_json::to_string(&reduced)?)?;

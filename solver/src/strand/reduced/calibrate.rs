@@ -295,6 +295,7 @@ fn assemble(model: &StrandModel, p: &Prepared, fe: &HistoryStats, start: Instant
         model_key: String::new(),
         friction_coefficient: model.strand.friction_coefficient,
         elastic_slip_m: p.elastic_slip_m,
+        initial_strain_fraction: p.history.initial_strain_fraction,
         range: p.range,
         scaling: p.fitter.scaling,
         sites: p.sites.clone(),

@@ -28,6 +28,12 @@ pub struct DesignParams {
     pub amplitudes: Vec<f64>,
     /// Cycles per amplitude (≥ 1).
     pub cycles: usize,
+    /// Curvatures (scaled, in (−1, 1)) of the probes: at every tension level and each of
+    /// these curvatures, small curvature and tension cycles of amplitude
+    /// [`DesignParams::probe_amplitude`], which most contacts answer in stick.
+    pub probe_curvatures: Vec<f64>,
+    /// Amplitude of the probes' cycles, as a fraction of the half range.
+    pub probe_amplitude: f64,
 }
 
 impl Default for DesignParams {
@@ -36,6 +42,8 @@ impl Default for DesignParams {
             tension_levels: 4,
             amplitudes: vec![1.0, 0.6, 0.35, 0.2, 0.1, 0.05, 0.02],
             cycles: 2,
+            probe_curvatures: vec![-0.75, -0.5, -0.25, 0.25, 0.5, 0.75],
+            probe_amplitude: 0.05,
         }
     }
 }
@@ -97,6 +105,25 @@ pub(crate) fn design_vertices(params: &DesignParams) -> Vec<(f64, f64, f64)> {
         (-1.0, 1.0, 1.0),
         (-1.0, -1.0, 1.0),
     ]);
+    // the probes: the stick response away from the centre curvature, where the sea states'
+    // hot spots spend their time (appended, so the path before them does not change)
+    let a = params.probe_amplitude;
+    for j in 0..levels {
+        let xj = -1.0 + (2 * j + 1) as f64 / levels as f64;
+        for &yc in &params.probe_curvatures {
+            v.push((xj, yc, 1.0));
+            for _ in 0..params.cycles.max(1) {
+                v.push((xj, yc + a, a));
+                v.push((xj, yc - a, a));
+            }
+            v.push((xj, yc, a));
+            for _ in 0..params.cycles.max(1) {
+                v.push((xj + a, yc, a));
+                v.push((xj - a, yc, a));
+            }
+            v.push((xj, yc, a));
+        }
+    }
     v
 }
 

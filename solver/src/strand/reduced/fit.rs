@@ -46,13 +46,48 @@ impl ForceSums {
     }
 }
 
-/// Load features of the drive: `ψ = [x, y, x y, 1]`.
-pub(crate) const DRIVE_FEATURES: usize = 4;
+/// Tension knots of the drive's hat functions: the midpoints of the design's four tension
+/// levels ([`super::design::DesignParams`]), where its cycles run.
+pub(crate) const TENSION_KNOTS: [f64; 4] = [-0.75, -0.25, 0.25, 0.75];
+
+/// Curvature powers of the drive: `1, y, y², y³`.
+const CURVATURE_POWERS: usize = 4;
+
+/// Load features of the drive: `ψ = φ_k(x) yʲ`, the hat functions `φ_k` of the tension on
+/// [`TENSION_KNOTS`] (continued linearly beyond the outer knots, so they sum to one
+/// everywhere) times the powers `j = 0 … 3` of the curvature.
+pub(crate) const DRIVE_FEATURES: usize = TENSION_KNOTS.len() * CURVATURE_POWERS;
+
+/// The hat functions of the tension at scaled tension `x`.
+#[inline]
+fn tension_hats(x: f64) -> [f64; 4] {
+    let k = &TENSION_KNOTS;
+    let mut h = [0.0; 4];
+    let i = if x <= k[1] {
+        0
+    } else if x <= k[2] {
+        1
+    } else {
+        2
+    };
+    let t = (x - k[i]) / (k[i + 1] - k[i]);
+    h[i] = 1.0 - t;
+    h[i + 1] = t;
+    h
+}
 
 /// The drive features at scaled loads (x, y).
 #[inline]
 pub(crate) fn drive_features(x: f64, y: f64) -> [f64; DRIVE_FEATURES] {
-    [x, y, x * y, 1.0]
+    let hats = tension_hats(x);
+    let powers = [1.0, y, y * y, y * y * y];
+    let mut f = [0.0; DRIVE_FEATURES];
+    for (k, h) in hats.iter().enumerate() {
+        for (j, p) in powers.iter().enumerate() {
+            f[k * CURVATURE_POWERS + j] = h * p;
+        }
+    }
+    f
 }
 
 /// Unknowns of the structure equation: the drive's four coefficients and the compliance
@@ -116,6 +151,10 @@ pub struct FitAccumulator {
     normal: Vec<ForceSums>,
     drive: Vec<DriveSums>,
     elements: Vec<ForceSums>,
+    /// Scaled load of the previous sample.
+    previous_load: Option<(f64, f64)>,
+    /// Every contact's (slip, tangential force) at the previous sample.
+    previous_contacts: Vec<(f64, f64)>,
 }
 
 impl FitAccumulator {
@@ -129,6 +168,8 @@ impl FitAccumulator {
             normal: vec![ForceSums::default(); contacts],
             drive: vec![DriveSums::default(); contacts],
             elements: vec![ForceSums::default(); elements],
+            previous_load: None,
+            previous_contacts: Vec::new(),
         }
     }
 
@@ -150,15 +191,38 @@ impl FitAccumulator {
         let psi = drive_features(x, y);
         let phi_v = ForceVec::from_column_slice(&phi);
         self.force_gram += w * phi_v * phi_v.transpose();
-        let psi_v = SVector::<f64, DRIVE_FEATURES>::from_column_slice(&psi);
-        self.drive_gram += w * psi_v * psi_v.transpose();
         self.samples += 1;
         self.weight += w;
-        for ((&(s, f_n, f_t), n), d) in contacts.iter().zip(&mut self.normal).zip(&mut self.drive) {
+        for (&(_, f_n, _), n) in contacts.iter().zip(&mut self.normal) {
             n.add(&phi, f_n, w);
-            let (s, u) = (s, [-f_t, -x * f_t]);
-            let (ws, wu) = (w * s, [w * u[0], w * u[1]]);
-            for ((pu, ps), p) in d.psi_u.iter_mut().zip(&mut d.psi_s).zip(&psi) {
+        }
+        for (e, &v) in self.elements.iter_mut().zip(elements) {
+            e.add(&phi, v, w);
+        }
+        // the structure equation on the increment from the previous sample: the Jenkins
+        // element answers the drive's changes, never its level
+        let Some((px, py)) = self.previous_load.replace((x, y)) else {
+            self.previous_contacts = contacts.iter().map(|c| (c.0, c.2)).collect();
+            return;
+        };
+        let previous = drive_features(px, py);
+        let mut dpsi = [0.0; DRIVE_FEATURES];
+        for ((d, a), b) in dpsi.iter_mut().zip(&psi).zip(&previous) {
+            *d = a - b;
+        }
+        let psi_v = SVector::<f64, DRIVE_FEATURES>::from_column_slice(&dpsi);
+        self.drive_gram += w * psi_v * psi_v.transpose();
+        for ((&(s, _, f_t), d), prev) in contacts
+            .iter()
+            .zip(&mut self.drive)
+            .zip(&mut self.previous_contacts)
+        {
+            let (ps, pf) = *prev;
+            *prev = (s, f_t);
+            let ds = s - ps;
+            let u = [-(f_t - pf), -(x * f_t - px * pf)];
+            let (ws, wu) = (w * ds, [w * u[0], w * u[1]]);
+            for ((pu, ps), p) in d.psi_u.iter_mut().zip(&mut d.psi_s).zip(&dpsi) {
                 pu[0] += p * wu[0];
                 pu[1] += p * wu[1];
                 *ps += p * ws;
@@ -166,13 +230,10 @@ impl FitAccumulator {
             d.uu[0] += wu[0] * u[0];
             d.uu[1] += wu[0] * u[1];
             d.uu[2] += wu[1] * u[1];
-            d.us[0] += wu[0] * s;
-            d.us[1] += wu[1] * s;
-            d.ss += ws * s;
+            d.us[0] += wu[0] * ds;
+            d.us[1] += wu[1] * ds;
+            d.ss += ws * ds;
             d.s_sum += ws;
-        }
-        for (e, &v) in self.elements.iter_mut().zip(elements) {
-            e.add(&phi, v, w);
         }
     }
 
@@ -371,26 +432,62 @@ mod tests {
 
     #[test]
     fn the_structure_equation_is_recovered_with_its_compliance() {
-        // s = a x + b y + e x y + c − (g₀ + g₁ x) f_T with f_T independent of the loads: all six
-        // identifiable
-        let (a, b, e, c, g0, g1) = (2e-6, -5e-6, 0.7e-6, 1e-7, 3e-8, -1e-8);
+        // s = ψ·d − (g₀ + g₁ x) f_T with f_T independent of the loads: the compliance and the
+        // drive's changes are identifiable
+        let truth: Vec<f64> = (0..DRIVE_FEATURES)
+            .map(|i| 1e-6 * ((i as f64 * 1.3).sin() + 0.2))
+            .collect();
+        let (g0, g1) = (3e-8, -1e-8);
         let mut acc = FitAccumulator::new(1, 0);
-        for i in 0..80 {
+        for i in 0..300 {
             let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.53).cos());
             let f_t = 40.0 * (i as f64 * 1.7).sin();
-            let s = a * x + b * y + e * x * y + c - (g0 + g1 * x) * f_t;
-            acc.add(x, y, 1.0, &[(s, 100.0, f_t)], &[]);
+            let d: f64 = drive_features(x, y)
+                .iter()
+                .zip(&truth)
+                .map(|(p, q)| p * q)
+                .sum();
+            acc.add(x, y, 1.0, &[(d - (g0 + g1 * x) * f_t, 100.0, f_t)], &[]);
         }
         let fit = acc.contact_fits()[0];
         let rel = |p: f64, q: f64| (p - q).abs() / q.abs();
-        assert!(rel(fit.law.drive[0], a) < 1e-6);
-        assert!(rel(fit.law.drive[1], b) < 1e-6);
-        assert!(rel(fit.law.drive[2], e) < 1e-5);
-        assert!(rel(fit.law.drive[3], c) < 1e-5);
+        // the increments fix the drive up to its level, which the Jenkins element never sees
+        let drive = |c: &[f64], x: f64, y: f64| -> f64 {
+            drive_features(x, y).iter().zip(c).map(|(p, q)| p * q).sum()
+        };
+        for i in 0..20 {
+            let (x, y) = ((i as f64 * 0.71).sin(), (i as f64 * 0.29).cos());
+            let fitted = drive(&fit.law.drive, x, y) - drive(&fit.law.drive, 0.1, -0.2);
+            let truth = drive(&truth, x, y) - drive(&truth, 0.1, -0.2);
+            assert!(
+                (fitted - truth).abs() < 1e-5 * truth.abs().max(1e-7),
+                "{fitted} vs {truth}"
+            );
+        }
         assert!(rel(fit.law.compliance[0], g0) < 1e-6);
         assert!(rel(fit.law.compliance[1], g1) < 1e-5);
         assert!(!fit.compliance_clamped);
         assert!(fit.slip_residual_ss < 1e-8 * fit.slip_spread_ss);
+    }
+
+    #[test]
+    fn the_tension_hats_sum_to_one_and_interpolate_linearly() {
+        for i in 0..=40 {
+            let x = -1.0 + 0.05 * i as f64;
+            let h = tension_hats(x);
+            assert!(
+                (h.iter().sum::<f64>() - 1.0).abs() < 1e-14,
+                "x = {x}: {h:?}"
+            );
+            // a linear function of x on the knots is reproduced everywhere, also beyond them
+            let f: f64 = h
+                .iter()
+                .zip(&TENSION_KNOTS)
+                .map(|(a, k)| a * (2.0 * k - 0.3))
+                .sum();
+            assert!((f - (2.0 * x - 0.3)).abs() < 1e-13, "x = {x}");
+        }
+        assert_eq!(tension_hats(-0.25), [0.0, 1.0, 0.0, 0.0]);
     }
 
     #[test]

@@ -7,10 +7,12 @@
 //! The strand is quasi-static and rate-independent, with Coulomb friction at the contacts. Each
 //! contact `c` of the FE model becomes one Jenkins element (a spring in series with a Coulomb
 //! slider) that obeys the FE model's own tangential law, loaded through the rest of the strand,
-//! which is reduced to a linear drive and a compliance:
+//! which is reduced to a drive and a compliance:
 //!
-//! - structure: `s + g f_T = d(ε, κ)`, with the drive `d = a x + b y + e x y + c` in the scaled
-//!   loads `x = (ε − ε₀)/ε_h`, `y = (κ − κ₀)/κ_h` ([`LoadScaling`]) and `g = g₀ + g₁ x ≥ 0` the
+//! - structure: `s + g f_T = d(ε, κ)`, with the drive `d = Σ_k φ_k(x) (a_k + b_k y + c_k y² +
+//!   e_k y³)` in the scaled loads `x = (ε − ε₀)/ε_h`, `y = (κ − κ₀)/κ_h` ([`LoadScaling`]), `φ_k`
+//!   the hat functions of the tension on the design's four tension levels (the slip per unit
+//!   curvature piecewise linear in the tension, cubic in the curvature), and `g = g₀ + g₁ x ≥ 0` the
 //!   compliance through which the strand around the contact answers its tangential force (the
 //!   tension sets how hard the neighbouring contacts hold);
 //! - contact (the elastic-slip law of `crate::contact::laws`, seed Sec. 2.1): the slip
@@ -28,10 +30,13 @@
 //!
 //! [`calibrate`] drives the FE model through a designed load history ([`design`]: curvature,
 //! tension and combined cycles of decreasing amplitude at several tension levels over the
-//! requested [`LoadRange`]), and fits per contact, by linear least squares on every sample,
-//! weighted by the inverse square of its cycle's amplitude ([`design`], [`fit`]): `f_N` on the
-//! six quadratic load features, and `(a, b, e, c, g₀, g₁)` on the structure equation with the FE's `s` and `f_T` (the compliance refitted constant, then zero,
-//! if the fit makes it negative on the range). Wire axial forces of the monitor channels are
+//! requested [`LoadRange`], then small probe cycles in curvature and tension at a grid of
+//! curvatures on every level), and fits per contact, by linear least squares weighted by the
+//! inverse square of each sample's cycle amplitude ([`design`], [`fit`]): `f_N` on the six
+//! quadratic load features at every sample, and the drive and `(g₀, g₁)` on the structure
+//! equation written for the increment from one sample to the next, with the FE's `s` and `f_T`
+//! (the Jenkins element answers the drive's changes, never its level; the compliance is
+//! refitted constant, then zero, if the fit makes it negative on the range). Wire axial forces of the monitor channels are
 //! fitted like `f_N`. The calibration then replays the designed history through the reduced
 //! model and reports, per layer interface, its in-sample error against the FE run
 //! ([`CalibrationReport`]).
@@ -42,13 +47,16 @@
 //! ([`crate::strand::history::HistoryResult`]: one [`crate::fretting::ContactRecord`] per contact
 //! with every slip cycle and its forces, the monitor series), in seconds. A sample outside the
 //! calibrated range (beyond `RANGE_SLACK` of it) is refused with the range, never
-//! extrapolated. The first sample is reached as the FE initialisation reaches it, by bending the
-//! tensioned strand from the straight state: every contact starts unloaded tangentially at zero
-//! curvature and the first sample's tension, then follows the drive to the first curvature.
+//! extrapolated. The first sample is reached along the FE initialisation's path: every contact
+//! starts unloaded tangentially in the straight strand at a small tension
+//! ([`ReducedStrand::initial_strain_fraction`] of the first), follows the drive to the first
+//! curvature at that tension, then to the first tension. The state this leaves (which contacts
+//! slid while the strand was bent at a small tension, with little normal force) sets how each
+//! contact answers a change of tension afterwards.
 //!
 //! What it leaves out, by construction: the interaction of contacts beyond the compliance `g`
-//! (the slip of one contact changes the load of its neighbours only through the fitted drive),
-//! and the FE's initialisation at a small tension. Its error against
+//! (the slip of one contact changes the load of its neighbours only through the fitted drive).
+//! Its error against
 //! the FE model is measured on held-out histories (docs/reduced-strand.md), not assumed.
 //!
 //! Units: m, N, 1/m.
@@ -67,12 +75,12 @@ use super::history::{HistoryError, LoadSample};
 pub use calibrate::{
     calibrate, calibration_design, fit_recorded, model_key, CalibrationOptions, RecordedSample,
 };
-pub use run::run_reduced;
+pub use run::{contact_series, run_reduced};
 
 /// Version of the stored calibration and of the fit that made it; a file of another version is
 /// refused. Part of the cache key of a calibration, so every change to the model, the design or
 /// the fit bumps it.
-pub(crate) const FORMAT_VERSION: u32 = 3;
+pub(crate) const FORMAT_VERSION: u32 = 4;
 
 /// Slack of the calibrated range, as a fraction of each channel's range: a sample this far
 /// outside is still accepted (round-off of the tension-to-strain conversion).
@@ -316,7 +324,8 @@ fn dot<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
 pub struct ContactLaw {
     /// Coefficients of `f_N` on `force_features` (N).
     pub normal: [f64; FORCE_FEATURES],
-    /// Drive `d = a x + b y + e x y + c`: `[a, b, e, c]` (m).
+    /// Drive coefficients on `fit::drive_features`: hat function k of the tension times `yʲ`
+    /// at index `4 k + j` (m).
     pub drive: [f64; fit::DRIVE_FEATURES],
     /// Compliance of the strand at the contact, `g = g₀ + g₁ x ≥ 0` on the range: `[g₀, g₁]`
     /// (m/N).
@@ -432,6 +441,10 @@ pub struct ReducedStrand {
     pub friction_coefficient: f64,
     /// Elastic slip γ_e of the model's tangential law (m).
     pub elastic_slip_m: f64,
+    /// Fraction of the first tension at which the FE initialisation bends the strand
+    /// (`HistoryOptions::initial_strain_fraction` of the calibration): the reduced run starts
+    /// along the same path.
+    pub initial_strain_fraction: f64,
     /// Calibrated load range.
     pub range: LoadRange,
     /// Scaling of the loads used by the fits.
@@ -482,6 +495,10 @@ impl ReducedStrand {
         let ge = self.elastic_slip_m;
         if !(ge.is_finite() && ge > 0.0) {
             return Err(invalid("elastic_slip_m", ge, "must be finite and > 0"));
+        }
+        let f = self.initial_strain_fraction;
+        if !(f > 0.0 && f <= 1.0) {
+            return Err(invalid("initial_strain_fraction", f, "must lie in (0, 1]"));
         }
         for (c, law) in self.laws.iter().enumerate() {
             let finite = law

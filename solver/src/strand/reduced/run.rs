@@ -46,10 +46,38 @@ fn check_samples(reduced: &ReducedStrand, samples: &[LoadSample]) -> Result<(), 
     Ok(())
 }
 
+/// Sub-steps of each leg of the initialisation path.
+const INITIAL_SUBSTEPS: usize = 16;
+
+/// The FE initialisation's path to the first sample (`crate::strand::history`), in scaled
+/// loads: the straight strand at a small tension, where every contact starts unloaded
+/// tangentially, then the first curvature at that tension, then the first tension.
+struct Initialisation {
+    /// Where the contacts are unloaded.
+    start: (f64, f64),
+    /// The path from there to the first sample, in sub-steps.
+    path: Vec<(f64, f64)>,
+}
+
+fn initialisation(reduced: &ReducedStrand, first: &LoadSample) -> Initialisation {
+    let small = reduced.initial_strain_fraction * first.strain;
+    let start = reduced.scaling.scaled(small, 0.0);
+    let bent = reduced.scaling.scaled(small, first.curvature_per_m);
+    let end = reduced.scaling.scaled(first.strain, first.curvature_per_m);
+    let mut path = Vec::with_capacity(2 * INITIAL_SUBSTEPS);
+    for (a, b) in [(start, bent), (bent, end)] {
+        for k in 1..=INITIAL_SUBSTEPS {
+            let f = k as f64 / INITIAL_SUBSTEPS as f64;
+            path.push((a.0 + f * (b.0 - a.0), a.1 + f * (b.1 - a.1)));
+        }
+    }
+    Initialisation { start, path }
+}
+
 /// One contact through the history: its record and, if asked, its sample series.
 fn run_contact(
     reduced: &ReducedStrand,
-    straight_y: f64,
+    initial: &Initialisation,
     c: usize,
     loads: &[(f64, f64)],
     features: &[[f64; FORCE_FEATURES]],
@@ -68,7 +96,16 @@ fn run_contact(
     let mut cycles: Vec<SlipCycle> = Vec::new();
     let mut series = Vec::with_capacity(if keep_series { loads.len() } else { 0 });
     let mut max_normal = 0.0_f64;
-    let mut state = JenkinsState::unloaded(law.drive_m(loads[0].0, straight_y));
+    let mut state = JenkinsState::unloaded(law.drive_m(initial.start.0, initial.start.1));
+    for &(x, y) in &initial.path {
+        state.step(
+            law.drive_m(x, y),
+            law.normal_force_n(&force_features(x, y)),
+            law.compliance_m_per_n(x),
+            stick_per_m,
+            reduced.elastic_slip_m,
+        );
+    }
     for (&(x, y), f) in loads.iter().zip(features) {
         let normal = law.normal_force_n(f);
         let (slip, tangential) = state.step(
@@ -105,6 +142,30 @@ fn run_contact(
     ))
 }
 
+/// Every contact's (slip, normal force, tangential force) at every sample of `samples`, in
+/// mesh contact order: the series behind [`run_reduced`]'s records, for studies that compare
+/// them sample by sample with an FE run.
+pub fn contact_series(
+    reduced: &ReducedStrand,
+    samples: &[LoadSample],
+) -> Result<Vec<Vec<ContactSample>>, ReducedError> {
+    if samples.is_empty() {
+        return Ok(vec![Vec::new(); reduced.laws.len()]);
+    }
+    check_samples(reduced, samples)?;
+    let loads: Vec<(f64, f64)> = samples
+        .iter()
+        .map(|s| reduced.scaling.scaled(s.strain, s.curvature_per_m))
+        .collect();
+    let initial = initialisation(reduced, &samples[0]);
+    let features: Vec<[f64; FORCE_FEATURES]> =
+        loads.iter().map(|&(x, y)| force_features(x, y)).collect();
+    (0..reduced.laws.len())
+        .into_par_iter()
+        .map(|c| run_contact(reduced, &initial, c, &loads, &features, 0.0, true).map(|r| r.1))
+        .collect()
+}
+
 /// Runs `samples` through `reduced` (module docs): the outputs of an FE history run, with
 /// every sample "kept" and the work counts of a run without sub-steps. `slip_gate_m` is the
 /// hysteresis gate of the slip rainflow counters, as [`crate::strand::history::HistoryOptions`].
@@ -126,9 +187,7 @@ pub fn run_reduced(
         .iter()
         .map(|s| reduced.scaling.scaled(s.strain, s.curvature_per_m))
         .collect();
-    // the FE initialisation bends the tensioned strand from the straight state: every
-    // contact starts unloaded tangentially at zero curvature and the first tension
-    let straight_y = reduced.scaling.scaled(samples[0].strain, 0.0).1;
+    let initial = initialisation(reduced, &samples[0]);
     let features: Vec<[f64; FORCE_FEATURES]> =
         loads.iter().map(|&(x, y)| force_features(x, y)).collect();
     let monitored: Vec<bool> = {
@@ -147,7 +206,7 @@ pub fn run_reduced(
         .map(|c| {
             run_contact(
                 reduced,
-                straight_y,
+                &initial,
                 c,
                 &loads,
                 &features,

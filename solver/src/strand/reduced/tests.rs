@@ -93,6 +93,7 @@ fn a_load_outside_the_calibrated_range_is_refused_with_the_range() {
         model_key: String::new(),
         friction_coefficient: 0.12,
         elastic_slip_m: 1e-5,
+        initial_strain_fraction: 0.1,
         range,
         scaling: LoadScaling::of(&range),
         sites: Vec::new(),
