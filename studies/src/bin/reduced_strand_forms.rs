@@ -284,9 +284,32 @@ fn probe_recorded(
         let (mut gain, mut slope_ratio, mut quad_left, mut lin_left, mut range_ratio) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut x_slope_ratio = Vec::new();
+        // sliding samples (|f_T| ≥ 0.99 μ f_N) in the FE run and in the reduced, and the normal
+        // force's relative rms error at low (x < −0.8) and other tensions
+        let mu = reduced.friction_coefficient;
+        let (mut slide_fe, mut slide_red, mut n_samples) = (0usize, 0usize, 0usize);
+        let (mut fn_low, mut fn_low_ref, mut fn_rest, mut fn_rest_ref) = (0.0, 0.0, 0.0, 0.0);
         for (c, site) in reduced.sites.iter().enumerate() {
             if site.interface != i {
                 continue;
+            }
+            for (k, (h, r)) in held[from..].iter().zip(&series[c][from..]).enumerate() {
+                let (a, b) = (&h.1[c], r);
+                n_samples += 1;
+                if a.tangential_force_n.abs() >= 0.99 * mu * a.normal_force_n {
+                    slide_fe += 1;
+                }
+                if b.tangential_force_n.abs() >= 0.99 * mu * b.normal_force_n {
+                    slide_red += 1;
+                }
+                let e = (b.normal_force_n - a.normal_force_n).powi(2);
+                if xy[k].0 < -0.8 {
+                    fn_low += e;
+                    fn_low_ref += a.normal_force_n.powi(2);
+                } else {
+                    fn_rest += e;
+                    fn_rest_ref += a.normal_force_n.powi(2);
+                }
             }
             let fe: Vec<f64> = held[from..].iter().map(|h| h.1[c].slip_m).collect();
             let red: Vec<f64> = series[c][from..].iter().map(|s| s.slip_m).collect();
@@ -324,6 +347,14 @@ fn probe_recorded(
             show("dx slope red/FE", &mut x_slope_ratio),
             show("FE left by linear", &mut lin_left),
             show("by quadratic", &mut quad_left)
+        );
+        println!(
+            "    sliding samples FE {:.4}, reduced {:.4}; f_N rel. rms error x < -0.8 {:.3}, \
+             else {:.3}",
+            slide_fe as f64 / n_samples.max(1) as f64,
+            slide_red as f64 / n_samples.max(1) as f64,
+            (fn_low / fn_low_ref.max(f64::MIN_POSITIVE)).sqrt(),
+            (fn_rest / fn_rest_ref.max(f64::MIN_POSITIVE)).sqrt()
         );
     }
     Ok(())
