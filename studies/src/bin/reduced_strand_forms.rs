@@ -14,8 +14,18 @@
 //! ```text
 //! reduced_strand_forms record --ea EA --margin 0.05 --load A.csv [--load B.csv …] REC.bin
 //! reduced_strand_forms fit REC.bin --ea EA --margin 0.05 --load A.csv … \
-//!     --held-out LOAD.csv FE_DIR [--held-out …] [--run-in-s 100] [--write CALIB.json]
+//!     --held-out LOAD.csv FE_DIR [--held-out …] [--run-in-s 100] [--write CALIB.json] \
+//!     [--probe HELD.bin]
+//! reduced_strand_forms record-load HELD.bin LOAD.csv --to-s T --ea EA --load A.csv …
+//! reduced_strand_forms record-path PATH.bin --path "x,y;x,y;…" [--parts 8] --ea EA --load A.csv …
+//! reduced_strand_forms slopes A.bin:t0:t1 B.bin:t0:t1 … --ea EA --load A.csv …
 //! ```
+//!
+//! `record-load` records an FE history run of a load file (up to `--to-s`) sample by sample;
+//! `record-path` one along straight strokes between points of the scaled loads (x, y) of the
+//! range; `slopes` compares, per contact, the slip's slope on the curvature over windows of such
+//! recordings; `fit --probe` compares the reduced slip with a recorded FE run contact by contact
+//! and sample by sample (docs/notes/2026-11-27-reduced-strand-state.md).
 //!
 //! The model is the paper campaign's: the six-layer strand, periodic ends, ε_N = 2e8 N/m,
 //! γ_e = 10 µm; loads are `moorfret run global` hot-spot files (hot spot 0), ε = T / EA with
