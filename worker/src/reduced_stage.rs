@@ -200,11 +200,8 @@ fn calibration_of(
         role: CALIBRATION_ROLE,
     };
     let bytes = upstream.artifact(store, retry, artifacts, rt)?;
-    let reduced: ReducedStrand =
-        serde_json::from_slice(&bytes).map_err(|e| permanent(FailureClass::BadArtifact, e))?;
-    let reduced = reduced
-        .validated()
-        .map_err(|e| permanent(FailureClass::BadArtifact, e))?;
+    let reduced =
+        ReducedStrand::from_json(&bytes).map_err(|e| permanent(FailureClass::BadArtifact, e))?;
     Ok((bytes, reduced))
 }
 

@@ -463,6 +463,31 @@ pub struct ReducedStrand {
 }
 
 impl ReducedStrand {
+    /// A stored calibration read from its JSON and checked ([`ReducedStrand::validated`]); a
+    /// file of another format is refused as such before its fields are read (their shapes
+    /// change between formats).
+    pub fn from_json(text: &[u8]) -> Result<Self, ReducedError> {
+        #[derive(Deserialize)]
+        struct Header {
+            format: u32,
+        }
+        let bad = |e: serde_json::Error| ReducedError::Calibration {
+            reason: format!("not a reduced strand calibration: {e}"),
+        };
+        let header: Header = serde_json::from_slice(text).map_err(bad)?;
+        if header.format != FORMAT_VERSION {
+            return Err(ReducedError::Calibration {
+                reason: format!(
+                    "format {} is not the supported {FORMAT_VERSION}; calibrate again",
+                    header.format
+                ),
+            });
+        }
+        serde_json::from_slice::<Self>(text)
+            .map_err(bad)?
+            .validated()
+    }
+
     /// Checks what a stored calibration must hold before use: its format, one law per site,
     /// finite parameters.
     pub fn validated(self) -> Result<Self, ReducedError> {

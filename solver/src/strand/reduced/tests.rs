@@ -140,6 +140,25 @@ fn a_load_outside_the_calibrated_range_is_refused_with_the_range() {
 }
 
 #[test]
+fn a_calibration_of_another_format_is_refused_as_such() {
+    // a format-3 file: a four-coefficient drive, no initialisation fraction
+    let old = r#"{"format":3,"model_key":"","friction_coefficient":0.12,"elastic_slip_m":1e-5,
+        "laws":[{"normal":[1,0,0,0,0,0],"drive":[1,2,3,4],"compliance":[0,0]}]}"#;
+    let message = ReducedStrand::from_json(old.as_bytes())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("format 3 is not the supported"),
+        "{message}"
+    );
+    let message = ReducedStrand::from_json(b"[1, 2]").unwrap_err().to_string();
+    assert!(
+        message.contains("not a reduced strand calibration"),
+        "{message}"
+    );
+}
+
+#[test]
 fn reduced_matches_fe_on_a_held_out_history_of_the_benchmark_strand() {
     let model = model();
     let held_out = irregular(240, 0.7);
