@@ -134,6 +134,34 @@ impl<W: Write> HistoryObserver for Recorder<W> {
     }
 }
 
+/// Runs `samples` through the FE model and writes every sample it solves to `path`.
+fn record(
+    model: &StrandModel,
+    samples: &[LoadSample],
+    options: &HistoryOptions,
+    path: &str,
+) -> Result<(), Error> {
+    let mut recorder = Recorder {
+        out: BufWriter::new(std::fs::File::create(path)?),
+        error: None,
+        samples: 0,
+    };
+    let t = std::time::Instant::now();
+    let fe = run_history(model, samples, options, &mut recorder)?;
+    recorder.out.flush()?;
+    if let Some(e) = recorder.error {
+        return Err(e.into());
+    }
+    println!(
+        "recorded {} samples: {} sub-steps, {} Newton iterations, {:.1} s",
+        recorder.samples,
+        fe.stats.substeps,
+        fe.stats.iterations,
+        t.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
 /// Reads a recording written by [`Recorder`].
 fn read_recording(path: &Path) -> Result<Vec<RecordedSample>, Error> {
     let mut r = BufReader::new(std::fs::File::open(path)?);
@@ -436,22 +464,7 @@ fn main() -> Result<(), Error> {
                 );
             }
         }
-        let mut recorder = Recorder {
-            out: BufWriter::new(std::fs::File::create(recording)?),
-            error: None,
-            samples: 0,
-        };
-        let t = std::time::Instant::now();
-        let fe = run_history(&model, &samples, &HistoryOptions::default(), &mut recorder)?;
-        recorder.out.flush()?;
-        println!(
-            "recorded {} samples: {} sub-steps, {} Newton iterations, {:.1} s",
-            recorder.samples,
-            fe.stats.substeps,
-            fe.stats.iterations,
-            t.elapsed().as_secs_f64()
-        );
-        return Ok(());
+        return record(&model, &samples, &HistoryOptions::default(), recording);
     }
     if mode == "slopes" {
         // per contact, the slip's slope on y (linear fit on 1, x, y) over a window of each
@@ -530,48 +543,12 @@ fn main() -> Result<(), Error> {
             .filter(|s| s.time_s <= to_s)
             .collect();
         println!("{} load samples up to t = {to_s} s", samples.len());
-        let mut recorder = Recorder {
-            out: BufWriter::new(std::fs::File::create(recording)?),
-            error: None,
-            samples: 0,
-        };
-        let t = std::time::Instant::now();
-        let fe = run_history(&model, &samples, &HistoryOptions::default(), &mut recorder)?;
-        recorder.out.flush()?;
-        if let Some(e) = recorder.error {
-            return Err(e.into());
-        }
-        println!(
-            "recorded {} samples: {} sub-steps, {} Newton iterations, {:.1} s",
-            recorder.samples,
-            fe.stats.substeps,
-            fe.stats.iterations,
-            t.elapsed().as_secs_f64()
-        );
-        return Ok(());
+        return record(&model, &samples, &HistoryOptions::default(), recording);
     }
     if mode == "record" {
         let (design, history) = calibration_design(&model, range, &options)?;
         println!("{} designed samples", design.len());
-        let mut recorder = Recorder {
-            out: BufWriter::new(std::fs::File::create(recording)?),
-            error: None,
-            samples: 0,
-        };
-        let t = std::time::Instant::now();
-        let fe = run_history(&model, &design, &history, &mut recorder)?;
-        recorder.out.flush()?;
-        if let Some(e) = recorder.error {
-            return Err(e.into());
-        }
-        println!(
-            "recorded {} samples: {} sub-steps, {} Newton iterations, {:.1} s",
-            recorder.samples,
-            fe.stats.substeps,
-            fe.stats.iterations,
-            t.elapsed().as_secs_f64()
-        );
-        return Ok(());
+        return record(&model, &design, &history, recording);
     }
     let samples = read_recording(Path::new(recording))?;
     println!("{} recorded samples", samples.len());

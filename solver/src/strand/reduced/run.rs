@@ -77,13 +77,12 @@ fn initialisation(reduced: &ReducedStrand, first: &LoadSample) -> Initialisation
 /// One contact through the history: its record and, if asked, its sample series.
 fn run_contact(
     reduced: &ReducedStrand,
-    initial: &Initialisation,
+    h: &Scaled,
     c: usize,
-    loads: &[(f64, f64)],
-    features: &[[f64; FORCE_FEATURES]],
     slip_gate_m: f64,
     keep_series: bool,
 ) -> Result<(ContactRecord, Vec<ContactSample>), ReducedError> {
+    let (initial, loads, features) = (&h.initial, &h.loads, &h.features);
     let law = &reduced.laws[c];
     let site = &reduced.sites[c];
     let stick_per_m = reduced.friction_coefficient / reduced.elastic_slip_m;
@@ -142,6 +141,35 @@ fn run_contact(
     ))
 }
 
+/// A checked history in the scaled loads, with its force features and the initialisation's
+/// path to its first sample: what every contact runs through.
+struct Scaled {
+    loads: Vec<(f64, f64)>,
+    features: Vec<[f64; FORCE_FEATURES]>,
+    initial: Initialisation,
+}
+
+fn scaled(reduced: &ReducedStrand, samples: &[LoadSample]) -> Result<Scaled, ReducedError> {
+    let Some(first) = samples.first() else {
+        return Err(ReducedError::InvalidSetting {
+            field: "samples",
+            value: 0.0,
+            reason: "the load history is empty".into(),
+        });
+    };
+    check_samples(reduced, samples)?;
+    let loads: Vec<(f64, f64)> = samples
+        .iter()
+        .map(|s| reduced.scaling.scaled(s.strain, s.curvature_per_m))
+        .collect();
+    let features = loads.iter().map(|&(x, y)| force_features(x, y)).collect();
+    Ok(Scaled {
+        loads,
+        features,
+        initial: initialisation(reduced, first),
+    })
+}
+
 /// Every contact's (slip, normal force, tangential force) at every sample of `samples`, in
 /// mesh contact order: the series behind [`run_reduced`]'s records, for studies that compare
 /// them sample by sample with an FE run.
@@ -149,20 +177,10 @@ pub fn contact_series(
     reduced: &ReducedStrand,
     samples: &[LoadSample],
 ) -> Result<Vec<Vec<ContactSample>>, ReducedError> {
-    if samples.is_empty() {
-        return Ok(vec![Vec::new(); reduced.laws.len()]);
-    }
-    check_samples(reduced, samples)?;
-    let loads: Vec<(f64, f64)> = samples
-        .iter()
-        .map(|s| reduced.scaling.scaled(s.strain, s.curvature_per_m))
-        .collect();
-    let initial = initialisation(reduced, &samples[0]);
-    let features: Vec<[f64; FORCE_FEATURES]> =
-        loads.iter().map(|&(x, y)| force_features(x, y)).collect();
+    let h = scaled(reduced, samples)?;
     (0..reduced.laws.len())
         .into_par_iter()
-        .map(|c| run_contact(reduced, &initial, c, &loads, &features, 0.0, true).map(|r| r.1))
+        .map(|c| run_contact(reduced, &h, c, 0.0, true).map(|r| r.1))
         .collect()
 }
 
@@ -175,21 +193,7 @@ pub fn run_reduced(
     slip_gate_m: f64,
 ) -> Result<HistoryResult, ReducedError> {
     let start = Instant::now();
-    if samples.is_empty() {
-        return Err(ReducedError::InvalidSetting {
-            field: "samples",
-            value: 0.0,
-            reason: "the load history is empty".into(),
-        });
-    }
-    check_samples(reduced, samples)?;
-    let loads: Vec<(f64, f64)> = samples
-        .iter()
-        .map(|s| reduced.scaling.scaled(s.strain, s.curvature_per_m))
-        .collect();
-    let initial = initialisation(reduced, &samples[0]);
-    let features: Vec<[f64; FORCE_FEATURES]> =
-        loads.iter().map(|&(x, y)| force_features(x, y)).collect();
+    let h = scaled(reduced, samples)?;
     let monitored: Vec<bool> = {
         let mut m = vec![false; reduced.laws.len()];
         for ch in &reduced.channels {
@@ -203,17 +207,7 @@ pub fn run_reduced(
     };
     let results: Vec<(ContactRecord, Vec<ContactSample>)> = (0..reduced.laws.len())
         .into_par_iter()
-        .map(|c| {
-            run_contact(
-                reduced,
-                &initial,
-                c,
-                &loads,
-                &features,
-                slip_gate_m,
-                monitored[c],
-            )
-        })
+        .map(|c| run_contact(reduced, &h, c, slip_gate_m, monitored[c]))
         .collect::<Result<_, _>>()?;
     let mut monitors = MonitorSeries {
         time_s: samples.iter().map(|s| s.time_s).collect(),
@@ -242,7 +236,7 @@ pub fn run_reduced(
                     .copied()
                     .unwrap_or_default();
                 element += 1;
-                features
+                h.features
                     .iter()
                     .map(|f| f.iter().zip(&fit).map(|(a, b)| a * b).sum())
                     .collect()
