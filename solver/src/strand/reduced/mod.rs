@@ -49,7 +49,8 @@
 //! calibrated range (beyond `RANGE_SLACK` of it) is refused with the range, never
 //! extrapolated. The first sample is reached along the FE initialisation's path: every contact
 //! starts unloaded tangentially in the straight strand at a small tension
-//! ([`ReducedStrand::initial_strain_fraction`] of the first), follows the drive to the first
+//! ([`ReducedStrand::initial_strain_fraction`] of the first, not below the calibrated range),
+//! follows the drive to the first
 //! curvature at that tension, then to the first tension. The state this leaves (which contacts
 //! slid while the strand was bent at a small tension, with little normal force) sets how each
 //! contact answers a change of tension afterwards.

@@ -50,8 +50,9 @@ fn check_samples(reduced: &ReducedStrand, samples: &[LoadSample]) -> Result<(), 
 const INITIAL_SUBSTEPS: usize = 16;
 
 /// The FE initialisation's path to the first sample (`crate::strand::history`), in scaled
-/// loads: the straight strand at a small tension, where every contact starts unloaded
-/// tangentially, then the first curvature at that tension, then the first tension.
+/// loads: the straight strand at a small tension (the FE's, or the calibrated range's lowest
+/// if that is higher), where every contact starts unloaded tangentially, then the first
+/// curvature at that tension, then the first tension.
 struct Initialisation {
     /// Where the contacts are unloaded.
     start: (f64, f64),
@@ -60,7 +61,8 @@ struct Initialisation {
 }
 
 fn initialisation(reduced: &ReducedStrand, first: &LoadSample) -> Initialisation {
-    let small = reduced.initial_strain_fraction * first.strain;
+    // not below the calibrated range: the laws are not extrapolated, also not here
+    let small = (reduced.initial_strain_fraction * first.strain).max(reduced.range.strain[0]);
     let start = reduced.scaling.scaled(small, 0.0);
     let bent = reduced.scaling.scaled(small, first.curvature_per_m);
     let end = reduced.scaling.scaled(first.strain, first.curvature_per_m);
