@@ -61,6 +61,12 @@ pub fn design_strain_floor(range: &LoadRange) -> f64 {
     range.strain[0].max(MIN_STRAIN_FRACTION * range.strain[1])
 }
 
+/// Scaled tension of level `j` of `levels`: the midpoint of the j-th of `levels` equal bins of
+/// [−1, 1].
+pub(crate) fn tension_level(j: usize, levels: usize) -> f64 {
+    -1.0 + (2 * j + 1) as f64 / levels as f64
+}
+
 /// The vertices of the path in scaled coordinates (module docs).
 pub(crate) fn design_vertices(params: &DesignParams) -> Vec<(f64, f64, f64)> {
     let levels = params.tension_levels.max(2);
@@ -72,7 +78,7 @@ pub(crate) fn design_vertices(params: &DesignParams) -> Vec<(f64, f64, f64)> {
         // midpoints of `levels` equal bins: the extremes of the range are reached by the
         // largest cycles and the corners, not held (at the smallest tension of a campaign,
         // a near-slack instant, the strand barely carries its contacts and the FE crawls)
-        let xj = -1.0 + (2 * j + 1) as f64 / levels as f64;
+        let xj = tension_level(j, levels);
         v.push((xj, 0.0, 1.0));
         for &a in &params.amplitudes {
             for _ in 0..params.cycles.max(1) {
@@ -109,7 +115,7 @@ pub(crate) fn design_vertices(params: &DesignParams) -> Vec<(f64, f64, f64)> {
     // hot spots spend their time (appended, so the path before them does not change)
     let a = params.probe_amplitude;
     for j in 0..levels {
-        let xj = -1.0 + (2 * j + 1) as f64 / levels as f64;
+        let xj = tension_level(j, levels);
         for &yc in &params.probe_curvatures {
             v.push((xj, yc, 1.0));
             for _ in 0..params.cycles.max(1) {

@@ -5,11 +5,14 @@
 //! contact, so their Gram matrices are shared: per contact only the right-hand sides, the
 //! cross terms with its own tangential force and the sums of squares are kept.
 //!
-//! Fits, per contact, with `φ = [1, x, y, xy, x², y²]` and `ψ = [x, y, xy, 1]`:
-//! - normal force: `f_N ≈ φ·n`;
-//! - structure: `s ≈ ψ·d − (g₀ + g₁ x) f_T` for the drive `d` and the compliance; if that makes
-//!   `g < 0` anywhere on the range (no physical meaning: the strand would push the contact
-//!   along its own friction force), with `g₁ = 0`, and if still negative with `g = 0`.
+//! Fits, per contact, with `φ = [1, x, y, xy, x², y²]` and the drive features `ψ`
+//! ([`drive_features`]):
+//! - normal force: `f_N ≈ φ·n`, on every sample;
+//! - structure: `Δs ≈ Δψ·d − Δ((g₀ + g₁ x) f_T)` on the increment `Δ` from one sample to the
+//!   next, for the drive `d` (up to its level, which the Jenkins element never sees) and the
+//!   compliance; if that makes `g < 0` anywhere on the range (no physical meaning: the strand
+//!   would push the contact along its own friction force), with `g₁ = 0`, and if still negative
+//!   with `g = 0`.
 //!
 //! Each system is solved after Jacobi scaling (columns to unit diagonal) with a relative ridge
 //! of `RIDGE`, which only matters for a contact whose tangential force is (nearly) a linear
@@ -90,7 +93,7 @@ pub(crate) fn drive_features(x: f64, y: f64) -> [f64; DRIVE_FEATURES] {
     f
 }
 
-/// Unknowns of the structure equation: the drive's four coefficients and the compliance
+/// Unknowns of the structure equation: the drive's coefficients and the compliance
 /// `g = g₀ + g₁ x`.
 const DRIVE_UNKNOWNS: usize = DRIVE_FEATURES + 2;
 
@@ -151,8 +154,8 @@ pub struct FitAccumulator {
     normal: Vec<ForceSums>,
     drive: Vec<DriveSums>,
     elements: Vec<ForceSums>,
-    /// Scaled load of the previous sample.
-    previous_load: Option<(f64, f64)>,
+    /// Scaled tension and drive features of the previous sample.
+    previous_load: Option<(f64, [f64; DRIVE_FEATURES])>,
     /// Every contact's (slip, tangential force) at the previous sample.
     previous_contacts: Vec<(f64, f64)>,
 }
@@ -201,11 +204,10 @@ impl FitAccumulator {
         }
         // the structure equation on the increment from the previous sample: the Jenkins
         // element answers the drive's changes, never its level
-        let Some((px, py)) = self.previous_load.replace((x, y)) else {
+        let Some((px, previous)) = self.previous_load.replace((x, psi)) else {
             self.previous_contacts = contacts.iter().map(|c| (c.0, c.2)).collect();
             return;
         };
-        let previous = drive_features(px, py);
         let mut dpsi = [0.0; DRIVE_FEATURES];
         for ((d, a), b) in dpsi.iter_mut().zip(&psi).zip(&previous) {
             *d = a - b;
@@ -488,6 +490,12 @@ mod tests {
             assert!((f - (2.0 * x - 0.3)).abs() < 1e-13, "x = {x}");
         }
         assert_eq!(tension_hats(-0.25), [0.0, 1.0, 0.0, 0.0]);
+        // the knots are the default design's tension levels, where its cycles run
+        let levels = super::super::design::DesignParams::default().tension_levels;
+        assert_eq!(levels, TENSION_KNOTS.len());
+        for (j, k) in TENSION_KNOTS.iter().enumerate() {
+            assert_eq!(super::super::design::tension_level(j, levels), *k);
+        }
     }
 
     #[test]

@@ -10,11 +10,11 @@
 //! which is reduced to a drive and a compliance:
 //!
 //! - structure: `s + g f_T = d(ε, κ)`, with the drive `d = Σ_k φ_k(x) (a_k + b_k y + c_k y² +
-//!   e_k y³)` in the scaled loads `x = (ε − ε₀)/ε_h`, `y = (κ − κ₀)/κ_h` ([`LoadScaling`]), `φ_k`
-//!   the hat functions of the tension on the design's four tension levels (the slip per unit
-//!   curvature piecewise linear in the tension, cubic in the curvature), and `g = g₀ + g₁ x ≥ 0` the
-//!   compliance through which the strand around the contact answers its tangential force (the
-//!   tension sets how hard the neighbouring contacts hold);
+//!   e_k y³)` in the scaled loads `x = (ε − ε₀)/ε_h`, `y = (κ − κ₀)/κ_h` ([`LoadScaling`]),
+//!   `φ_k` the hat functions of the tension on the design's four tension levels (the slip per
+//!   unit curvature piecewise linear in the tension, cubic in the curvature), and
+//!   `g = g₀ + g₁ x ≥ 0` the compliance through which the strand around the contact answers
+//!   its tangential force (the tension sets how hard the neighbouring contacts hold);
 //! - contact (the elastic-slip law of `crate::contact::laws`, seed Sec. 2.1): the slip
 //!   `s = s_e + s_p`, elastic part `s_e` with `f_T = (μ f_N / γ_e) s_e`, `|s_e| ≤ γ_e`, and an
 //!   irreversible part `s_p` that moves only while the contact slides;
@@ -36,10 +36,10 @@
 //! quadratic load features at every sample, and the drive and `(g₀, g₁)` on the structure
 //! equation written for the increment from one sample to the next, with the FE's `s` and `f_T`
 //! (the Jenkins element answers the drive's changes, never its level; the compliance is
-//! refitted constant, then zero, if the fit makes it negative on the range). Wire axial forces of the monitor channels are
-//! fitted like `f_N`. The calibration then replays the designed history through the reduced
-//! model and reports, per layer interface, its in-sample error against the FE run
-//! ([`CalibrationReport`]).
+//! refitted constant, then zero, if the fit makes it negative on the range). Wire axial forces
+//! of the monitor channels are fitted like `f_N`. The calibration then replays the designed
+//! history through the reduced model and reports, per layer interface, its in-sample error
+//! against the FE run ([`CalibrationReport`]).
 //!
 //! # Use
 //!
@@ -50,10 +50,9 @@
 //! extrapolated. The first sample is reached along the FE initialisation's path: every contact
 //! starts unloaded tangentially in the straight strand at a small tension
 //! ([`ReducedStrand::initial_strain_fraction`] of the first, not below the calibrated range),
-//! follows the drive to the first
-//! curvature at that tension, then to the first tension. The state this leaves (which contacts
-//! slid while the strand was bent at a small tension, with little normal force) sets how each
-//! contact answers a change of tension afterwards.
+//! follows the drive to the first curvature at that tension, then to the first tension. The
+//! state this leaves (which contacts slid while the strand was bent at a small tension, with
+//! little normal force) sets how each contact answers a change of tension afterwards.
 //!
 //! What it leaves out, by construction: the interaction of contacts beyond the compliance `g`
 //! (the slip of one contact changes the load of its neighbours only through the fitted drive).
@@ -397,10 +396,11 @@ pub struct InterfaceFit {
     pub interface: usize,
     /// Contacts.
     pub contacts: usize,
-    /// Root mean square of the slip residual of the least-squares fit over the interface's
-    /// contacts and samples, weighted as the fit (m).
+    /// Root mean square of the residual of the slip increments in the least-squares fit over
+    /// the interface's contacts and samples, weighted as the fit (m).
     pub slip_rms_residual_m: f64,
-    /// Root mean square of the slip about each contact's mean (m), the scale of the residual.
+    /// Root mean square of the slip increments about each contact's mean increment (m), the
+    /// scale of the residual.
     pub slip_rms_m: f64,
     /// Root mean square of the normal-force residual (N).
     pub normal_rms_residual_n: f64,
