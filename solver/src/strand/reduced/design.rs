@@ -11,8 +11,11 @@
 //! 3. combined cycles, tension and curvature in phase and in opposition, for the largest two
 //!    amplitudes (a hot spot's tension and curvature move together or against each other);
 //!
-//! then the corners of the range. No vertex lies below [`design_strain_floor`]. Every straight
-//! stretch is sampled at the sub-steps the FE
+//! then the corners of the range; then, at every tension level and at a grid of curvatures,
+//! small probe cycles in curvature and tension ([`DesignParams::probe_curvatures`]); last, the
+//! same probes at a near-slack tension ([`design_strain_floor`]), each reached by a short
+//! tension stroke down from the strokes' floor ([`stroke_strain_floor`]), below which no other
+//! stroke goes. Every straight stretch is sampled at the sub-steps the FE
 //! history run will solve (`ceil(max(|Δε|/Δε_max, |Δκ|/Δκ_max))` equal parts), so the
 //! calibration sees every solved state and nothing interpolated. Times are one second apart.
 
@@ -48,17 +51,31 @@ impl Default for DesignParams {
     }
 }
 
-/// Lowest tension the design visits, as a fraction of the range's highest strain.
-pub(crate) const MIN_STRAIN_FRACTION: f64 = 0.1;
+/// Lowest tension of the design's strokes across the range, as a fraction of the range's
+/// highest strain.
+pub(crate) const STROKE_STRAIN_FRACTION: f64 = 0.1;
+
+/// Tension of the low-tension probes, as a fraction of the range's highest strain.
+pub(crate) const LOW_STRAIN_FRACTION: f64 = 0.03;
+
+/// The lowest strain of the design's strokes across the range: the range's lowest, but not
+/// below `STROKE_STRAIN_FRACTION` of its highest. A campaign's lowest tension is a near-slack
+/// instant of its most severe sea state, where the strand barely presses its contacts: the FE
+/// model converges there along a recorded history, in small steps, but not along the design's
+/// large straight strokes.
+pub(crate) fn stroke_strain_floor(range: &LoadRange) -> f64 {
+    range.strain[0].max(STROKE_STRAIN_FRACTION * range.strain[1])
+}
 
 /// The lowest strain the designed history visits: the range's lowest, but not below
-/// `MIN_STRAIN_FRACTION` of its highest. A campaign's lowest tension is a near-slack instant
-/// of its most severe sea state, where the strand barely presses its contacts: the FE model
-/// converges there along a recorded history but not along the design's large straight strokes,
-/// and its contacts carry too little force to matter for fretting. Samples below it are run
-/// with the fitted laws continued (quadratic normal forces clipped at zero).
+/// `LOW_STRAIN_FRACTION` of its highest. Between it and the strokes' floor
+/// ([`stroke_strain_floor`]) the design has only small probe cycles, reached in short tension
+/// strokes from the strokes' floor: at these near-slack tensions the contacts are soft and the
+/// slip answers the tension most (a severe sea state's largest slip cycles reach down there).
+/// Samples below it are run with the fitted laws continued (quadratic normal forces clipped at
+/// zero).
 pub fn design_strain_floor(range: &LoadRange) -> f64 {
-    range.strain[0].max(MIN_STRAIN_FRACTION * range.strain[1])
+    range.strain[0].max(LOW_STRAIN_FRACTION * range.strain[1])
 }
 
 /// Scaled tension of level `j` of `levels`: the midpoint of the j-th of `levels` equal bins of
@@ -67,8 +84,14 @@ pub(crate) fn tension_level(j: usize, levels: usize) -> f64 {
     -1.0 + (2 * j + 1) as f64 / levels as f64
 }
 
-/// The vertices of the path in scaled coordinates (module docs).
-pub(crate) fn design_vertices(params: &DesignParams) -> Vec<(f64, f64, f64)> {
+/// The vertices of the path in scaled coordinates (module docs), with every stroke's tension
+/// at least `x_stroke_floor` and the low-tension probes at `x_low` (none if `x_low` is not
+/// below `x_stroke_floor`).
+pub(crate) fn design_vertices(
+    params: &DesignParams,
+    x_stroke_floor: f64,
+    x_low: f64,
+) -> Vec<(f64, f64, f64)> {
     let levels = params.tension_levels.max(2);
     // start (and so initialise the FE model) at the middle tension and the smallest
     // curvature: the FE initialisation bends the strand at a tenth of the first tension, which
@@ -130,6 +153,28 @@ pub(crate) fn design_vertices(params: &DesignParams) -> Vec<(f64, f64, f64)> {
             v.push((xj, yc, a));
         }
     }
+    for vertex in &mut v {
+        vertex.0 = vertex.0.max(x_stroke_floor);
+    }
+    // the low-tension probes: down from the strokes' floor at each probe curvature, small
+    // curvature and tension cycles there, back up
+    if x_low < x_stroke_floor {
+        for &yc in &params.probe_curvatures {
+            v.push((x_stroke_floor, yc, 1.0));
+            let stroke = x_stroke_floor - x_low;
+            v.push((x_low, yc, stroke));
+            for _ in 0..params.cycles.max(1) {
+                v.push((x_low, yc + a, a));
+                v.push((x_low, yc - a, a));
+            }
+            v.push((x_low, yc, a));
+            for _ in 0..params.cycles.max(1) {
+                v.push(((x_low + 2.0 * a).min(x_stroke_floor), yc, a));
+                v.push((x_low, yc, a));
+            }
+            v.push((x_stroke_floor, yc, stroke));
+        }
+    }
     v
 }
 
@@ -148,17 +193,15 @@ pub fn design_history(
 /// [`design_history`] with the least-squares weight of every sample: 1/A² for a sample on a
 /// stroke of a cycle of amplitude A, so that the small cycles, which most contacts of a mild
 /// sea state see in stick, weigh in the fit like the large sliding ones relative to their size.
-pub(crate) fn design_history_weighted(
+pub fn design_history_weighted(
     range: &LoadRange,
     params: &DesignParams,
     options: &HistoryOptions,
 ) -> Vec<(LoadSample, f64)> {
     let scaling = LoadScaling::of(range);
-    let x_floor = scaling.scaled(design_strain_floor(range), 0.0).0;
-    let vertices: Vec<(f64, f64, f64)> = design_vertices(params)
-        .into_iter()
-        .map(|(x, y, a)| (x.max(x_floor), y, a))
-        .collect();
+    let x_stroke_floor = scaling.scaled(stroke_strain_floor(range), 0.0).0;
+    let x_low = scaling.scaled(design_strain_floor(range), 0.0).0;
+    let vertices = design_vertices(params, x_stroke_floor, x_low);
     let mut out: Vec<(LoadSample, f64)> = Vec::new();
     let push =
         |strain: f64, curvature_per_m: f64, weight: f64, out: &mut Vec<(LoadSample, f64)>| {

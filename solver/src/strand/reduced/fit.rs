@@ -49,9 +49,10 @@ impl ForceSums {
     }
 }
 
-/// Tension knots of the drive's hat functions: the midpoints of the design's four tension
-/// levels ([`super::design::DesignParams`]), where its cycles run.
-pub(crate) const TENSION_KNOTS: [f64; 4] = [-0.75, -0.25, 0.25, 0.75];
+/// Tension knots of the drive's hat functions: the bottom of the range, where the design's
+/// low-tension probes are ([`super::design::design_strain_floor`]), and the midpoints of the
+/// design's four tension levels ([`super::design::DesignParams`]), where its cycles run.
+pub(crate) const TENSION_KNOTS: [f64; 5] = [-1.0, -0.75, -0.25, 0.25, 0.75];
 
 /// Curvature powers of the drive: `1, y, y², y³`.
 const CURVATURE_POWERS: usize = 4;
@@ -63,16 +64,14 @@ pub(crate) const DRIVE_FEATURES: usize = TENSION_KNOTS.len() * CURVATURE_POWERS;
 
 /// The hat functions of the tension at scaled tension `x`.
 #[inline]
-fn tension_hats(x: f64) -> [f64; 4] {
+fn tension_hats(x: f64) -> [f64; TENSION_KNOTS.len()] {
     let k = &TENSION_KNOTS;
-    let mut h = [0.0; 4];
-    let i = if x <= k[1] {
-        0
-    } else if x <= k[2] {
-        1
-    } else {
-        2
-    };
+    let mut h = [0.0; TENSION_KNOTS.len()];
+    // the interval [k_i, k_i+1] holding x, the outer ones continued
+    let i = k[1..k.len() - 1]
+        .iter()
+        .take_while(|&&knot| x > knot)
+        .count();
     let t = (x - k[i]) / (k[i + 1] - k[i]);
     h[i] = 1.0 - t;
     h[i + 1] = t;
@@ -489,11 +488,14 @@ mod tests {
                 .sum();
             assert!((f - (2.0 * x - 0.3)).abs() < 1e-13, "x = {x}");
         }
-        assert_eq!(tension_hats(-0.25), [0.0, 1.0, 0.0, 0.0]);
-        // the knots are the default design's tension levels, where its cycles run
+        assert_eq!(tension_hats(-0.25), [0.0, 0.0, 1.0, 0.0, 0.0]);
+        assert_eq!(tension_hats(-1.0), [1.0, 0.0, 0.0, 0.0, 0.0]);
+        // the knots are the bottom of the range and the default design's tension levels,
+        // where its cycles run
         let levels = super::super::design::DesignParams::default().tension_levels;
-        assert_eq!(levels, TENSION_KNOTS.len());
-        for (j, k) in TENSION_KNOTS.iter().enumerate() {
+        assert_eq!(levels + 1, TENSION_KNOTS.len());
+        assert_eq!(TENSION_KNOTS[0], -1.0);
+        for (j, k) in TENSION_KNOTS[1..].iter().enumerate() {
             assert_eq!(super::super::design::tension_level(j, levels), *k);
         }
     }

@@ -11,7 +11,8 @@
 //!
 //! - structure: `s + g f_T = d(ε, κ)`, with the drive `d = Σ_k φ_k(x) (a_k + b_k y + c_k y² +
 //!   e_k y³)` in the scaled loads `x = (ε − ε₀)/ε_h`, `y = (κ − κ₀)/κ_h` ([`LoadScaling`]),
-//!   `φ_k` the hat functions of the tension on the design's four tension levels (the slip per
+//!   `φ_k` the hat functions of the tension on the bottom of the range and the design's four
+//!   tension levels (the slip per
 //!   unit curvature piecewise linear in the tension, cubic in the curvature), and
 //!   `g = g₀ + g₁ x ≥ 0` the compliance through which the strand around the contact answers
 //!   its tangential force (the tension sets how hard the neighbouring contacts hold);
@@ -80,7 +81,7 @@ pub use run::{contact_series, run_reduced};
 /// Version of the stored calibration and of the fit that made it; a file of another version is
 /// refused. Part of the cache key of a calibration, so every change to the model, the design or
 /// the fit bumps it.
-pub(crate) const FORMAT_VERSION: u32 = 4;
+pub(crate) const FORMAT_VERSION: u32 = 5;
 
 /// Slack of the calibrated range, as a fraction of each channel's range: a sample this far
 /// outside is still accepted (round-off of the tension-to-strain conversion).
@@ -325,7 +326,7 @@ pub struct ContactLaw {
     /// Coefficients of `f_N` on `force_features` (N).
     pub normal: [f64; FORCE_FEATURES],
     /// Drive coefficients on `fit::drive_features`: hat function k of the tension times `yʲ`
-    /// at index `4 k + j` (m).
+    /// at index `4 k + j` (m), `k` counted from the lowest knot.
     pub drive: [f64; fit::DRIVE_FEATURES],
     /// Compliance of the strand at the contact, `g = g₀ + g₁ x ≥ 0` on the range: `[g₀, g₁]`
     /// (m/N).
@@ -378,6 +379,12 @@ impl JenkinsState {
         stick_per_m: f64,
         elastic_slip_m: f64,
     ) -> (f64, f64) {
+        if normal_force_n <= 0.0 {
+            // an open contact carries nothing and forgets its elastic slip, as the FE
+            // element's history does: it closes again unloaded where it is
+            self.plastic_slip_m = drive_m;
+            return (drive_m, 0.0);
+        }
         let k = stick_per_m * normal_force_n;
         let factor = 1.0 + compliance_m_per_n * k;
         let mut elastic = (drive_m - self.plastic_slip_m) / factor;
