@@ -19,13 +19,19 @@
 //! reduced_strand_forms record-load HELD.bin LOAD.csv --to-s T --ea EA --load A.csv …
 //! reduced_strand_forms record-path PATH.bin --path "x,y;x,y;…" [--parts 8] --ea EA --load A.csv …
 //! reduced_strand_forms slopes A.bin:t0:t1 B.bin:t0:t1 … --ea EA --load A.csv …
+//! reduced_strand_forms trace REC.bin --probe HELD.bin --interface I [--contact C] --ea EA --load A.csv …
+//! reduced_strand_forms open HELD.bin --ea EA --load A.csv …
 //! ```
 //!
 //! `record-load` records an FE history run of a load file (up to `--to-s`) sample by sample;
 //! `record-path` one along straight strokes between points of the scaled loads (x, y) of the
 //! range; `slopes` compares, per contact, the slip's slope on the curvature over windows of such
 //! recordings; `fit --probe` compares the reduced slip with a recorded FE run contact by contact
-//! and sample by sample (docs/notes/2026-11-27-reduced-strand-state.md).
+//! and sample by sample (docs/notes/2026-11-27-reduced-strand-state.md), with the contacts'
+//! elastic states, and `--x-above X` only above a scaled tension; `trace` prints one contact's
+//! FE and reduced series (by default the interface-I contact with the largest FE slip range,
+//! `--contact C` for contact C); `open` the share of open contacts per interface and tension bin
+//! (docs/notes/2026-11-27-reduced-strand-tension.md).
 //!
 //! The model is the paper campaign's: the six-layer strand, periodic ends, ε_N = 2e8 N/m,
 //! γ_e = 10 µm; loads are `moorfret run global` hot-spot files (hot spot 0), ε = T / EA with
@@ -37,7 +43,6 @@ use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::Path;
 
 use moorfret_solver::fretting::{ContactRecord, ContactSample};
-use moorfret_solver::strand::history::monitors::ContactSite;
 use moorfret_solver::strand::history::stiffness::{samples_from_tension, SlackTension};
 use moorfret_solver::strand::history::{
     checkpoint::HistoryCheckpoint, run_history, HistoryObserver, HistoryOptions, HistoryProgress,
@@ -485,6 +490,7 @@ fn main() -> Result<(), Error> {
     let mode = args.first().ok_or("record | fit")?.clone();
     let (mut ea, mut margin, mut run_in_s, mut to_s) = (None, 0.05, 100.0, f64::INFINITY);
     let mut x_above = f64::NEG_INFINITY;
+    let (mut interface, mut contact) = (0usize, None::<usize>);
     let mut probe: Option<String> = None;
     let (mut path, mut parts) = (String::new(), 8usize);
     let (mut loads, mut held_out, mut positional) = (Vec::new(), Vec::new(), Vec::new());
@@ -498,6 +504,8 @@ fn main() -> Result<(), Error> {
             "--run-in-s" => run_in_s = value()?.parse()?,
             "--to-s" => to_s = value()?.parse()?,
             "--x-above" => x_above = value()?.parse()?,
+            "--interface" => interface = value()?.parse()?,
+            "--contact" => contact = Some(value()?.parse()?),
             "--path" => path = value()?,
             "--parts" => parts = value()?.parse()?,
             "--probe" => probe = Some(value()?),
@@ -655,8 +663,8 @@ fn main() -> Result<(), Error> {
         return Ok(());
     }
     if mode == "trace" {
-        // REC --probe HELD --parts I: the series of the interface-I contact with the largest FE
-        // slip range in HELD, FE against reduced, sample by sample
+        // REC --probe HELD --interface I: the series of the interface-I contact with the largest
+        // FE slip range in HELD (or of `--contact C`), FE against reduced, sample by sample
         let rec = read_recording(Path::new(recording))?;
         let mut reduced = fit_recorded(&model, range, &options, rec)?;
         reduced.model_key = key;
@@ -667,18 +675,17 @@ fn main() -> Result<(), Error> {
             let v = held.iter().map(|h| h.1[c].slip_m);
             v.clone().fold(f64::MIN, f64::max) - v.fold(f64::MAX, f64::min)
         };
-        // `--to-s C` picks contact C instead
-        let c = if to_s.is_finite() {
-            to_s as usize
+        let c = if let Some(c) = contact {
+            c
         } else {
             (0..reduced.sites.len())
-                .filter(|&c| reduced.sites[c].interface == parts)
+                .filter(|&c| reduced.sites[c].interface == interface)
                 .max_by(|&a, &b| range_of(a).total_cmp(&range_of(b)))
                 .ok_or("no contact")?
         };
         // the interface's f_N error at the first sample, per contact
         let mut errs: Vec<f64> = (0..reduced.sites.len())
-            .filter(|&c| reduced.sites[c].interface == parts)
+            .filter(|&c| reduced.sites[c].interface == interface)
             .map(|c| series[c][0].normal_force_n / held[0].1[c].normal_force_n - 1.0)
             .filter(|v| v.is_finite())
             .collect();
@@ -705,98 +712,6 @@ fn main() -> Result<(), Error> {
                 a.normal_force_n,
                 r.normal_force_n
             );
-        }
-        return Ok(());
-    }
-    if mode == "coupled" {
-        // the coupled-contacts experiment: fit on the recording, run through recorded held-out
-        // runs (`--probe`, repeatable as positional after REC), per-contact range ratios
-        let rec = read_recording(Path::new(recording))?;
-        let weighted = moorfret_solver::strand::reduced::design::design_history_weighted(
-            &range,
-            &options.design,
-            &options.history,
-        );
-        println!(
-            "{} recorded, {} designed samples",
-            rec.len(),
-            weighted.len()
-        );
-        let weights: Vec<f64> = weighted.iter().map(|w| w.1).collect();
-        let mut reduced = fit_recorded(&model, range, &options, rec.clone())?;
-        reduced.model_key = key;
-        let helds: Vec<(String, Vec<RecordedSample>)> = positional[1..]
-            .iter()
-            .map(|p| Ok((p.clone(), read_recording(Path::new(p))?)))
-            .collect::<Result<_, Error>>()?;
-        for h in &helds {
-            let loads: Vec<LoadSample> = h.1.iter().map(|r| r.0).collect();
-            let from = loads.iter().position(|s| s.time_s >= run_in_s).unwrap_or(0);
-            let series = contact_series(&reduced, &loads)?;
-            println!(
-                "{} production: {}",
-                h.0,
-                range_ratios(&reduced, &h.1, &series, from)
-            );
-        }
-        let gforms: Vec<(usize, f64)> = std::env::var("GFORMS")
-            .unwrap_or_else(|_| "2:1,3:1,4:1,6:1,2:0.75".into())
-            .split(',')
-            .map(|v| {
-                let (a, b) = v.split_once(':').unwrap_or((v, "1"));
-                (a.parse().unwrap_or(2), b.parse().unwrap_or(1.0))
-            })
-            .collect();
-        for (form, power) in gforms {
-            let laws = fit_gform(&reduced, &rec, &weights, form, power);
-            let loads: Vec<LoadSample> = rec.iter().map(|r| r.0).collect();
-            let series = run_gform(&reduced, &laws, &loads, form);
-            println!(
-                "g form {form}, weight power {power}: in-sample {}",
-                range_ratios(&reduced, &rec, &series, 0)
-            );
-            for h in &helds {
-                let loads: Vec<LoadSample> = h.1.iter().map(|r| r.0).collect();
-                let from = loads.iter().position(|s| s.time_s >= run_in_s).unwrap_or(0);
-                let series = run_gform(&reduced, &laws, &loads, form);
-                println!("  {}: {}", h.0, range_ratios(&reduced, &h.1, &series, from));
-            }
-        }
-        if std::env::var("COUPLED").is_err() {
-            return Ok(());
-        }
-        for reach in [usize::MAX, 0, 1] {
-            let t = std::time::Instant::now();
-            let laws = fit_coupled(&reduced, &rec, &weights, reach);
-            println!("reach {reach}: fit {:.1} s", t.elapsed().as_secs_f64());
-            let loads: Vec<LoadSample> = rec.iter().map(|r| r.0).collect();
-            for iterations in [1, 3] {
-                if reach == usize::MAX && iterations > 1 {
-                    continue;
-                }
-                let series = run_coupled(&reduced, &laws, &loads, reach, iterations, None);
-                println!(
-                    "  in-sample, {iterations} it: {}",
-                    range_ratios(&reduced, &rec, &series, 0)
-                );
-                for h in &helds {
-                    let loads: Vec<LoadSample> = h.1.iter().map(|r| r.0).collect();
-                    let from = loads.iter().position(|s| s.time_s >= run_in_s).unwrap_or(0);
-                    let series = run_coupled(&reduced, &laws, &loads, reach, iterations, None);
-                    println!(
-                        "  {} {iterations} it: {}",
-                        h.0,
-                        range_ratios(&reduced, &h.1, &series, from)
-                    );
-                    let series =
-                        run_coupled(&reduced, &laws, &loads, reach, iterations, Some(&h.1));
-                    println!(
-                        "  {} {iterations} it, FE f_N: {}",
-                        h.0,
-                        range_ratios(&reduced, &h.1, &series, from)
-                    );
-                }
-            }
         }
         return Ok(());
     }
@@ -868,471 +783,4 @@ fn main() -> Result<(), Error> {
         per_contact(fe, &r.contacts);
     }
     Ok(())
-}
-
-/// Tension knots of the drive (the solver's `TENSION_KNOTS`).
-const KNOTS: [f64; 4] = [-0.75, -0.25, 0.25, 0.75];
-
-/// The drive features: hat functions of the tension on [`KNOTS`] times `1, y, y², y³`.
-fn drive_psi(x: f64, y: f64) -> [f64; 16] {
-    let i = if x <= KNOTS[1] {
-        0
-    } else if x <= KNOTS[2] {
-        1
-    } else {
-        2
-    };
-    let t = (x - KNOTS[i]) / (KNOTS[i + 1] - KNOTS[i]);
-    let mut h = [0.0; 4];
-    h[i] = 1.0 - t;
-    h[i + 1] = t;
-    let p = [1.0, y, y * y, y * y * y];
-    let mut f = [0.0; 16];
-    for k in 0..4 {
-        for j in 0..4 {
-            f[4 * k + j] = h[k] * p[j];
-        }
-    }
-    f
-}
-
-/// Per interface: the mean tangential force and twice the means of `f_T cos θ` and
-/// `f_T sin θ` (the first harmonics round the strand).
-fn aggregates(
-    sites: &[ContactSite],
-    f_t: impl Fn(usize) -> f64,
-    interfaces: usize,
-) -> Vec<[f64; 3]> {
-    let mut a = vec![[0.0; 3]; interfaces];
-    let mut n = vec![0usize; interfaces];
-    for (c, s) in sites.iter().enumerate() {
-        let f = f_t(c);
-        let e = &mut a[s.interface];
-        e[0] += f;
-        e[1] += 2.0 * f * s.theta_rad.cos();
-        e[2] += 2.0 * f * s.theta_rad.sin();
-        n[s.interface] += 1;
-    }
-    for (e, n) in a.iter_mut().zip(n) {
-        for v in e.iter_mut() {
-            *v /= n.max(1) as f64;
-        }
-    }
-    a
-}
-
-/// The coupling features of a contact at `site` for the aggregates `agg`: per neighbouring
-/// interface (`reach` either side, its own included), the mean and the harmonic projected on
-/// the contact's angle and on the angle a quarter turn on.
-fn coupling_features(site: &ContactSite, agg: &[[f64; 3]], reach: usize, out: &mut Vec<f64>) {
-    out.clear();
-    let (c, s) = (site.theta_rad.cos(), site.theta_rad.sin());
-    let lo = site.interface.saturating_sub(reach);
-    let hi = (site.interface + reach).min(agg.len() - 1);
-    for a in &agg[lo..=hi] {
-        out.push(a[0]);
-        out.push(a[1] * c + a[2] * s);
-        out.push(a[2] * c - a[1] * s);
-    }
-}
-
-/// A contact's law in the coupled experiment: the drive on [`drive_psi`], the compliance and
-/// the coupling coefficients.
-struct CoupledLaw {
-    drive: [f64; 16],
-    g: [f64; 2],
-    h: Vec<f64>,
-}
-
-/// Weighted least squares on increments, Jacobi-scaled with a relative ridge, restricted to
-/// the columns `keep`.
-fn solve_normal(m: &nalgebra::DMatrix<f64>, r: &nalgebra::DVector<f64>, keep: &[bool]) -> Vec<f64> {
-    let idx: Vec<usize> = (0..keep.len()).filter(|&i| keep[i]).collect();
-    let k = idx.len();
-    let sc: Vec<f64> = idx
-        .iter()
-        .map(|&i| {
-            if m[(i, i)] > 0.0 {
-                1.0 / m[(i, i)].sqrt()
-            } else {
-                0.0
-            }
-        })
-        .collect();
-    let mut a = nalgebra::DMatrix::<f64>::from_fn(k, k, |p, q| sc[p] * m[(idx[p], idx[q])] * sc[q]);
-    for p in 0..k {
-        a[(p, p)] += 1e-10;
-    }
-    let b = nalgebra::DVector::<f64>::from_fn(k, |p, _| sc[p] * r[idx[p]]);
-    let z = a
-        .clone()
-        .cholesky()
-        .map(|c| c.solve(&b))
-        .unwrap_or_else(|| nalgebra::DVector::zeros(k));
-    let mut beta = vec![0.0; keep.len()];
-    for (p, &i) in idx.iter().enumerate() {
-        beta[i] = sc[p] * z[p];
-    }
-    beta
-}
-
-/// Fits every contact's coupled law on the recorded calibration run (weights of the design).
-fn fit_coupled(
-    reduced: &ReducedStrand,
-    rec: &[RecordedSample],
-    weights: &[f64],
-    reach: usize,
-) -> Vec<CoupledLaw> {
-    let interfaces = reduced
-        .sites
-        .iter()
-        .map(|s| s.interface + 1)
-        .max()
-        .unwrap_or(0);
-    let xy: Vec<(f64, f64)> = rec
-        .iter()
-        .map(|r| reduced.scaling.scaled(r.0.strain, r.0.curvature_per_m))
-        .collect();
-    let psi: Vec<[f64; 16]> = xy.iter().map(|&(x, y)| drive_psi(x, y)).collect();
-    let agg: Vec<Vec<[f64; 3]>> = rec
-        .iter()
-        .map(|r| aggregates(&reduced.sites, |c| r.1[c].tangential_force_n, interfaces))
-        .collect();
-    use rayon::prelude::*;
-    (0..reduced.sites.len())
-        .into_par_iter()
-        .map(|c| {
-            let site = &reduced.sites[c];
-            let mut feat = Vec::new();
-            let coupled: Vec<Vec<f64>> = agg
-                .iter()
-                .map(|a| {
-                    if reach == usize::MAX {
-                        Vec::new()
-                    } else {
-                        coupling_features(site, a, reach, &mut feat);
-                        feat.clone()
-                    }
-                })
-                .collect();
-            let m_c = coupled[0].len();
-            let n = 18 + m_c;
-            let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
-            let mut r = nalgebra::DVector::<f64>::zeros(n);
-            let mut row = vec![0.0; n];
-            for k in 1..rec.len() {
-                let w = weights
-                    .get(rec[k].0.time_s as usize)
-                    .copied()
-                    .unwrap_or(1.0);
-                for j in 0..16 {
-                    row[j] = psi[k][j] - psi[k - 1][j];
-                }
-                let (f1, f0) = (
-                    rec[k].1[c].tangential_force_n,
-                    rec[k - 1].1[c].tangential_force_n,
-                );
-                row[16] = -(f1 - f0);
-                row[17] = -(xy[k].0 * f1 - xy[k - 1].0 * f0);
-                for j in 0..m_c {
-                    row[18 + j] = -(coupled[k][j] - coupled[k - 1][j]);
-                }
-                let ds = rec[k].1[c].slip_m - rec[k - 1].1[c].slip_m;
-                for p in 0..n {
-                    r[p] += w * row[p] * ds;
-                    for q in 0..n {
-                        m[(p, q)] += w * row[p] * row[q];
-                    }
-                }
-            }
-            let mut keep = vec![true; n];
-            let mut beta = solve_normal(&m, &r, &keep);
-            if beta[16] - beta[17].abs() < 0.0 {
-                keep[17] = false;
-                beta = solve_normal(&m, &r, &keep);
-                if beta[16] < 0.0 {
-                    keep[16] = false;
-                    beta = solve_normal(&m, &r, &keep);
-                }
-            }
-            let mut drive = [0.0; 16];
-            drive.copy_from_slice(&beta[..16]);
-            CoupledLaw {
-                drive,
-                g: [beta[16], beta[17]],
-                h: beta[18..].to_vec(),
-            }
-        })
-        .collect()
-}
-
-/// Every contact's (slip, f_N, f_T) series through `loads` with the coupled laws, the
-/// coupling solved by `iterations` fixed-point sweeps per sample; the FE initialisation path
-/// first.
-fn run_coupled(
-    reduced: &ReducedStrand,
-    laws: &[CoupledLaw],
-    loads: &[LoadSample],
-    reach: usize,
-    iterations: usize,
-    oracle_normal: Option<&[RecordedSample]>,
-) -> Vec<Vec<ContactSample>> {
-    let interfaces = reduced
-        .sites
-        .iter()
-        .map(|s| s.interface + 1)
-        .max()
-        .unwrap_or(0);
-    let nc = laws.len();
-    let first = loads[0];
-    let small = (reduced.initial_strain_fraction * first.strain).max(reduced.range.strain[0]);
-    let start = reduced.scaling.scaled(small, 0.0);
-    let bent = reduced.scaling.scaled(small, first.curvature_per_m);
-    let end = reduced.scaling.scaled(first.strain, first.curvature_per_m);
-    let mut path = Vec::new();
-    for (a, b) in [(start, bent), (bent, end)] {
-        for k in 1..=16 {
-            let f = k as f64 / 16.0;
-            path.push((a.0 + f * (b.0 - a.0), a.1 + f * (b.1 - a.1), false));
-        }
-    }
-    let init = path.len();
-    for s in loads {
-        let (x, y) = reduced.scaling.scaled(s.strain, s.curvature_per_m);
-        path.push((x, y, true));
-    }
-    let drive = |c: usize, x: f64, y: f64| -> f64 {
-        drive_psi(x, y)
-            .iter()
-            .zip(&laws[c].drive)
-            .map(|(a, b)| a * b)
-            .sum()
-    };
-    let mut sp: Vec<f64> = (0..nc).map(|c| drive(c, start.0, start.1)).collect();
-    let mut f_t = vec![0.0; nc];
-    let mut out: Vec<Vec<ContactSample>> = vec![Vec::with_capacity(loads.len()); nc];
-    let stick = reduced.friction_coefficient / reduced.elastic_slip_m;
-    let ge = reduced.elastic_slip_m;
-    let mut feat = Vec::new();
-    let mut trial = vec![(0.0, 0.0, 0.0, 0.0); nc];
-    for (step, &(x, y, keep)) in path.iter().enumerate() {
-        let ff = [1.0, x, y, x * y, x * x, y * y];
-        let oracle = oracle_normal.and_then(|o| step.checked_sub(init).map(|k| &o[k].1));
-        let mut agg = aggregates(&reduced.sites, |c| f_t[c], interfaces);
-        for it in 0..iterations.max(1) {
-            for c in 0..nc {
-                let law = &laws[c];
-                let mut d = drive(c, x, y);
-                if reach != usize::MAX {
-                    coupling_features(&reduced.sites[c], &agg, reach, &mut feat);
-                    d -= feat.iter().zip(&law.h).map(|(a, b)| a * b).sum::<f64>();
-                }
-                let normal = match oracle {
-                    Some(o) => o[c].normal_force_n,
-                    None => reduced.laws[c].normal_force_n(&ff),
-                };
-                let g = (law.g[0] + law.g[1] * x).max(0.0);
-                let k = stick * normal;
-                let factor = 1.0 + g * k;
-                let mut p = sp[c];
-                let mut e = (d - p) / factor;
-                if e.abs() > ge {
-                    e = ge.copysign(e);
-                    p = d - e * factor;
-                }
-                trial[c] = (e + p, normal, k * e, p);
-            }
-            if it + 1 < iterations.max(1) {
-                agg = aggregates(&reduced.sites, |c| trial[c].2, interfaces);
-            }
-        }
-        for c in 0..nc {
-            sp[c] = trial[c].3;
-            f_t[c] = trial[c].2;
-            if keep {
-                out[c].push(ContactSample {
-                    slip_m: trial[c].0,
-                    normal_force_n: trial[c].1,
-                    tangential_force_n: trial[c].2,
-                });
-            }
-        }
-    }
-    out
-}
-
-/// Per interface, p10 / median / p90 over contacts of the reduced / FE ratio of the slip's
-/// range over the samples from `from`.
-fn range_ratios(
-    reduced: &ReducedStrand,
-    held: &[RecordedSample],
-    series: &[Vec<ContactSample>],
-    from: usize,
-) -> String {
-    let interfaces = reduced
-        .sites
-        .iter()
-        .map(|s| s.interface + 1)
-        .max()
-        .unwrap_or(0);
-    let range = |v: &mut dyn Iterator<Item = f64>| {
-        let (mut lo, mut hi) = (f64::MAX, f64::MIN);
-        for x in v {
-            lo = lo.min(x);
-            hi = hi.max(x);
-        }
-        hi - lo
-    };
-    let mut out = String::new();
-    for i in 0..interfaces {
-        let mut r = Vec::new();
-        for (c, site) in reduced.sites.iter().enumerate() {
-            if site.interface != i {
-                continue;
-            }
-            let fe = range(&mut held[from..].iter().map(|h| h.1[c].slip_m));
-            let red = range(&mut series[c][from..].iter().map(|s| s.slip_m));
-            if fe > 0.0 {
-                r.push(red / fe);
-            }
-        }
-        let [a, b, c] = percentiles(&mut r);
-        out.push_str(&format!("  i{i} {a:.3}/{b:.3}/{c:.3}"));
-    }
-    out
-}
-
-/// Multipliers of the compliance `g = Σ g_j m_j(x, y)` of the compliance-form experiment.
-fn g_terms(x: f64, y: f64, form: usize) -> Vec<f64> {
-    let all = [1.0, x, y, x * x, x * y, y * y, x * x * x];
-    all[..form].to_vec()
-}
-
-/// Fits the drive and a compliance of `form` terms ([`g_terms`]) per contact on increments.
-fn fit_gform(
-    reduced: &ReducedStrand,
-    rec: &[RecordedSample],
-    weights: &[f64],
-    form: usize,
-    weight_power: f64,
-) -> Vec<CoupledLaw> {
-    let xy: Vec<(f64, f64)> = rec
-        .iter()
-        .map(|r| reduced.scaling.scaled(r.0.strain, r.0.curvature_per_m))
-        .collect();
-    let psi: Vec<[f64; 16]> = xy.iter().map(|&(x, y)| drive_psi(x, y)).collect();
-    let gm: Vec<Vec<f64>> = xy.iter().map(|&(x, y)| g_terms(x, y, form)).collect();
-    use rayon::prelude::*;
-    (0..reduced.sites.len())
-        .into_par_iter()
-        .map(|c| {
-            let n = 16 + form;
-            let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
-            let mut r = nalgebra::DVector::<f64>::zeros(n);
-            let mut row = vec![0.0; n];
-            for k in 1..rec.len() {
-                let w = weights
-                    .get(rec[k].0.time_s as usize)
-                    .copied()
-                    .unwrap_or(1.0)
-                    .powf(weight_power);
-                for j in 0..16 {
-                    row[j] = psi[k][j] - psi[k - 1][j];
-                }
-                let (f1, f0) = (
-                    rec[k].1[c].tangential_force_n,
-                    rec[k - 1].1[c].tangential_force_n,
-                );
-                for j in 0..form {
-                    row[16 + j] = -(gm[k][j] * f1 - gm[k - 1][j] * f0);
-                }
-                let ds = rec[k].1[c].slip_m - rec[k - 1].1[c].slip_m;
-                for p in 0..n {
-                    r[p] += w * row[p] * ds;
-                    for q in 0..n {
-                        m[(p, q)] += w * row[p] * row[q];
-                    }
-                }
-            }
-            let keep = vec![true; n];
-            let beta = solve_normal(&m, &r, &keep);
-            let mut drive = [0.0; 16];
-            drive.copy_from_slice(&beta[..16]);
-            CoupledLaw {
-                drive,
-                g: [0.0; 2],
-                h: beta[16..].to_vec(),
-            }
-        })
-        .collect()
-}
-
-/// Every contact's series through `loads` with the compliance-form laws (initialisation path
-/// first, as the production run).
-fn run_gform(
-    reduced: &ReducedStrand,
-    laws: &[CoupledLaw],
-    loads: &[LoadSample],
-    form: usize,
-) -> Vec<Vec<ContactSample>> {
-    let first = loads[0];
-    let small = (reduced.initial_strain_fraction * first.strain).max(reduced.range.strain[0]);
-    let start = reduced.scaling.scaled(small, 0.0);
-    let bent = reduced.scaling.scaled(small, first.curvature_per_m);
-    let end = reduced.scaling.scaled(first.strain, first.curvature_per_m);
-    let mut path = Vec::new();
-    for (a, b) in [(start, bent), (bent, end)] {
-        for k in 1..=16 {
-            let f = k as f64 / 16.0;
-            path.push((a.0 + f * (b.0 - a.0), a.1 + f * (b.1 - a.1), false));
-        }
-    }
-    for s in loads {
-        let (x, y) = reduced.scaling.scaled(s.strain, s.curvature_per_m);
-        path.push((x, y, true));
-    }
-    let stick = reduced.friction_coefficient / reduced.elastic_slip_m;
-    let ge = reduced.elastic_slip_m;
-    use rayon::prelude::*;
-    (0..laws.len())
-        .into_par_iter()
-        .map(|c| {
-            let law = &laws[c];
-            let drive = |x: f64, y: f64| -> f64 {
-                drive_psi(x, y)
-                    .iter()
-                    .zip(&law.drive)
-                    .map(|(a, b)| a * b)
-                    .sum()
-            };
-            let mut p = drive(start.0, start.1);
-            let mut out = Vec::with_capacity(loads.len());
-            for &(x, y, keep) in &path {
-                let ff = [1.0, x, y, x * y, x * x, y * y];
-                let normal = reduced.laws[c].normal_force_n(&ff);
-                let g = g_terms(x, y, form)
-                    .iter()
-                    .zip(&law.h)
-                    .map(|(a, b)| a * b)
-                    .sum::<f64>()
-                    .max(0.0);
-                let d = drive(x, y);
-                let k = stick * normal;
-                let factor = 1.0 + g * k;
-                let mut e = (d - p) / factor;
-                if e.abs() > ge {
-                    e = ge.copysign(e);
-                    p = d - e * factor;
-                }
-                if keep {
-                    out.push(ContactSample {
-                        slip_m: e + p,
-                        normal_force_n: normal,
-                        tangential_force_n: k * e,
-                    });
-                }
-            }
-            out
-        })
-        .collect()
 }

@@ -193,7 +193,7 @@ pub fn design_history(
 /// [`design_history`] with the least-squares weight of every sample: 1/A² for a sample on a
 /// stroke of a cycle of amplitude A, so that the small cycles, which most contacts of a mild
 /// sea state see in stick, weigh in the fit like the large sliding ones relative to their size.
-pub fn design_history_weighted(
+pub(crate) fn design_history_weighted(
     range: &LoadRange,
     params: &DesignParams,
     options: &HistoryOptions,
@@ -251,6 +251,45 @@ pub fn design_history_weighted(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn below_the_strokes_floor_the_design_has_only_its_low_tension_probes() {
+        // a range from the slack strand: the strokes stop at a tenth of the highest strain, the
+        // low-tension probes go down to 3 % of it, at the probe curvatures only
+        let range = LoadRange {
+            strain: [0.0, 1.2e-3],
+            curvature_per_m: [1e-3, 1.8e-2],
+        };
+        let params = DesignParams::default();
+        let h = design_history(&range, &params, &HistoryOptions::default());
+        let lowest = h.iter().map(|s| s.strain).fold(f64::INFINITY, f64::min);
+        assert!(
+            (lowest - LOW_STRAIN_FRACTION * 1.2e-3).abs() < 1e-15,
+            "{lowest}"
+        );
+        let stroke_floor = stroke_strain_floor(&range);
+        assert_eq!(stroke_floor, STROKE_STRAIN_FRACTION * 1.2e-3);
+        let scaling = LoadScaling::of(&range);
+        let below: Vec<f64> = h
+            .iter()
+            .filter(|s| s.strain < stroke_floor * (1.0 - 1e-12))
+            .map(|s| scaling.scaled(s.strain, s.curvature_per_m).1)
+            .collect();
+        assert!(
+            below.len() >= 6 * 6,
+            "{} samples below the floor",
+            below.len()
+        );
+        for y in below {
+            assert!(
+                params
+                    .probe_curvatures
+                    .iter()
+                    .any(|yc| (y - yc).abs() <= params.probe_amplitude + 1e-12),
+                "y = {y} below the strokes' floor is not at a probe"
+            );
+        }
+    }
 
     #[test]
     fn the_design_covers_the_range_and_stays_inside_it() {
