@@ -43,6 +43,7 @@ use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::Path;
 
 use moorfret_solver::fretting::{ContactRecord, ContactSample};
+use moorfret_solver::strand::history::monitors::ContactSite;
 use moorfret_solver::strand::history::stiffness::{samples_from_tension, SlackTension};
 use moorfret_solver::strand::history::{
     checkpoint::HistoryCheckpoint, run_history, HistoryObserver, HistoryOptions, HistoryProgress,
@@ -259,6 +260,11 @@ fn per_contact(fe: &[ContactRecord], reduced: &[ContactRecord]) {
     }
 }
 
+/// The number of layer interfaces of the contacts at `sites`.
+fn interface_count(sites: &[ContactSite]) -> usize {
+    sites.iter().map(|s| s.interface + 1).max().unwrap_or(0)
+}
+
 /// Percentiles 10, 50, 90 of `v` (sorted in place).
 fn percentiles(v: &mut [f64]) -> [f64; 3] {
     v.sort_by(f64::total_cmp);
@@ -299,12 +305,7 @@ fn elastic_states(reduced: &ReducedStrand, held: &[RecordedSample], series: &[Ve
             0.0
         }
     };
-    let interfaces = reduced
-        .sites
-        .iter()
-        .map(|s| s.interface + 1)
-        .max()
-        .unwrap_or(0);
+    let interfaces = interface_count(&reduced.sites);
     println!("elastic slip / γ_e, reduced against FE: first sample | whole run");
     for i in 0..interfaces {
         let mut out = Vec::new();
@@ -394,12 +395,7 @@ fn probe_recorded(
         col(&|x, _| x * x),
         col(&|_, y| y * y),
     ];
-    let interfaces = reduced
-        .sites
-        .iter()
-        .map(|s| s.interface + 1)
-        .max()
-        .unwrap_or(0);
+    let interfaces = interface_count(&reduced.sites);
     println!(
         "probe: {} samples from t = {run_in_s} s at x > {x_above}; per interface p10 / median / \
          p90 over contacts",
@@ -632,7 +628,7 @@ fn main() -> Result<(), Error> {
         let rec = read_recording(Path::new(recording))?;
         let scaling = moorfret_solver::strand::reduced::LoadScaling::of(&range);
         let sites = moorfret_solver::strand::history::monitors::contact_sites(&model);
-        let interfaces = sites.iter().map(|s| s.interface + 1).max().unwrap_or(0);
+        let interfaces = interface_count(&sites);
         let bins = [-1.1, -0.95, -0.9, -0.8, -0.6, -0.2, 0.2, 1.1];
         for i in 0..interfaces {
             let mut line = format!("interface {i}:");
