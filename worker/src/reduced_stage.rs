@@ -143,6 +143,7 @@ pub fn run_calibrate(
         ("fe_substeps", json!(c.fe_substeps)),
         ("fe_iterations", json!(c.fe_iterations)),
         ("fe_wall_time_s", json!(c.fe_wall_time_s)),
+        ("chains", json!(c.chains)),
         ("threads", json!(options.history.threads)),
         ("fits", json!(c.fits)),
         ("replay", json!(c.replay)),

@@ -197,6 +197,12 @@ fn calibrate(args: &CalibrateArgs) -> anyhow::Result<()> {
         "calibration run: {} samples, {} FE sub-steps, {} Newton iterations, {:.1} s",
         c.design_samples, c.fe_substeps, c.fe_iterations, c.fe_wall_time_s
     );
+    for (k, chain) in c.chains.iter().enumerate() {
+        println!(
+            "  chain {k}: {} samples, {} sub-steps, {} iterations, {:.1} s",
+            chain.samples, chain.substeps, chain.iterations, chain.wall_time_s
+        );
+    }
     println!("interface  slip rms resid/spread  f_N rms resid/spread  g=0  replay: max range  accumulated  cycles");
     for (f, r) in c.fits.iter().zip(&c.replay) {
         println!(

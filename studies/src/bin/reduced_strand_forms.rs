@@ -141,10 +141,11 @@ impl<W: Write> HistoryObserver for Recorder<W> {
     }
 }
 
-/// Runs `samples` through the FE model and writes every sample it solves to `path`.
+/// Runs every chain of `chains` through the FE model, one run each, and writes every sample
+/// they solve to `path`, chain after chain (each chain's times start at 0).
 fn record(
     model: &StrandModel,
-    samples: &[LoadSample],
+    chains: &[Vec<LoadSample>],
     options: &HistoryOptions,
     path: &str,
 ) -> Result<(), Error> {
@@ -154,19 +155,45 @@ fn record(
         samples: 0,
     };
     let t = std::time::Instant::now();
-    let fe = run_history(model, samples, options, &mut recorder)?;
-    recorder.out.flush()?;
-    if let Some(e) = recorder.error {
-        return Err(e.into());
+    for (k, samples) in chains.iter().enumerate() {
+        let fe = run_history(model, samples, options, &mut recorder)?;
+        if let Some(e) = recorder.error.take() {
+            return Err(e.into());
+        }
+        println!(
+            "chain {k}: {} samples, {} sub-steps, {} Newton iterations, {:.1} s so far",
+            samples.len(),
+            fe.stats.substeps,
+            fe.stats.iterations,
+            t.elapsed().as_secs_f64()
+        );
     }
+    recorder.out.flush()?;
     println!(
-        "recorded {} samples: {} sub-steps, {} Newton iterations, {:.1} s",
+        "recorded {} samples in {:.1} s",
         recorder.samples,
-        fe.stats.substeps,
-        fe.stats.iterations,
         t.elapsed().as_secs_f64()
     );
     Ok(())
+}
+
+/// A recording of the calibration's chains split back into them: a sample whose time is not
+/// after the previous one's starts a chain.
+fn chains_of(recording: Vec<RecordedSample>) -> Vec<Vec<RecordedSample>> {
+    let mut chains: Vec<Vec<RecordedSample>> = Vec::new();
+    for sample in recording {
+        let new_chain = chains
+            .last()
+            .and_then(|c| c.last())
+            .is_none_or(|last| sample.0.time_s <= last.0.time_s);
+        if new_chain {
+            chains.push(Vec::new());
+        }
+        if let Some(chain) = chains.last_mut() {
+            chain.push(sample);
+        }
+    }
+    chains
 }
 
 /// Reads a recording written by [`Recorder`].
@@ -552,7 +579,12 @@ fn main() -> Result<(), Error> {
                 );
             }
         }
-        return record(&model, &samples, &HistoryOptions::default(), recording);
+        return record(
+            &model,
+            std::slice::from_ref(&samples),
+            &HistoryOptions::default(),
+            recording,
+        );
     }
     if mode == "slopes" {
         // per contact, the slip's slope on y (linear fit on 1, x, y) over a window of each
@@ -661,7 +693,7 @@ fn main() -> Result<(), Error> {
     if mode == "trace" {
         // REC --probe HELD --interface I: the series of the interface-I contact with the largest
         // FE slip range in HELD (or of `--contact C`), FE against reduced, sample by sample
-        let rec = read_recording(Path::new(recording))?;
+        let rec = chains_of(read_recording(Path::new(recording))?);
         let mut reduced = fit_recorded(&model, range, &options, rec)?;
         reduced.model_key = key;
         let held = read_recording(Path::new(probe.as_deref().ok_or("--probe HELD.bin")?))?;
@@ -720,15 +752,28 @@ fn main() -> Result<(), Error> {
             .filter(|s| s.time_s <= to_s)
             .collect();
         println!("{} load samples up to t = {to_s} s", samples.len());
-        return record(&model, &samples, &HistoryOptions::default(), recording);
+        return record(
+            &model,
+            std::slice::from_ref(&samples),
+            &HistoryOptions::default(),
+            recording,
+        );
     }
     if mode == "record" {
         let (design, history) = calibration_design(&model, range, &options)?;
-        println!("{} designed samples", design.len());
+        println!(
+            "{} designed samples in {} chains",
+            design.iter().map(Vec::len).sum::<usize>(),
+            design.len()
+        );
         return record(&model, &design, &history, recording);
     }
-    let samples = read_recording(Path::new(recording))?;
-    println!("{} recorded samples", samples.len());
+    let samples = chains_of(read_recording(Path::new(recording))?);
+    println!(
+        "{} recorded samples in {} chains",
+        samples.iter().map(Vec::len).sum::<usize>(),
+        samples.len()
+    );
     let mut references = Vec::new();
     for (load, dir) in &held_out {
         let text = std::fs::read_to_string(Path::new(dir).join("contact_records.json"))?;

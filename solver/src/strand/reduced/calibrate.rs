@@ -1,23 +1,26 @@
 //! Calibration of a reduced strand response on its FE model ([`super`] module docs).
 
 use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{mpsc, Mutex};
 use std::time::Instant;
 
 use super::compare::compare_records;
 use super::design::{design_history_weighted, DesignParams};
 use super::fit::FitAccumulator;
 use super::{
-    CalibrationReport, InterfaceFit, LoadRange, LoadScaling, ReducedError, ReducedStrand,
-    FORMAT_VERSION,
+    CalibrationReport, ChainCost, InterfaceFit, LoadRange, LoadScaling, ReducedError,
+    ReducedStrand, FORMAT_VERSION,
 };
 use crate::contact::TangentialLaw;
-use crate::fretting::ContactSample;
+use crate::fretting::{ContactRecord, ContactSample};
 use crate::strand::history::checkpoint::HistoryCheckpoint;
 use crate::strand::history::monitors::{
     contact_sites, default_channels, ContactSite, MonitorChannel, MonitorTarget,
 };
 use crate::strand::history::{
-    run_history, HistoryObserver, HistoryOptions, HistoryProgress, HistoryStats, LoadSample,
+    run_history, HistoryError, HistoryObserver, HistoryOptions, HistoryProgress, HistoryResult,
+    LoadSample,
 };
 use crate::strand::model::{StrandModel, StrandModelParameters};
 use crate::strand::profile::Strand;
@@ -68,16 +71,17 @@ pub fn model_key(
         .collect()
 }
 
-/// Turns the samples of the calibration's FE run, in order, into least-squares sums.
-struct Fitter {
+/// Turns the samples of one chain of the calibration's FE run, in order, into least-squares
+/// sums.
+struct Fitter<'a> {
     scaling: LoadScaling,
-    /// Least-squares weight of every designed sample, by index (= its time in s).
-    weights: Vec<f64>,
+    /// Least-squares weight of every sample of the chain, by index (= its time in s).
+    weights: &'a [f64],
     fit: FitAccumulator,
     buffer: Vec<(f64, f64, f64)>,
 }
 
-impl Fitter {
+impl Fitter<'_> {
     fn add(&mut self, sample: &LoadSample, contacts: &[ContactSample], elements: &[f64]) {
         let (x, y) = self.scaling.scaled(sample.strain, sample.curvature_per_m);
         self.buffer.clear();
@@ -95,15 +99,28 @@ impl Fitter {
     }
 }
 
-/// Feeds every sample of the FE run to the fit, and passes progress on.
+/// What the FE run of one chain tells the calling thread.
+enum ChainMessage {
+    /// Samples of the chain done so far.
+    Progress { chain: usize, samples: usize },
+}
+
+/// Feeds every sample of one chain's FE run to its fit, passes progress to the calling thread,
+/// and stops when asked to.
 struct Learner<'a> {
-    fitter: Fitter,
-    inner: &'a mut dyn HistoryObserver,
+    chain: usize,
+    fitter: Fitter<'a>,
+    progress: mpsc::Sender<ChainMessage>,
+    stop: &'a AtomicBool,
 }
 
 impl HistoryObserver for Learner<'_> {
     fn progress(&mut self, progress: &HistoryProgress) {
-        self.inner.progress(progress);
+        // the calling thread may have gone (an error there): nothing left to tell
+        let _ = self.progress.send(ChainMessage::Progress {
+            chain: self.chain,
+            samples: progress.sample + 1,
+        });
     }
 
     fn checkpoint(&mut self, _checkpoint: &HistoryCheckpoint) {}
@@ -113,7 +130,7 @@ impl HistoryObserver for Learner<'_> {
     }
 
     fn should_stop(&mut self) -> bool {
-        self.inner.should_stop()
+        self.stop.load(Ordering::Relaxed)
     }
 }
 
@@ -129,20 +146,34 @@ fn elastic_slip_of(model: &StrandModel) -> Result<f64, ReducedError> {
     }
 }
 
-/// What a calibration fits from: the designed history and the sums it feeds.
+/// What a calibration fits from: the designed history's chains and their weights.
 struct Prepared {
     range: LoadRange,
     elastic_slip_m: f64,
     history: HistoryOptions,
-    design: Vec<LoadSample>,
+    design: Vec<Vec<LoadSample>>,
+    weights: Vec<Vec<f64>>,
+    scaling: LoadScaling,
     sites: Vec<ContactSite>,
     channels: Vec<MonitorChannel>,
-    fitter: Fitter,
+    element_channels: usize,
+}
+
+impl Prepared {
+    /// Empty sums for one chain.
+    fn fitter(&self, chain: usize) -> Fitter<'_> {
+        Fitter {
+            scaling: self.scaling,
+            weights: &self.weights[chain],
+            fit: FitAccumulator::new(self.sites.len(), self.element_channels),
+            buffer: Vec::with_capacity(self.sites.len()),
+        }
+    }
 }
 
 /// The checked range, the model's elastic slip, the FE run's settings and the weighted
-/// designed history of a calibration.
-type Designed = (LoadRange, f64, HistoryOptions, Vec<(LoadSample, f64)>);
+/// designed history's chains of a calibration.
+type Designed = (LoadRange, f64, HistoryOptions, Vec<Vec<(LoadSample, f64)>>);
 
 fn designed(
     model: &StrandModel,
@@ -166,40 +197,160 @@ fn prepare(
     options: &CalibrationOptions,
 ) -> Result<Prepared, ReducedError> {
     let (range, elastic_slip_m, history, weighted) = designed(model, range, options)?;
-    let weights: Vec<f64> = weighted.iter().map(|(_, w)| *w).collect();
-    let design: Vec<LoadSample> = weighted.into_iter().map(|(s, _)| s).collect();
+    let weights = weighted
+        .iter()
+        .map(|chain| chain.iter().map(|(_, w)| *w).collect())
+        .collect();
+    let design = weighted
+        .into_iter()
+        .map(|chain| chain.into_iter().map(|(s, _)| s).collect())
+        .collect();
     let sites = contact_sites(model);
     let channels = default_channels(model, &sites);
-    let elements = channels
+    let element_channels = channels
         .iter()
         .filter(|c| matches!(c.target, MonitorTarget::Element(_)))
         .count();
-    let fitter = Fitter {
-        scaling: LoadScaling::of(&range),
-        weights,
-        fit: FitAccumulator::new(model.contacts.len(), elements),
-        buffer: Vec::with_capacity(model.contacts.len()),
-    };
     Ok(Prepared {
+        scaling: LoadScaling::of(&range),
         range,
         elastic_slip_m,
         history,
         design,
+        weights,
         sites,
         channels,
-        fitter,
+        element_channels,
     })
 }
 
-/// The designed history of a calibration of `model` over `range` (what its FE run solves, and
-/// what [`fit_recorded`] expects to be given, sample by sample).
+/// The designed history of a calibration of `model` over `range`, as its chains (what its FE
+/// runs solve, one run per chain, and what [`fit_recorded`] expects to be given, sample by
+/// sample), and the settings of those runs.
 pub fn calibration_design(
     model: &StrandModel,
     range: LoadRange,
     options: &CalibrationOptions,
-) -> Result<(Vec<LoadSample>, HistoryOptions), ReducedError> {
+) -> Result<(Vec<Vec<LoadSample>>, HistoryOptions), ReducedError> {
     let (_, _, history, weighted) = designed(model, range, options)?;
-    Ok((weighted.into_iter().map(|(s, _)| s).collect(), history))
+    let chains = weighted
+        .into_iter()
+        .map(|chain| chain.into_iter().map(|(s, _)| s).collect())
+        .collect();
+    Ok((chains, history))
+}
+
+/// One chain's FE run and the sums it fed.
+struct ChainRun {
+    fit: FitAccumulator,
+    fe: HistoryResult,
+    wall_time_s: f64,
+}
+
+/// Runs the FE model through every chain of the design, as many at a time as
+/// `p.history.threads` (each run on one thread; with more threads than chains, the threads
+/// are shared out among the runs). The results do not depend on the threads. `observer` sees
+/// the samples done over all chains and may stop the runs.
+fn run_chains(
+    model: &StrandModel,
+    p: &Prepared,
+    observer: &mut dyn HistoryObserver,
+) -> Result<Vec<ChainRun>, ReducedError> {
+    let start = Instant::now();
+    let chains = p.design.len();
+    let concurrent = p.history.threads.clamp(1, chains.max(1));
+    let per_run = HistoryOptions {
+        threads: (p.history.threads / concurrent).max(1),
+        ..p.history
+    };
+    let next = AtomicUsize::new(0);
+    let stop = AtomicBool::new(false);
+    let results: Vec<Mutex<Option<Result<ChainRun, ReducedError>>>> =
+        (0..chains).map(|_| Mutex::new(None)).collect();
+    let total: usize = p.design.iter().map(Vec::len).sum();
+    let (sender, receiver) = mpsc::channel();
+    std::thread::scope(|scope| {
+        for _ in 0..concurrent {
+            let sender = sender.clone();
+            let (next, stop, results, per_run) = (&next, &stop, &results, &per_run);
+            scope.spawn(move || loop {
+                let chain = next.fetch_add(1, Ordering::SeqCst);
+                if chain >= chains || stop.load(Ordering::Relaxed) {
+                    break;
+                }
+                let t = Instant::now();
+                let mut learner = Learner {
+                    chain,
+                    fitter: p.fitter(chain),
+                    progress: sender.clone(),
+                    stop,
+                };
+                let run = run_history(model, &p.design[chain], per_run, &mut learner);
+                let outcome = match run {
+                    Ok(fe) => Ok(ChainRun {
+                        fit: learner.fitter.fit,
+                        fe,
+                        wall_time_s: t.elapsed().as_secs_f64(),
+                    }),
+                    Err(source) => {
+                        stop.store(true, Ordering::Relaxed);
+                        Err(ReducedError::History { chain, source })
+                    }
+                };
+                if let Ok(mut slot) = results[chain].lock() {
+                    *slot = Some(outcome);
+                }
+            });
+        }
+        drop(sender);
+        let mut done = vec![0; chains];
+        for message in receiver {
+            let ChainMessage::Progress { chain, samples } = message;
+            done[chain] = samples;
+            let samples: usize = done.iter().sum();
+            observer.progress(&HistoryProgress {
+                segment: samples,
+                segments: total,
+                sample: samples.saturating_sub(1),
+                time_s: samples as f64,
+                elapsed_s: start.elapsed().as_secs_f64(),
+            });
+            if observer.should_stop() {
+                stop.store(true, Ordering::Relaxed);
+            }
+        }
+    });
+    // the first chain that failed, rather than one that stopped because of it; a chain that
+    // never started was stopped before it
+    let mut runs = Vec::with_capacity(chains);
+    let mut stopped = None;
+    for (chain, slot) in results.into_iter().enumerate() {
+        match slot.into_inner().ok().flatten() {
+            Some(Ok(run)) => runs.push(run),
+            Some(Err(
+                e @ ReducedError::History {
+                    source: HistoryError::Stopped { .. },
+                    ..
+                },
+            )) => {
+                stopped.get_or_insert(e);
+            }
+            Some(Err(e)) => return Err(e),
+            None => {
+                stopped.get_or_insert(ReducedError::History {
+                    chain,
+                    source: HistoryError::Stopped {
+                        segment: 0,
+                        time_s: 0.0,
+                    },
+                });
+            }
+        }
+    }
+    match stopped {
+        Some(e) => Err(e),
+        None => Ok(runs),
+    }
 }
 
 /// Calibrates the reduced response of `model` over `range` (module docs of [`super`]);
@@ -212,46 +363,91 @@ pub fn calibrate(
 ) -> Result<ReducedStrand, ReducedError> {
     let start = Instant::now();
     let p = prepare(model, range, options)?;
-    let mut learner = Learner {
-        fitter: p.fitter,
-        inner: observer,
-    };
-    let fe = run_history(model, &p.design, &p.history, &mut learner)?;
-    let p = Prepared {
-        fitter: learner.fitter,
-        ..p
-    };
-    let mut reduced = assemble(model, &p, &fe.stats, start);
-    let replay = super::run_reduced(&reduced, &p.design, p.history.slip_gate_m)?;
-    reduced.calibration.replay =
-        compare_records(&fe.contacts, &replay.contacts, options.min_slip_range_m, 0);
+    let runs = run_chains(model, &p, observer)?;
+    let mut fit = FitAccumulator::new(p.sites.len(), p.element_channels);
+    let mut costs = Vec::with_capacity(runs.len());
+    for (chain, run) in runs.iter().enumerate() {
+        fit.merge(&run.fit);
+        costs.push(ChainCost {
+            samples: p.design[chain].len(),
+            substeps: run.fe.stats.substeps,
+            iterations: run.fe.stats.iterations,
+            wall_time_s: run.wall_time_s,
+        });
+    }
+    let mut reduced = assemble(model, &p, &fit, costs, start);
+    // the design replayed chain by chain, every contact's cycles of all chains together
+    let mut fe: Vec<ContactRecord> = Vec::new();
+    let mut replay: Vec<ContactRecord> = Vec::new();
+    for (chain, run) in p.design.iter().zip(runs) {
+        let r = super::run_reduced(&reduced, chain, p.history.slip_gate_m)?;
+        append_cycles(&mut fe, run.fe.contacts);
+        append_cycles(&mut replay, r.contacts);
+    }
+    reduced.calibration.replay = compare_records(&fe, &replay, options.min_slip_range_m, 0);
     Ok(reduced)
+}
+
+/// Adds every contact's cycles of `more` to those of `all` (the same contacts, in order), the
+/// largest normal force the larger of the two.
+fn append_cycles(all: &mut Vec<ContactRecord>, more: Vec<ContactRecord>) {
+    if all.is_empty() {
+        *all = more;
+        return;
+    }
+    for (a, b) in all.iter_mut().zip(more) {
+        a.max_normal_force_n = a.max_normal_force_n.max(b.max_normal_force_n);
+        a.cycles.extend(b.cycles);
+    }
 }
 
 /// One sample of a calibration's FE run: the load, every contact's state and every
 /// wire-element channel's axial force, as the run's observer sees them.
 pub type RecordedSample = (LoadSample, Vec<ContactSample>, Vec<f64>);
 
-/// The reduced response fitted on a recorded FE run of [`calibration_design`] (the samples in
-/// order, as [`HistoryObserver::sample`] saw them), without running the FE model: for studies
-/// of the reduced model's form on one FE run. The report has no FE cost and no replay.
-pub fn fit_recorded(
+/// The reduced response fitted on recorded FE runs of the chains of [`calibration_design`]
+/// (every chain's samples in order, as [`HistoryObserver::sample`] saw them), without running
+/// the FE model: for studies of the reduced model's form on one FE run. The report has no FE
+/// cost and no replay.
+pub fn fit_recorded<C>(
     model: &StrandModel,
     range: LoadRange,
     options: &CalibrationOptions,
-    samples: impl IntoIterator<Item = RecordedSample>,
-) -> Result<ReducedStrand, ReducedError> {
+    chains: impl IntoIterator<Item = C>,
+) -> Result<ReducedStrand, ReducedError>
+where
+    C: IntoIterator<Item = RecordedSample>,
+{
     let start = Instant::now();
-    let mut p = prepare(model, range, options)?;
-    for (load, contacts, elements) in samples {
-        p.fitter.add(&load, &contacts, &elements);
+    let p = prepare(model, range, options)?;
+    let mut fit = FitAccumulator::new(p.sites.len(), p.element_channels);
+    for (chain, samples) in chains.into_iter().enumerate() {
+        if chain >= p.design.len() {
+            return Err(ReducedError::Calibration {
+                reason: format!(
+                    "a recording of {} chains or more for a design of {}",
+                    chain + 1,
+                    p.design.len()
+                ),
+            });
+        }
+        let mut fitter = p.fitter(chain);
+        for (load, contacts, elements) in samples {
+            fitter.add(&load, &contacts, &elements);
+        }
+        fit.merge(&fitter.fit);
     }
-    Ok(assemble(model, &p, &HistoryStats::default(), start))
+    Ok(assemble(model, &p, &fit, Vec::new(), start))
 }
 
 /// The reduced response of the fitted sums, with its in-sample fit report (no replay yet).
-fn assemble(model: &StrandModel, p: &Prepared, fe: &HistoryStats, start: Instant) -> ReducedStrand {
-    let fit = &p.fitter.fit;
+fn assemble(
+    model: &StrandModel,
+    p: &Prepared,
+    fit: &FitAccumulator,
+    chains: Vec<ChainCost>,
+    start: Instant,
+) -> ReducedStrand {
     let fits = fit.contact_fits();
     let element_fits = fit
         .element_fits()
@@ -297,7 +493,7 @@ fn assemble(model: &StrandModel, p: &Prepared, fe: &HistoryStats, start: Instant
         elastic_slip_m: p.elastic_slip_m,
         initial_strain_fraction: p.history.initial_strain_fraction,
         range: p.range,
-        scaling: p.fitter.scaling,
+        scaling: p.scaling,
         sites: p.sites.clone(),
         laws: fits.iter().map(|f| f.law).collect(),
         channels: p
@@ -311,10 +507,11 @@ fn assemble(model: &StrandModel, p: &Prepared, fe: &HistoryStats, start: Instant
             .collect(),
         element_fits,
         calibration: CalibrationReport {
-            design_samples: p.design.len(),
-            fe_substeps: fe.substeps,
-            fe_iterations: fe.iterations,
+            design_samples: p.design.iter().map(Vec::len).sum(),
+            fe_substeps: chains.iter().map(|c| c.substeps).sum(),
+            fe_iterations: chains.iter().map(|c| c.iterations).sum(),
             fe_wall_time_s: start.elapsed().as_secs_f64(),
+            chains,
             fits: fits_report,
             replay: Vec::new(),
         },

@@ -1,23 +1,26 @@
 //! The designed load history of a calibration ([`super`] module docs).
 //!
 //! In the scaled coordinates `x` (tension) and `y` (curvature) of the range, both in [−1, 1],
-//! the path starts at the middle tension and the smallest curvature (where the FE initialisation
-//! is cheap), then visits, at each of [`DesignParams::tension_levels`] tension levels at the
-//! midpoints of equal bins of the tension range, from the lowest:
+//! the design is a set of independent *chains*, each solved by an FE run of its own from the
+//! FE initialisation, so that they run side by side on as many threads as are given (the fit
+//! sums their samples; no increment spans two chains). Every chain starts at the smallest
+//! curvature, where the FE initialisation is cheap. At each of [`DesignParams::tension_levels`]
+//! tension levels at the midpoints of equal bins of the tension range, one chain visits:
 //! 1. curvature cycles about the range's centre at fixed tension, `y = ±A` for every amplitude
 //!    of [`DesignParams::amplitudes`] (largest first, [`DesignParams::cycles`] each): loops of
 //!    every size below the largest, as a rainflow-counted sea state has them;
 //! 2. tension cycles at fixed curvature, `x = x_j ± A` (clipped to the range);
 //! 3. combined cycles, tension and curvature in phase and in opposition, for the largest two
 //!    amplitudes (a hot spot's tension and curvature move together or against each other);
+//! 4. at a grid of curvatures, small probe cycles in curvature and tension
+//!    ([`DesignParams::probe_curvatures`]), which most contacts answer in stick.
 //!
-//! then the corners of the range; then, at every tension level and at a grid of curvatures,
-//! small probe cycles in curvature and tension ([`DesignParams::probe_curvatures`]); last, the
-//! same probes at a near-slack tension ([`design_strain_floor`]), each reached by a short
-//! tension stroke down from the strokes' floor ([`stroke_strain_floor`]), below which no other
-//! stroke goes. Every straight stretch is sampled at the sub-steps the FE
-//! history run will solve (`ceil(max(|Δε|/Δε_max, |Δκ|/Δκ_max))` equal parts), so the
-//! calibration sees every solved state and nothing interpolated. Times are one second apart.
+//! One more chain goes round the corners of the range, then makes the same probes at a
+//! near-slack tension ([`design_strain_floor`]), each reached by a short tension stroke down
+//! from the strokes' floor ([`stroke_strain_floor`]), below which no other stroke goes. Every
+//! straight stretch is sampled at the sub-steps the FE history run will solve
+//! (`ceil(max(|Δε|/Δε_max, |Δκ|/Δκ_max))` equal parts), so the calibration sees every solved
+//! state and nothing interpolated. Times are one second apart.
 
 use super::{LoadRange, LoadScaling};
 use crate::strand::history::{HistoryOptions, LoadSample};
@@ -84,34 +87,70 @@ pub(crate) fn tension_level(j: usize, levels: usize) -> f64 {
     -1.0 + (2 * j + 1) as f64 / levels as f64
 }
 
-/// The vertices of the path in scaled coordinates (module docs), with every stroke's tension
-/// at least `x_stroke_floor` and the low-tension probes at `x_low` (none if `x_low` is not
-/// below `x_stroke_floor`).
-pub(crate) fn design_vertices(
+/// A path's vertices in scaled coordinates: `(x, y, A)`, the stroke to `(x, y)` on a cycle of
+/// amplitude `A` (the first vertex is where the FE run starts).
+pub(crate) type Vertices = Vec<(f64, f64, f64)>;
+
+/// The chains of the design in scaled coordinates (module docs), with every stroke's tension at
+/// least `x_stroke_floor` and the low-tension probes at `x_low` (none if `x_low` is not below
+/// `x_stroke_floor`). Chain 0 holds the corners and the low-tension probes, chain `1 + j` the
+/// cycles and probes of tension level `j`.
+pub(crate) fn design_chains(
     params: &DesignParams,
     x_stroke_floor: f64,
     x_low: f64,
-) -> Vec<(f64, f64, f64)> {
+) -> Vec<Vertices> {
     let levels = params.tension_levels.max(2);
-    // start (and so initialise the FE model) at the middle tension and the smallest
-    // curvature: the FE initialisation bends the strand at a tenth of the first tension, which
-    // at the range's middle curvature costs minutes on the six-layer strand
-    let mut v = vec![(0.0, -1.0, 1.0)];
+    let cycles = params.cycles.max(1);
+    let a = params.probe_amplitude;
+    // every chain starts (and so initialises its FE run) at the smallest curvature: the FE
+    // initialisation bends the strand at a tenth of the first tension, which at the range's
+    // middle curvature costs minutes on the six-layer strand
+    let mut corners: Vertices = vec![
+        (-1.0, -1.0, 1.0),
+        (1.0, -1.0, 1.0),
+        (1.0, 1.0, 1.0),
+        (-1.0, 1.0, 1.0),
+        (-1.0, -1.0, 1.0),
+    ];
+    for vertex in &mut corners {
+        vertex.0 = vertex.0.max(x_stroke_floor);
+    }
+    // the low-tension probes: down from the strokes' floor at each probe curvature, small
+    // curvature and tension cycles there, back up
+    if x_low < x_stroke_floor {
+        for &yc in &params.probe_curvatures {
+            corners.push((x_stroke_floor, yc, 1.0));
+            let stroke = x_stroke_floor - x_low;
+            corners.push((x_low, yc, stroke));
+            for _ in 0..cycles {
+                corners.push((x_low, yc + a, a));
+                corners.push((x_low, yc - a, a));
+            }
+            corners.push((x_low, yc, a));
+            for _ in 0..cycles {
+                corners.push(((x_low + 2.0 * a).min(x_stroke_floor), yc, a));
+                corners.push((x_low, yc, a));
+            }
+            corners.push((x_stroke_floor, yc, stroke));
+        }
+    }
+    let mut chains = vec![corners];
     for j in 0..levels {
         // midpoints of `levels` equal bins: the extremes of the range are reached by the
         // largest cycles and the corners, not held (at the smallest tension of a campaign,
         // a near-slack instant, the strand barely carries its contacts and the FE crawls)
         let xj = tension_level(j, levels);
-        v.push((xj, 0.0, 1.0));
+        let mut v = vec![(xj, -1.0, 1.0), (xj, 0.0, 1.0)];
         for &a in &params.amplitudes {
-            for _ in 0..params.cycles.max(1) {
+            for _ in 0..cycles {
                 v.push((xj, a, a));
                 v.push((xj, -a, a));
             }
         }
         v.push((xj, 0.0, 1.0));
         for &a in &params.amplitudes {
-            for _ in 0..params.cycles.max(1) {
+            for _ in 0..cycles {
                 v.push(((xj + a).min(1.0), 0.0, a));
                 v.push(((xj - a).max(-1.0), 0.0, a));
             }
@@ -119,89 +158,74 @@ pub(crate) fn design_vertices(
         v.push((xj, 0.0, 1.0));
         for &a in params.amplitudes.iter().take(2) {
             for sign in [1.0, -1.0] {
-                for _ in 0..params.cycles.max(1) {
+                for _ in 0..cycles {
                     v.push(((xj + a).min(1.0), sign * a, a));
                     v.push(((xj - a).max(-1.0), -sign * a, a));
                 }
             }
         }
         v.push((xj, 0.0, 1.0));
-    }
-    v.extend([
-        (-1.0, -1.0, 1.0),
-        (1.0, -1.0, 1.0),
-        (1.0, 1.0, 1.0),
-        (-1.0, 1.0, 1.0),
-        (-1.0, -1.0, 1.0),
-    ]);
-    // the probes: the stick response away from the centre curvature, where the sea states'
-    // hot spots spend their time (appended, so the path before them does not change)
-    let a = params.probe_amplitude;
-    for j in 0..levels {
-        let xj = tension_level(j, levels);
+        // the probes: the stick response away from the centre curvature, where the sea
+        // states' hot spots spend their time, after the level's full-range cycles
         for &yc in &params.probe_curvatures {
             v.push((xj, yc, 1.0));
-            for _ in 0..params.cycles.max(1) {
+            for _ in 0..cycles {
                 v.push((xj, yc + a, a));
                 v.push((xj, yc - a, a));
             }
             v.push((xj, yc, a));
-            for _ in 0..params.cycles.max(1) {
+            for _ in 0..cycles {
                 v.push((xj + a, yc, a));
                 v.push((xj - a, yc, a));
             }
             v.push((xj, yc, a));
         }
-    }
-    for vertex in &mut v {
-        vertex.0 = vertex.0.max(x_stroke_floor);
-    }
-    // the low-tension probes: down from the strokes' floor at each probe curvature, small
-    // curvature and tension cycles there, back up
-    if x_low < x_stroke_floor {
-        for &yc in &params.probe_curvatures {
-            v.push((x_stroke_floor, yc, 1.0));
-            let stroke = x_stroke_floor - x_low;
-            v.push((x_low, yc, stroke));
-            for _ in 0..params.cycles.max(1) {
-                v.push((x_low, yc + a, a));
-                v.push((x_low, yc - a, a));
-            }
-            v.push((x_low, yc, a));
-            for _ in 0..params.cycles.max(1) {
-                v.push(((x_low + 2.0 * a).min(x_stroke_floor), yc, a));
-                v.push((x_low, yc, a));
-            }
-            v.push((x_stroke_floor, yc, stroke));
+        for vertex in &mut v {
+            vertex.0 = vertex.0.max(x_stroke_floor);
         }
+        chains.push(v);
     }
-    v
+    chains
 }
 
-/// The designed history over `range`, sampled at the sub-steps of `options`.
+/// The designed history over `range` as its chains, each sampled at the sub-steps of
+/// `options` and run by an FE run of its own.
 pub fn design_history(
     range: &LoadRange,
     params: &DesignParams,
     options: &HistoryOptions,
-) -> Vec<LoadSample> {
+) -> Vec<Vec<LoadSample>> {
     design_history_weighted(range, params, options)
         .into_iter()
-        .map(|(s, _)| s)
+        .map(|chain| chain.into_iter().map(|(s, _)| s).collect())
         .collect()
 }
 
 /// [`design_history`] with the least-squares weight of every sample: 1/A² for a sample on a
 /// stroke of a cycle of amplitude A, so that the small cycles, which most contacts of a mild
 /// sea state see in stick, weigh in the fit like the large sliding ones relative to their size.
+/// Every chain's times are its sample indices, in seconds.
 pub(crate) fn design_history_weighted(
     range: &LoadRange,
     params: &DesignParams,
     options: &HistoryOptions,
-) -> Vec<(LoadSample, f64)> {
+) -> Vec<Vec<(LoadSample, f64)>> {
     let scaling = LoadScaling::of(range);
     let x_stroke_floor = scaling.scaled(stroke_strain_floor(range), 0.0).0;
     let x_low = scaling.scaled(design_strain_floor(range), 0.0).0;
-    let vertices = design_vertices(params, x_stroke_floor, x_low);
+    design_chains(params, x_stroke_floor, x_low)
+        .iter()
+        .map(|vertices| sampled(&scaling, vertices, options))
+        .collect()
+}
+
+/// The path through `vertices`, every stroke in the equal sub-steps of `options`, with the
+/// weight of its cycle.
+fn sampled(
+    scaling: &LoadScaling,
+    vertices: &[(f64, f64, f64)],
+    options: &HistoryOptions,
+) -> Vec<(LoadSample, f64)> {
     let mut out: Vec<(LoadSample, f64)> = Vec::new();
     let push =
         |strain: f64, curvature_per_m: f64, weight: f64, out: &mut Vec<(LoadSample, f64)>| {
@@ -261,7 +285,10 @@ mod tests {
             curvature_per_m: [1e-3, 1.8e-2],
         };
         let params = DesignParams::default();
-        let h = design_history(&range, &params, &HistoryOptions::default());
+        let h: Vec<LoadSample> = design_history(&range, &params, &HistoryOptions::default())
+            .into_iter()
+            .flatten()
+            .collect();
         let lowest = h.iter().map(|s| s.strain).fold(f64::INFINITY, f64::min);
         assert!(
             (lowest - LOW_STRAIN_FRACTION * 1.2e-3).abs() < 1e-15,
@@ -298,8 +325,12 @@ mod tests {
             curvature_per_m: [1e-3, 1.8e-2],
         };
         let opts = HistoryOptions::default();
-        let h = design_history(&range, &DesignParams::default(), &opts);
-        let got = LoadRange::of(&h).expect("samples");
+        let params = DesignParams::default();
+        let chains = design_history(&range, &params, &opts);
+        // the corners and low-tension probes, then one chain per tension level
+        assert_eq!(chains.len(), 1 + params.tension_levels);
+        let all: Vec<LoadSample> = chains.iter().flatten().copied().collect();
+        let got = LoadRange::of(&all).expect("samples");
         assert!(design_strain_floor(&range) == range.strain[0]);
         for (a, b) in got
             .strain
@@ -312,13 +343,21 @@ mod tests {
                 "{got:?} vs {range:?}"
             );
         }
-        for w in h.windows(2) {
-            assert!(w[1].time_s > w[0].time_s);
-            assert!((w[1].strain - w[0].strain).abs() <= opts.max_substep_strain * (1.0 + 1e-12));
-            assert!(
-                (w[1].curvature_per_m - w[0].curvature_per_m).abs()
-                    <= opts.max_substep_curvature_per_m * (1.0 + 1e-12)
-            );
+        for chain in &chains {
+            // every chain starts at the smallest curvature, where the FE initialisation is cheap
+            let k0 = range.curvature_per_m[0];
+            assert!((chain[0].curvature_per_m - k0).abs() <= 1e-12 * k0, "{:?}", chain[0]);
+            assert_eq!(chain[0].time_s, 0.0);
+            for w in chain.windows(2) {
+                assert!(w[1].time_s > w[0].time_s);
+                assert!(
+                    (w[1].strain - w[0].strain).abs() <= opts.max_substep_strain * (1.0 + 1e-12)
+                );
+                assert!(
+                    (w[1].curvature_per_m - w[0].curvature_per_m).abs()
+                        <= opts.max_substep_curvature_per_m * (1.0 + 1e-12)
+                );
+            }
         }
     }
 }

@@ -32,10 +32,12 @@
 //! [`calibrate`] drives the FE model through a designed load history ([`design`]: curvature,
 //! tension and combined cycles of decreasing amplitude at several tension levels over the
 //! requested [`LoadRange`], then small probe cycles in curvature and tension at a grid of
-//! curvatures on every level), and fits per contact, by linear least squares weighted by the
+//! curvatures on every level), made of independent chains that run side by side, one FE run
+//! each, and fits per contact, by linear least squares weighted by the
 //! inverse square of each sample's cycle amplitude ([`design`], [`fit`]): `f_N` on the six
 //! quadratic load features at every sample, and the drive and `(g₀, g₁)` on the structure
-//! equation written for the increment from one sample to the next, with the FE's `s` and `f_T`
+//! equation written for the increment from one sample to the next of the same chain, with the
+//! FE's `s` and `f_T`
 //! (the Jenkins element answers the drive's changes, never its level; the compliance is
 //! refitted constant, then zero, if the fit makes it negative on the range). Wire axial forces
 //! of the monitor channels are fitted like `f_N`. The calibration then replays the designed
@@ -81,7 +83,7 @@ pub use run::{contact_series, run_reduced};
 /// Version of the stored calibration and of the fit that made it; a file of another version is
 /// refused. Part of the cache key of a calibration, so every change to the model, the design or
 /// the fit bumps it.
-pub(crate) const FORMAT_VERSION: u32 = 5;
+pub(crate) const FORMAT_VERSION: u32 = 6;
 
 /// Slack of the calibrated range, as a fraction of each channel's range: a sample this far
 /// outside is still accepted (round-off of the tension-to-strain conversion).
@@ -137,9 +139,14 @@ pub enum ReducedError {
         /// Why.
         reason: String,
     },
-    /// The FE run of the calibration failed.
-    #[error("FE calibration run: {0}")]
-    History(#[from] HistoryError),
+    /// The FE run of one chain of the calibration's design failed.
+    #[error("FE calibration run, chain {chain} of the design: {source}")]
+    History {
+        /// The chain ([`design`] module docs).
+        chain: usize,
+        /// What went wrong.
+        source: HistoryError,
+    },
 }
 
 fn invalid(field: &'static str, value: f64, reason: impl Into<String>) -> ReducedError {
@@ -421,18 +428,34 @@ pub struct InterfaceFit {
 /// calibration run (in-sample; the held-out error is measured separately).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CalibrationReport {
-    /// Samples of the designed history.
+    /// Samples of the designed history, all chains.
     pub design_samples: usize,
-    /// FE sub-steps solved (initialisation included).
+    /// FE sub-steps solved, all chains (initialisations included).
     pub fe_substeps: usize,
-    /// Newton iterations of the FE run.
+    /// Newton iterations of the FE runs, all chains.
     pub fe_iterations: usize,
-    /// Wall time of the FE run (s).
+    /// Wall time of the calibration: the FE runs, side by side, and the fit (s).
     pub fe_wall_time_s: f64,
+    /// What each chain of the design cost ([`design`] module docs), in chain order.
+    #[serde(default)]
+    pub chains: Vec<ChainCost>,
     /// Least-squares fits per interface.
     pub fits: Vec<InterfaceFit>,
     /// The designed history replayed through the reduced model against the FE run.
     pub replay: Vec<compare::InterfaceComparison>,
+}
+
+/// The FE run of one chain of the calibration's design.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ChainCost {
+    /// Designed samples.
+    pub samples: usize,
+    /// FE sub-steps solved (initialisation included).
+    pub substeps: usize,
+    /// Newton iterations.
+    pub iterations: usize,
+    /// Wall time (s).
+    pub wall_time_s: f64,
 }
 
 /// A reduced strand response: the fitted laws of every contact of one FE model, the range they

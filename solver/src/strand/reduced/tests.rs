@@ -5,8 +5,11 @@
 use std::f64::consts::PI;
 
 use super::compare::{compare_records, InterfaceComparison};
+use super::design::DesignParams;
 use super::*;
-use crate::strand::history::{run_history, NoObserver};
+use crate::strand::history::{
+    run_history, HistoryError, HistoryObserver, HistoryProgress, NoObserver,
+};
 use crate::strand::model::{EndKind, StrandModel, StrandModelParameters};
 use crate::strand::profile::profile_from_json;
 
@@ -105,6 +108,7 @@ fn a_load_outside_the_calibrated_range_is_refused_with_the_range() {
             fe_substeps: 0,
             fe_iterations: 0,
             fe_wall_time_s: 0.0,
+            chains: Vec::new(),
             fits: Vec::new(),
             replay: Vec::new(),
         },
@@ -183,5 +187,81 @@ fn reduced_matches_fe_on_a_held_out_history_of_the_benchmark_strand() {
             "the history makes slip cycles"
         );
         assert!(c.worst() <= 0.10, "interface {}: {:?}", c.interface, c);
+    }
+}
+
+/// A short design on the benchmark strand: two amplitudes, one cycle each, no probes.
+fn short_design() -> CalibrationOptions {
+    CalibrationOptions {
+        design: DesignParams {
+            amplitudes: vec![1.0, 0.3],
+            cycles: 1,
+            probe_curvatures: Vec::new(),
+            ..DesignParams::default()
+        },
+        ..CalibrationOptions::default()
+    }
+}
+
+#[test]
+fn the_chains_give_the_same_calibration_on_one_thread_and_on_two() {
+    let model = model();
+    let range = LoadRange {
+        strain: [7e-4, 1.35e-3],
+        curvature_per_m: [-0.015, 0.025],
+    };
+    let mut options = short_design();
+    let one = calibrate(&model, range, &options, &mut NoObserver).expect("calibrates");
+    options.history.threads = 2;
+    let two = calibrate(&model, range, &options, &mut NoObserver).expect("calibrates");
+    // the corners and one chain per tension level, each an FE run of its own
+    assert_eq!(
+        one.calibration.chains.len(),
+        1 + options.design.tension_levels
+    );
+    assert_eq!(one.laws, two.laws);
+    assert_eq!(one.element_fits, two.element_fits);
+    assert_eq!(one.calibration.replay, two.calibration.replay);
+    let samples: usize = one.calibration.chains.iter().map(|c| c.samples).sum();
+    assert_eq!(samples, one.calibration.design_samples);
+    for c in &one.calibration.chains {
+        assert!(
+            c.substeps >= c.samples - 1 && c.iterations >= c.substeps,
+            "{c:?}"
+        );
+    }
+}
+
+/// Stops the run at its first progress report.
+struct StopAtOnce {
+    reports: usize,
+}
+
+impl HistoryObserver for StopAtOnce {
+    fn progress(&mut self, _progress: &HistoryProgress) {
+        self.reports += 1;
+    }
+
+    fn should_stop(&mut self) -> bool {
+        self.reports > 0
+    }
+}
+
+#[test]
+fn a_stopped_calibration_stops_every_chain_and_says_so() {
+    let model = model();
+    let range = LoadRange {
+        strain: [7e-4, 1.35e-3],
+        curvature_per_m: [-0.015, 0.025],
+    };
+    let mut options = short_design();
+    options.history.threads = 2;
+    let mut observer = StopAtOnce { reports: 0 };
+    match calibrate(&model, range, &options, &mut observer) {
+        Err(ReducedError::History {
+            source: HistoryError::Stopped { .. },
+            ..
+        }) => {}
+        other => panic!("expected a stopped FE run, got {:?}", other.map(|_| ())),
     }
 }
