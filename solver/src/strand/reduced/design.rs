@@ -123,15 +123,9 @@ pub(crate) fn design_chains(
             corners.push((x_stroke_floor, yc, 1.0));
             let stroke = x_stroke_floor - x_low;
             corners.push((x_low, yc, stroke));
-            for _ in 0..cycles {
-                corners.push((x_low, yc + a, a));
-                corners.push((x_low, yc - a, a));
-            }
-            corners.push((x_low, yc, a));
-            for _ in 0..cycles {
-                corners.push(((x_low + 2.0 * a).min(x_stroke_floor), yc, a));
-                corners.push((x_low, yc, a));
-            }
+            // one-sided tension cycles: the probes sit at the bottom of the range
+            let top = (x_low + 2.0 * a).min(x_stroke_floor);
+            push_probe(&mut corners, (x_low, yc), a, cycles, [top, x_low]);
             corners.push((x_stroke_floor, yc, stroke));
         }
     }
@@ -169,16 +163,7 @@ pub(crate) fn design_chains(
         // states' hot spots spend their time, after the level's full-range cycles
         for &yc in &params.probe_curvatures {
             v.push((xj, yc, 1.0));
-            for _ in 0..cycles {
-                v.push((xj, yc + a, a));
-                v.push((xj, yc - a, a));
-            }
-            v.push((xj, yc, a));
-            for _ in 0..cycles {
-                v.push((xj + a, yc, a));
-                v.push((xj - a, yc, a));
-            }
-            v.push((xj, yc, a));
+            push_probe(&mut v, (xj, yc), a, cycles, [xj + a, xj - a]);
         }
         for vertex in &mut v {
             vertex.0 = vertex.0.max(x_stroke_floor);
@@ -186,6 +171,21 @@ pub(crate) fn design_chains(
         chains.push(v);
     }
     chains
+}
+
+/// A probe about `(x, yc)`: `cycles` curvature cycles `yc ± a`, then `cycles` tension cycles
+/// between the two tensions of `tension`, back to `(x, yc)`.
+fn push_probe(v: &mut Vertices, (x, yc): (f64, f64), a: f64, cycles: usize, tension: [f64; 2]) {
+    for _ in 0..cycles {
+        v.push((x, yc + a, a));
+        v.push((x, yc - a, a));
+    }
+    v.push((x, yc, a));
+    for _ in 0..cycles {
+        v.push((tension[0], yc, a));
+        v.push((tension[1], yc, a));
+    }
+    v.push((x, yc, a));
 }
 
 /// The designed history over `range` as its chains, each sampled at the sub-steps of
@@ -346,7 +346,11 @@ mod tests {
         for chain in &chains {
             // every chain starts at the smallest curvature, where the FE initialisation is cheap
             let k0 = range.curvature_per_m[0];
-            assert!((chain[0].curvature_per_m - k0).abs() <= 1e-12 * k0, "{:?}", chain[0]);
+            assert!(
+                (chain[0].curvature_per_m - k0).abs() <= 1e-12 * k0,
+                "{:?}",
+                chain[0]
+            );
             assert_eq!(chain[0].time_s, 0.0);
             for w in chain.windows(2) {
                 assert!(w[1].time_s > w[0].time_s);
