@@ -12,7 +12,8 @@
 //! 2. tension cycles at fixed curvature, `x = x_j ± A` (clipped to the range);
 //! 3. combined cycles, tension and curvature in phase and in opposition, for the largest two
 //!    amplitudes (a hot spot's tension and curvature move together or against each other);
-//! 4. at a grid of curvatures, small probe cycles in curvature and tension
+//! 4. the corners of the range;
+//! 5. at a grid of curvatures, small probe cycles in curvature and tension
 //!    ([`DesignParams::probe_curvatures`]), which most contacts answer in stick.
 //!
 //! One more chain goes round the corners of the range, then makes the same probes at a
@@ -45,7 +46,7 @@ pub struct DesignParams {
 impl Default for DesignParams {
     fn default() -> Self {
         Self {
-            tension_levels: 4,
+            tension_levels: 6,
             amplitudes: vec![1.0, 0.6, 0.35, 0.2, 0.1, 0.05, 0.02],
             cycles: 2,
             probe_curvatures: vec![-0.75, -0.5, -0.25, 0.25, 0.5, 0.75],
@@ -94,7 +95,7 @@ pub(crate) type Vertices = Vec<(f64, f64, f64)>;
 /// The chains of the design in scaled coordinates (module docs), with every stroke's tension at
 /// least `x_stroke_floor` and the low-tension probes at `x_low` (none if `x_low` is not below
 /// `x_stroke_floor`). Chain 0 holds the corners and the low-tension probes, chain `1 + j` the
-/// cycles and probes of tension level `j`.
+/// cycles, the corners and the probes of tension level `j`.
 pub(crate) fn design_chains(
     params: &DesignParams,
     x_stroke_floor: f64,
@@ -106,13 +107,7 @@ pub(crate) fn design_chains(
     // every chain starts (and so initialises its FE run) at the smallest curvature: the FE
     // initialisation bends the strand at a tenth of the first tension, which at the range's
     // middle curvature costs minutes on the six-layer strand
-    let mut corners: Vertices = vec![
-        (-1.0, -1.0, 1.0),
-        (1.0, -1.0, 1.0),
-        (1.0, 1.0, 1.0),
-        (-1.0, 1.0, 1.0),
-        (-1.0, -1.0, 1.0),
-    ];
+    let mut corners: Vertices = CORNERS.to_vec();
     for vertex in &mut corners {
         vertex.0 = vertex.0.max(x_stroke_floor);
     }
@@ -159,8 +154,10 @@ pub(crate) fn design_chains(
             }
         }
         v.push((xj, 0.0, 1.0));
+        v.extend(CORNERS);
         // the probes: the stick response away from the centre curvature, where the sea
-        // states' hot spots spend their time, after the level's full-range cycles
+        // states' hot spots spend their time, after the level's full-range cycles and the
+        // corners
         for &yc in &params.probe_curvatures {
             v.push((xj, yc, 1.0));
             push_probe(&mut v, (xj, yc), a, cycles, [xj + a, xj - a]);
@@ -172,6 +169,15 @@ pub(crate) fn design_chains(
     }
     chains
 }
+
+/// The corners of the range, from the lowest tension and curvature round.
+const CORNERS: [(f64, f64, f64); 5] = [
+    (-1.0, -1.0, 1.0),
+    (1.0, -1.0, 1.0),
+    (1.0, 1.0, 1.0),
+    (-1.0, 1.0, 1.0),
+    (-1.0, -1.0, 1.0),
+];
 
 /// A probe about `(x, yc)`: `cycles` curvature cycles `yc ± a`, then `cycles` tension cycles
 /// between the two tensions of `tension`, back to `(x, yc)`.

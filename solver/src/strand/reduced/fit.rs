@@ -59,8 +59,16 @@ impl ForceSums {
 
 /// Tension knots of the drive's hat functions: the bottom of the range, where the design's
 /// low-tension probes are ([`super::design::design_strain_floor`]), and the midpoints of the
-/// design's four tension levels ([`super::design::DesignParams`]), where its cycles run.
-pub(crate) const TENSION_KNOTS: [f64; 5] = [-1.0, -0.75, -0.25, 0.25, 0.75];
+/// design's six tension levels ([`super::design::DesignParams`]), where its cycles run.
+pub(crate) const TENSION_KNOTS: [f64; 7] = [
+    -1.0,
+    -1.0 + 1.0 / 6.0,
+    -1.0 + 3.0 / 6.0,
+    -1.0 + 5.0 / 6.0,
+    -1.0 + 7.0 / 6.0,
+    -1.0 + 9.0 / 6.0,
+    -1.0 + 11.0 / 6.0,
+];
 
 /// Curvature powers of the drive: `1, y, y², y³`.
 const CURVATURE_POWERS: usize = 4;
@@ -583,8 +591,8 @@ mod tests {
                 .sum();
             assert!((f - (2.0 * x - 0.3)).abs() < 1e-13, "x = {x}");
         }
-        assert_eq!(tension_hats(-0.25), [0.0, 0.0, 1.0, 0.0, 0.0]);
-        assert_eq!(tension_hats(-1.0), [1.0, 0.0, 0.0, 0.0, 0.0]);
+        assert_eq!(tension_hats(-0.5), [0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0]);
+        assert_eq!(tension_hats(-1.0), [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
         // the knots are the bottom of the range and the default design's tension levels,
         // where its cycles run
         let levels = super::super::design::DesignParams::default().tension_levels;

@@ -11,7 +11,7 @@
 //!
 //! - structure: `s + g f_T = d(ε, κ)`, with the drive `d = Σ_k φ_k(x) (a_k + b_k y + c_k y² +
 //!   e_k y³)` in the scaled loads `x = (ε − ε₀)/ε_h`, `y = (κ − κ₀)/κ_h` ([`LoadScaling`]),
-//!   `φ_k` the hat functions of the tension on the bottom of the range and the design's four
+//!   `φ_k` the hat functions of the tension on the bottom of the range and the design's six
 //!   tension levels (the slip per
 //!   unit curvature piecewise linear in the tension, cubic in the curvature), and
 //!   `g = g₀ + g₁ x ≥ 0` the compliance through which the strand around the contact answers
@@ -83,7 +83,7 @@ pub use run::{contact_series, run_reduced};
 /// Version of the stored calibration and of the fit that made it; a file of another version is
 /// refused. Part of the cache key of a calibration, so every change to the model, the design or
 /// the fit bumps it.
-pub(crate) const FORMAT_VERSION: u32 = 6;
+pub(crate) const FORMAT_VERSION: u32 = 7;
 
 /// Slack of the calibrated range, as a fraction of each channel's range: a sample this far
 /// outside is still accepted (round-off of the tension-to-strain conversion).
