@@ -487,6 +487,19 @@ mod tests {
         assert!((e[0].coefficients[0] - 120.0).abs() < 1e-6);
     }
 
+    /// Sample `i` of a pseudo-random load path: the loads (x, y), the slip
+    /// `s = ψ·drive − (g₀ + g₁ x) f_T` and a tangential force `f_T` independent of the loads.
+    fn structure_sample(i: usize, drive: &[f64], g: [f64; 2]) -> (f64, f64, f64, f64) {
+        let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.53).cos());
+        let f_t = 40.0 * (i as f64 * 1.7).sin();
+        let d: f64 = drive_features(x, y)
+            .iter()
+            .zip(drive)
+            .map(|(p, q)| p * q)
+            .sum();
+        (x, y, d - (g[0] + g[1] * x) * f_t, f_t)
+    }
+
     #[test]
     fn the_structure_equation_is_recovered_with_its_compliance() {
         // s = ψ·d − (g₀ + g₁ x) f_T with f_T independent of the loads: the compliance and the
@@ -497,14 +510,8 @@ mod tests {
         let (g0, g1) = (3e-8, -1e-8);
         let mut acc = FitAccumulator::new(1, 0);
         for i in 0..300 {
-            let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.53).cos());
-            let f_t = 40.0 * (i as f64 * 1.7).sin();
-            let d: f64 = drive_features(x, y)
-                .iter()
-                .zip(&truth)
-                .map(|(p, q)| p * q)
-                .sum();
-            acc.add(x, y, 1.0, &[(d - (g0 + g1 * x) * f_t, 100.0, f_t)], &[]);
+            let (x, y, s, f_t) = structure_sample(i, &truth, [g0, g1]);
+            acc.add(x, y, 1.0, &[(s, 100.0, f_t)], &[]);
         }
         let fit = acc.contact_fits()[0];
         let rel = |p: f64, q: f64| (p - q).abs() / q.abs();
@@ -537,14 +544,8 @@ mod tests {
             .collect();
         let g0 = 2e-8;
         let sample = |i: usize, level: f64| {
-            let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.53).cos());
-            let f_t = 40.0 * (i as f64 * 1.7).sin();
-            let d: f64 = drive_features(x, y)
-                .iter()
-                .zip(&truth)
-                .map(|(p, q)| p * q)
-                .sum();
-            (x, y, [(level + d - g0 * f_t, 100.0 + 10.0 * x, f_t)])
+            let (x, y, s, f_t) = structure_sample(i, &truth, [g0, 0.0]);
+            (x, y, [(level + s, 100.0 + 10.0 * x, f_t)])
         };
         let (mut a, mut b, mut one) = (
             FitAccumulator::new(1, 0),

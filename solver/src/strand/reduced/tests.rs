@@ -190,6 +190,12 @@ fn reduced_matches_fe_on_a_held_out_history_of_the_benchmark_strand() {
     }
 }
 
+/// The range of the short design's calibrations.
+const SHORT_DESIGN_RANGE: LoadRange = LoadRange {
+    strain: [7e-4, 1.35e-3],
+    curvature_per_m: [-0.015, 0.025],
+};
+
 /// A short design on the benchmark strand: two amplitudes, one cycle each, no probes.
 fn short_design() -> CalibrationOptions {
     CalibrationOptions {
@@ -206,10 +212,7 @@ fn short_design() -> CalibrationOptions {
 #[test]
 fn the_chains_give_the_same_calibration_on_one_thread_and_on_two() {
     let model = model();
-    let range = LoadRange {
-        strain: [7e-4, 1.35e-3],
-        curvature_per_m: [-0.015, 0.025],
-    };
+    let range = SHORT_DESIGN_RANGE;
     let mut options = short_design();
     let one = calibrate(&model, range, &options, &mut NoObserver).expect("calibrates");
     options.history.threads = 2;
@@ -250,10 +253,7 @@ impl HistoryObserver for StopAtOnce {
 #[test]
 fn a_stopped_calibration_stops_every_chain_and_says_so() {
     let model = model();
-    let range = LoadRange {
-        strain: [7e-4, 1.35e-3],
-        curvature_per_m: [-0.015, 0.025],
-    };
+    let range = SHORT_DESIGN_RANGE;
     let mut options = short_design();
     options.history.threads = 2;
     let mut observer = StopAtOnce { reports: 0 };
