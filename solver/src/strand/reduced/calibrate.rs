@@ -6,7 +6,7 @@ use std::sync::{mpsc, Mutex};
 use std::time::Instant;
 
 use super::compare::compare_records;
-use super::design::{design_history_weighted, DesignParams};
+use super::design::{design_history_weighted, split_weights, DesignParams};
 use super::fit::FitAccumulator;
 use super::{
     CalibrationReport, ChainCost, InterfaceFit, LoadRange, LoadScaling, ReducedError,
@@ -99,10 +99,11 @@ impl Fitter<'_> {
     }
 }
 
-/// What the FE run of one chain tells the calling thread.
-enum ChainMessage {
-    /// Samples of the chain done so far.
-    Progress { chain: usize, samples: usize },
+/// What the FE run of one chain tells the calling thread: the samples of the chain done so
+/// far.
+struct ChainProgress {
+    chain: usize,
+    samples: usize,
 }
 
 /// Feeds every sample of one chain's FE run to its fit, passes progress to the calling thread,
@@ -110,14 +111,14 @@ enum ChainMessage {
 struct Learner<'a> {
     chain: usize,
     fitter: Fitter<'a>,
-    progress: mpsc::Sender<ChainMessage>,
+    progress: mpsc::Sender<ChainProgress>,
     stop: &'a AtomicBool,
 }
 
 impl HistoryObserver for Learner<'_> {
     fn progress(&mut self, progress: &HistoryProgress) {
         // the calling thread may have gone (an error there): nothing left to tell
-        let _ = self.progress.send(ChainMessage::Progress {
+        let _ = self.progress.send(ChainProgress {
             chain: self.chain,
             samples: progress.sample + 1,
         });
@@ -171,9 +172,15 @@ impl Prepared {
     }
 }
 
-/// The checked range, the model's elastic slip, the FE run's settings and the weighted
-/// designed history's chains of a calibration.
-type Designed = (LoadRange, f64, HistoryOptions, Vec<Vec<(LoadSample, f64)>>);
+/// The checked range, the model's elastic slip, the FE run's settings, and the designed
+/// history's chains of a calibration with the least-squares weight of every sample.
+type Designed = (
+    LoadRange,
+    f64,
+    HistoryOptions,
+    Vec<Vec<LoadSample>>,
+    Vec<Vec<f64>>,
+);
 
 fn designed(
     model: &StrandModel,
@@ -187,8 +194,9 @@ fn designed(
         checkpoint_interval_segments: 0,
         ..options.history
     };
-    let weighted = design_history_weighted(&range, &options.design, &history);
-    Ok((range, elastic_slip_m, history, weighted))
+    let (design, weights) =
+        split_weights(design_history_weighted(&range, &options.design, &history));
+    Ok((range, elastic_slip_m, history, design, weights))
 }
 
 fn prepare(
@@ -196,15 +204,7 @@ fn prepare(
     range: LoadRange,
     options: &CalibrationOptions,
 ) -> Result<Prepared, ReducedError> {
-    let (range, elastic_slip_m, history, weighted) = designed(model, range, options)?;
-    let weights = weighted
-        .iter()
-        .map(|chain| chain.iter().map(|(_, w)| *w).collect())
-        .collect();
-    let design = weighted
-        .into_iter()
-        .map(|chain| chain.into_iter().map(|(s, _)| s).collect())
-        .collect();
+    let (range, elastic_slip_m, history, design, weights) = designed(model, range, options)?;
     let sites = contact_sites(model);
     let channels = default_channels(model, &sites);
     let element_channels = channels
@@ -232,12 +232,8 @@ pub fn calibration_design(
     range: LoadRange,
     options: &CalibrationOptions,
 ) -> Result<(Vec<Vec<LoadSample>>, HistoryOptions), ReducedError> {
-    let (_, _, history, weighted) = designed(model, range, options)?;
-    let chains = weighted
-        .into_iter()
-        .map(|chain| chain.into_iter().map(|(s, _)| s).collect())
-        .collect();
-    Ok((chains, history))
+    let (_, _, history, design, _) = designed(model, range, options)?;
+    Ok((design, history))
 }
 
 /// One chain's FE run and the sums it fed.
@@ -304,8 +300,7 @@ fn run_chains(
         }
         drop(sender);
         let mut done = vec![0; chains];
-        for message in receiver {
-            let ChainMessage::Progress { chain, samples } = message;
+        for ChainProgress { chain, samples } in receiver {
             done[chain] = samples;
             let samples: usize = done.iter().sum();
             observer.progress(&HistoryProgress {

@@ -201,10 +201,17 @@ pub fn design_history(
     params: &DesignParams,
     options: &HistoryOptions,
 ) -> Vec<Vec<LoadSample>> {
-    design_history_weighted(range, params, options)
+    split_weights(design_history_weighted(range, params, options)).0
+}
+
+/// The samples and the weights of weighted chains, each chain by chain.
+pub(crate) fn split_weights(
+    weighted: Vec<Vec<(LoadSample, f64)>>,
+) -> (Vec<Vec<LoadSample>>, Vec<Vec<f64>>) {
+    weighted
         .into_iter()
-        .map(|chain| chain.into_iter().map(|(s, _)| s).collect())
-        .collect()
+        .map(|chain| chain.into_iter().unzip())
+        .unzip()
 }
 
 /// [`design_history`] with the least-squares weight of every sample: 1/A² for a sample on a
