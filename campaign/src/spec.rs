@@ -206,6 +206,13 @@ pub struct StrandSpec {
         skip_serializing_if = "is_default_calibration_hs_fraction"
     )]
     pub calibration_hs_fraction: f64,
+    /// Threads of a `calibrate` job: its design's independent FE chains run side by side
+    /// (the calibration does not depend on how many). Default: the cores this process may use
+    /// (`std::thread::available_parallelism`, which honours CPU affinity and cgroup quotas).
+    /// The calibration runs beside global jobs while they last, then alone on the critical
+    /// path: every strand job waits for it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub calibration_threads: Option<usize>,
     /// EA of the tension → strain conversion ([`crate::stiffness`]): `strand_model` or
     /// `line_type`. A campaign file without it takes `strand_model`, and the resolved campaign
     /// stores that choice; stored inputs without it belong to campaigns planned before the
@@ -255,6 +262,16 @@ impl StrandSpec {
     /// for a campaign planned before the setting existed (see `axial_stiffness`).
     pub fn axial_stiffness_rule(&self) -> AxialStiffnessRule {
         self.axial_stiffness.unwrap_or(AxialStiffnessRule::LineType)
+    }
+
+    /// Threads of a `calibrate` job: `calibration_threads`, else the cores this process may
+    /// use.
+    pub fn calibration_threads(&self) -> usize {
+        self.calibration_threads.unwrap_or_else(|| {
+            std::thread::available_parallelism()
+                .map_or(1, |n| n.get())
+                .min(MAX_STRAND_THREADS)
+        })
     }
 
     /// The solver settings of a strand job's history run.
@@ -558,6 +575,15 @@ impl CampaignSpec {
                 &format!("must be from 1 to {MAX_STRAND_THREADS}"),
             ));
         }
+        if let Some(n) = st.calibration_threads {
+            if !(1..=MAX_STRAND_THREADS).contains(&n) {
+                return Err(invalid(
+                    "strand.calibration_threads",
+                    n,
+                    &format!("must be from 1 to {MAX_STRAND_THREADS}"),
+                ));
+            }
+        }
         self.fatigue
             .validate(self.simulation.duration_s, self.strand.load_interval_s)?;
         if self.jobs.max_attempts < 1 {
@@ -637,6 +663,9 @@ mod tests {
         let mut s = spec.clone();
         s.simulation.global_threads = 100_000;
         assert_eq!(field(s), "simulation.global_threads");
+        let mut s = spec.clone();
+        s.strand.calibration_threads = Some(0);
+        assert_eq!(field(s), "strand.calibration_threads");
         let mut s = spec.clone();
         s.hot_spots.push(s.hot_spots[0].clone());
         assert_eq!(field(s), "hot_spots[1]");
