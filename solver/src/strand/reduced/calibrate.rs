@@ -151,6 +151,8 @@ fn elastic_slip_of(model: &StrandModel) -> Result<f64, ReducedError> {
 struct Prepared {
     range: LoadRange,
     elastic_slip_m: f64,
+    /// `μ / γ_e` (1/m).
+    stick_per_m: f64,
     history: HistoryOptions,
     design: Vec<Vec<LoadSample>>,
     weights: Vec<Vec<f64>>,
@@ -166,7 +168,7 @@ impl Prepared {
         Fitter {
             scaling: self.scaling,
             weights: &self.weights[chain],
-            fit: FitAccumulator::new(self.sites.len(), self.element_channels),
+            fit: FitAccumulator::new(self.sites.len(), self.element_channels, self.stick_per_m),
             buffer: Vec::with_capacity(self.sites.len()),
         }
     }
@@ -215,6 +217,7 @@ fn prepare(
         scaling: LoadScaling::of(&range),
         range,
         elastic_slip_m,
+        stick_per_m: model.strand.friction_coefficient / elastic_slip_m,
         history,
         design,
         weights,
@@ -359,7 +362,7 @@ pub fn calibrate(
     let start = Instant::now();
     let p = prepare(model, range, options)?;
     let runs = run_chains(model, &p, observer)?;
-    let mut fit = FitAccumulator::new(p.sites.len(), p.element_channels);
+    let mut fit = FitAccumulator::new(p.sites.len(), p.element_channels, p.stick_per_m);
     let mut costs = Vec::with_capacity(runs.len());
     for (chain, run) in runs.iter().enumerate() {
         fit.merge(&run.fit);
@@ -415,7 +418,7 @@ where
 {
     let start = Instant::now();
     let p = prepare(model, range, options)?;
-    let mut fit = FitAccumulator::new(p.sites.len(), p.element_channels);
+    let mut fit = FitAccumulator::new(p.sites.len(), p.element_channels, p.stick_per_m);
     for (chain, samples) in chains.into_iter().enumerate() {
         if chain >= p.design.len() {
             return Err(ReducedError::Calibration {

@@ -8,17 +8,18 @@
 //! Fits, per contact, with `φ = [1, x, y, xy, x², y²]` and the drive features `ψ`
 //! ([`drive_features`]):
 //! - normal force: `f_N ≈ φ·n`, on every sample;
-//! - structure: `Δs ≈ Δψ·d − Δ((g₀ + g₁ x) f_T)` on the increment `Δ` from one sample to the
-//!   next, for the drive `d` (up to its level, which the Jenkins element never sees) and the
-//!   compliance; if that makes `g < 0` anywhere on the range (no physical meaning: the strand
-//!   would push the contact along its own friction force), with `g₁ = 0`, and if still negative
-//!   with `g = 0`.
+//! - structure: `Δs ≈ Δψ·d − g Δf_T − r Δs_e` on the increment `Δ` from one sample to the next,
+//!   for the drive `d` (up to its level, which the Jenkins element never sees), the compliance
+//!   `g` and the stick ratio `r`, with the FE's elastic slip `s_e = f_T / k`, `k = μ f_N / γ_e`
+//!   (0 where the contact is open); if that makes `g` or `r` negative (no physical meaning: the
+//!   strand would push the contact along its own friction force), with the one of the two that
+//!   fits better alone, and if both are negative alone, with neither.
 //!
 //! Each system is solved after Jacobi scaling (columns to unit diagonal) with a relative ridge
 //! of `RIDGE`, which only matters for a contact whose tangential force is (nearly) a linear
 //! function of its slip and the loads — a contact that stuck through the whole calibration,
-//! for which every `g` reproduces its stick response (the slip range is then `Δd / (1 + g k)`
-//! with `Δd` fitted for that `g`).
+//! for which every `g` reproduces its stick response (the slip range is then
+//! `Δd / (1 + g k + r)` with `Δd` fitted for that `g` and `r`).
 
 use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 
@@ -108,12 +109,12 @@ pub(crate) fn drive_features(x: f64, y: f64) -> [f64; DRIVE_FEATURES] {
     f
 }
 
-/// Unknowns of the structure equation: the drive's coefficients and the compliance
-/// `g = g₀ + g₁ x`.
+/// Unknowns of the structure equation: the drive's coefficients, the compliance `g` and the
+/// stick ratio `r`.
 const DRIVE_UNKNOWNS: usize = DRIVE_FEATURES + 2;
 
-/// Sums of one contact's structure equation `s = ψ·d − (g₀ + g₁ x) f_T`, with the force columns
-/// `u = [−f_T, −x f_T]`.
+/// Sums of one contact's structure equation `s = ψ·d − g f_T − r s_e`, with the force columns
+/// `u = [−f_T, −s_e]`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct DriveSums {
     /// Σ ψ_i u_j.
@@ -174,7 +175,7 @@ pub struct ContactFit {
     pub normal_residual_ss: f64,
     /// Σ (f_N − f̄_N)² (N²).
     pub normal_spread_ss: f64,
-    /// Whether `g` was refitted at zero.
+    /// Whether `g` or `r` was refitted at zero.
     pub compliance_clamped: bool,
 }
 
@@ -189,15 +190,18 @@ pub struct FitAccumulator {
     normal: Vec<ForceSums>,
     drive: Vec<DriveSums>,
     elements: Vec<ForceSums>,
-    /// Scaled tension and drive features of the previous sample.
-    previous_load: Option<(f64, [f64; DRIVE_FEATURES])>,
-    /// Every contact's (slip, tangential force) at the previous sample.
-    previous_contacts: Vec<(f64, f64)>,
+    /// Drive features of the previous sample.
+    previous_load: Option<[f64; DRIVE_FEATURES]>,
+    /// Every contact's (slip, tangential force, elastic slip) at the previous sample.
+    previous_contacts: Vec<(f64, f64, f64)>,
+    /// `μ / γ_e` (1/m): the stick stiffness per unit normal force.
+    stick_per_m: f64,
 }
 
 impl FitAccumulator {
-    /// Empty sums for `contacts` contacts and `elements` wire-element channels.
-    pub fn new(contacts: usize, elements: usize) -> Self {
+    /// Empty sums for `contacts` contacts and `elements` wire-element channels of a model whose
+    /// contacts stick with `stick_per_m = μ / γ_e` (1/m) per unit normal force.
+    pub fn new(contacts: usize, elements: usize, stick_per_m: f64) -> Self {
         Self {
             force_gram: ForceGram::zeros(),
             drive_gram: SMatrix::zeros(),
@@ -208,6 +212,7 @@ impl FitAccumulator {
             elements: vec![ForceSums::default(); elements],
             previous_load: None,
             previous_contacts: Vec::new(),
+            stick_per_m,
         }
     }
 
@@ -239,8 +244,20 @@ impl FitAccumulator {
         }
         // the structure equation on the increment from the previous sample: the Jenkins
         // element answers the drive's changes, never its level
-        let Some((px, previous)) = self.previous_load.replace((x, psi)) else {
-            self.previous_contacts = contacts.iter().map(|c| (c.0, c.2)).collect();
+        let stick = self.stick_per_m;
+        let elastic = |f_n: f64, f_t: f64| {
+            let k = stick * f_n;
+            if k > 0.0 {
+                f_t / k
+            } else {
+                0.0
+            }
+        };
+        let Some(previous) = self.previous_load.replace(psi) else {
+            self.previous_contacts = contacts
+                .iter()
+                .map(|c| (c.0, c.2, elastic(c.1, c.2)))
+                .collect();
             return;
         };
         let mut dpsi = [0.0; DRIVE_FEATURES];
@@ -249,15 +266,16 @@ impl FitAccumulator {
         }
         let psi_v = SVector::<f64, DRIVE_FEATURES>::from_column_slice(&dpsi);
         self.drive_gram += w * psi_v * psi_v.transpose();
-        for ((&(s, _, f_t), d), prev) in contacts
+        for ((&(s, f_n, f_t), d), prev) in contacts
             .iter()
             .zip(&mut self.drive)
             .zip(&mut self.previous_contacts)
         {
-            let (ps, pf) = *prev;
-            *prev = (s, f_t);
+            let (ps, pf, pe) = *prev;
+            let e = elastic(f_n, f_t);
+            *prev = (s, f_t, e);
             let ds = s - ps;
-            let u = [-(f_t - pf), -(x * f_t - px * pf)];
+            let u = [-(f_t - pf), -(e - pe)];
             let (ws, wu) = (w * ds, [w * u[0], w * u[1]]);
             for ((pu, ps), p) in d.psi_u.iter_mut().zip(&mut d.psi_s).zip(&dpsi) {
                 pu[0] += p * wu[0];
@@ -344,9 +362,8 @@ impl FitAccumulator {
         }
     }
 
-    /// The drive, the compliance `[g₀, g₁]`, Σ residual², whether the compliance was refitted
-    /// (the free fit makes `g < 0` somewhere on the range, x ∈ [−1, 1]: first `g₁ = 0`, then
-    /// `g = 0`).
+    /// The drive, `[g, r]`, Σ residual², whether they were refitted (the free fit makes `g` or
+    /// `r` negative: first `r = 0`, then `g = r = 0`).
     fn drive_fit(&self, d: &DriveSums) -> ([f64; DRIVE_FEATURES], [f64; 2], f64, bool) {
         let n = DRIVE_UNKNOWNS;
         let mut m = DMatrix::<f64>::zeros(n, n);
@@ -372,21 +389,21 @@ impl FitAccumulator {
             (d.ss - 2.0 * beta.dot(&rhs) + (beta.transpose() * &m * beta)[0]).max(0.0)
         };
         let all: Vec<usize> = (0..n).collect();
-        let constant_g: Vec<usize> = (0..=DRIVE_FEATURES).collect();
-        let no_g: Vec<usize> = (0..DRIVE_FEATURES).collect();
+        let g_only: Vec<usize> = (0..=DRIVE_FEATURES).collect();
+        let neither: Vec<usize> = (0..DRIVE_FEATURES).collect();
         let has_force = d.uu[0] > 0.0;
-        let candidates: [&[usize]; 3] = [&all, &constant_g, &no_g];
+        let candidates: [&[usize]; 3] = [&all, &g_only, &neither];
         for (k, idx) in candidates.iter().enumerate() {
             if !has_force && k < 2 {
                 continue;
             }
             let beta = solve_subset(&m, &rhs, idx);
-            let (g0, g1) = (beta[a], beta[b]);
-            let admissible = beta.iter().all(|v| v.is_finite()) && g0 - g1.abs() >= 0.0;
+            let (g, r) = (beta[a], beta[b]);
+            let admissible = beta.iter().all(|v| v.is_finite()) && g >= 0.0 && r >= 0.0;
             if admissible || idx.len() == DRIVE_FEATURES {
                 let mut drive = [0.0; DRIVE_FEATURES];
                 drive.copy_from_slice(&beta.as_slice()[..DRIVE_FEATURES]);
-                return (drive, [g0, g1], residual(&beta), k > 0 && has_force);
+                return (drive, [g, r], residual(&beta), k > 0 && has_force);
             }
         }
         ([0.0; DRIVE_FEATURES], [0.0; 2], d.ss, false)
@@ -467,7 +484,7 @@ mod tests {
     #[test]
     fn an_exact_quadratic_force_is_recovered() {
         let truth = [120.0, 30.0, -12.0, 4.0, 2.5, -1.5];
-        let mut acc = FitAccumulator::new(1, 1);
+        let mut acc = FitAccumulator::new(1, 1, STICK);
         for i in 0..40 {
             let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.91).cos());
             let f: f64 = force_features(x, y)
@@ -487,31 +504,41 @@ mod tests {
         assert!((e[0].coefficients[0] - 120.0).abs() < 1e-6);
     }
 
+    /// `μ / γ_e` of the fit tests (1/m).
+    const STICK: f64 = 0.12 / 1e-5;
+
     /// Sample `i` of a pseudo-random load path: the loads (x, y), the slip
-    /// `s = ψ·drive − (g₀ + g₁ x) f_T` and a tangential force `f_T` independent of the loads.
-    fn structure_sample(i: usize, drive: &[f64], g: [f64; 2]) -> (f64, f64, f64, f64) {
+    /// `s = ψ·drive − g f_T − r s_e` with `s_e = f_T / (STICK f_N)`, a normal force `f_N` that
+    /// follows the tension and a tangential force `f_T` independent of the loads.
+    fn structure_sample(
+        i: usize,
+        drive: &[f64],
+        [g, r]: [f64; 2],
+    ) -> (f64, f64, [(f64, f64, f64); 1]) {
         let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.53).cos());
+        let f_n = 100.0 + 30.0 * x;
         let f_t = 40.0 * (i as f64 * 1.7).sin();
         let d: f64 = drive_features(x, y)
             .iter()
             .zip(drive)
             .map(|(p, q)| p * q)
             .sum();
-        (x, y, d - (g[0] + g[1] * x) * f_t, f_t)
+        let s = d - g * f_t - r * f_t / (STICK * f_n);
+        (x, y, [(s, f_n, f_t)])
     }
 
     #[test]
     fn the_structure_equation_is_recovered_with_its_compliance() {
-        // s = ψ·d − (g₀ + g₁ x) f_T with f_T independent of the loads: the compliance and the
-        // drive's changes are identifiable
+        // s = ψ·d − g f_T − r s_e with f_T independent of the loads and f_N varying with them:
+        // the compliance, the stick ratio and the drive's changes are identifiable
         let truth: Vec<f64> = (0..DRIVE_FEATURES)
             .map(|i| 1e-6 * ((i as f64 * 1.3).sin() + 0.2))
             .collect();
-        let (g0, g1) = (3e-8, -1e-8);
-        let mut acc = FitAccumulator::new(1, 0);
+        let (g, r) = (3e-8, 0.4);
+        let mut acc = FitAccumulator::new(1, 0, STICK);
         for i in 0..300 {
-            let (x, y, s, f_t) = structure_sample(i, &truth, [g0, g1]);
-            acc.add(x, y, 1.0, &[(s, 100.0, f_t)], &[]);
+            let (x, y, c) = structure_sample(i, &truth, [g, r]);
+            acc.add(x, y, 1.0, &c, &[]);
         }
         let fit = acc.contact_fits()[0];
         let rel = |p: f64, q: f64| (p - q).abs() / q.abs();
@@ -528,8 +555,8 @@ mod tests {
                 "{fitted} vs {truth}"
             );
         }
-        assert!(rel(fit.law.compliance[0], g0) < 1e-6);
-        assert!(rel(fit.law.compliance[1], g1) < 1e-5);
+        assert!(rel(fit.law.compliance[0], g) < 1e-6);
+        assert!(rel(fit.law.compliance[1], r) < 1e-6);
         assert!(!fit.compliance_clamped);
         assert!(fit.slip_residual_ss < 1e-8 * fit.slip_spread_ss);
     }
@@ -544,13 +571,13 @@ mod tests {
             .collect();
         let g0 = 2e-8;
         let sample = |i: usize, level: f64| {
-            let (x, y, s, f_t) = structure_sample(i, &truth, [g0, 0.0]);
-            (x, y, [(level + s, 100.0 + 10.0 * x, f_t)])
+            let (x, y, [(s, f_n, f_t)]) = structure_sample(i, &truth, [g0, 0.0]);
+            (x, y, [(level + s, f_n, f_t)])
         };
         let (mut a, mut b, mut one) = (
-            FitAccumulator::new(1, 0),
-            FitAccumulator::new(1, 0),
-            FitAccumulator::new(1, 0),
+            FitAccumulator::new(1, 0, STICK),
+            FitAccumulator::new(1, 0, STICK),
+            FitAccumulator::new(1, 0, STICK),
         );
         for i in 0..300 {
             let (acc, level) = if i < 150 {
@@ -567,6 +594,7 @@ mod tests {
         assert_eq!(a.weight(), 300.0);
         let (merged, single) = (a.contact_fits()[0], one.contact_fits()[0]);
         assert!((merged.law.compliance[0] - g0).abs() < 1e-6 * g0);
+        assert!(merged.law.compliance[1].abs() < 1e-6);
         assert!(merged.slip_residual_ss < 1e-8 * merged.slip_spread_ss);
         assert!(single.slip_residual_ss > 1e-3 * single.slip_spread_ss);
         // the normal force has no increments: both give the same fit
@@ -607,7 +635,7 @@ mod tests {
     #[test]
     fn a_negative_compliance_is_refitted_at_zero() {
         // data made with g < 0: the fit falls back to the pure drive
-        let mut acc = FitAccumulator::new(1, 0);
+        let mut acc = FitAccumulator::new(1, 0, STICK);
         for i in 0..60 {
             let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.53).cos());
             let f_t = 40.0 * (i as f64 * 1.7).sin();

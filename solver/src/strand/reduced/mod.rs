@@ -9,13 +9,16 @@
 //! slider) that obeys the FE model's own tangential law, loaded through the rest of the strand,
 //! which is reduced to a drive and a compliance:
 //!
-//! - structure: `s + g f_T = d(ε, κ)`, with the drive `d = Σ_k φ_k(x) (a_k + b_k y + c_k y² +
+//! - structure: `s + g f_T + r s_e = d(ε, κ)`, with the drive `d = Σ_k φ_k(x) (a_k + b_k y + c_k y² +
 //!   e_k y³)` in the scaled loads `x = (ε − ε₀)/ε_h`, `y = (κ − κ₀)/κ_h` ([`LoadScaling`]),
 //!   `φ_k` the hat functions of the tension on the bottom of the range and the design's six
 //!   tension levels (the slip per
-//!   unit curvature piecewise linear in the tension, cubic in the curvature), and
-//!   `g = g₀ + g₁ x ≥ 0` the compliance through which the strand around the contact answers
-//!   its tangential force (the tension sets how hard the neighbouring contacts hold);
+//!   unit curvature piecewise linear in the tension, cubic in the curvature), `g ≥ 0` the
+//!   compliance through which the strand around the contact answers its tangential force, and
+//!   `r ≥ 0` a part of that answer in proportion to the contact's elastic slip `s_e` rather
+//!   than to its force: where the tension, and with it `f_N`, is small, a contact's force is
+//!   small but the neighbours it leans on still give way (the sliding rate over the stick rate
+//!   is `1 + g k + r`, `k = μ f_N / γ_e`);
 //! - contact (the elastic-slip law of `crate::contact::laws`, seed Sec. 2.1): the slip
 //!   `s = s_e + s_p`, elastic part `s_e` with `f_T = (μ f_N / γ_e) s_e`, `|s_e| ≤ γ_e`, and an
 //!   irreversible part `s_p` that moves only while the contact slides;
@@ -35,11 +38,11 @@
 //! curvatures on every level), made of independent chains that run side by side, one FE run
 //! each, and fits per contact, by linear least squares weighted by the
 //! inverse square of each sample's cycle amplitude ([`design`], [`fit`]): `f_N` on the six
-//! quadratic load features at every sample, and the drive and `(g₀, g₁)` on the structure
+//! quadratic load features at every sample, and the drive, `g` and `r` on the structure
 //! equation written for the increment from one sample to the next of the same chain, with the
-//! FE's `s` and `f_T`
-//! (the Jenkins element answers the drive's changes, never its level; the compliance is
-//! refitted constant, then zero, if the fit makes it negative on the range). Wire axial forces
+//! FE's `s`, `f_T` and `s_e = f_T / k`
+//! (the Jenkins element answers the drive's changes, never its level; `r`, then `g` too, is
+//! refitted at zero if the fit makes either negative). Wire axial forces
 //! of the monitor channels are fitted like `f_N`. The calibration then replays the designed
 //! history through the reduced model and reports, per layer interface, its in-sample error
 //! against the FE run ([`CalibrationReport`]).
@@ -57,7 +60,7 @@
 //! state this leaves (which contacts slid while the strand was bent at a small tension, with
 //! little normal force) sets how each contact answers a change of tension afterwards.
 //!
-//! What it leaves out, by construction: the interaction of contacts beyond the compliance `g`
+//! What it leaves out, by construction: the interaction of contacts beyond `g` and `r`
 //! (the slip of one contact changes the load of its neighbours only through the fitted drive).
 //! Its error against
 //! the FE model is measured on held-out histories (docs/reduced-strand.md), not assumed.
@@ -83,7 +86,7 @@ pub use run::{contact_series, run_reduced};
 /// Version of the stored calibration and of the fit that made it; a file of another version is
 /// refused. Part of the cache key of a calibration, so every change to the model, the design or
 /// the fit bumps it.
-pub(crate) const FORMAT_VERSION: u32 = 7;
+pub(crate) const FORMAT_VERSION: u32 = 8;
 
 /// Slack of the calibrated range, as a fraction of each channel's range: a sample this far
 /// outside is still accepted (round-off of the tension-to-strain conversion).
@@ -335,8 +338,8 @@ pub struct ContactLaw {
     /// Drive coefficients on `fit::drive_features`: hat function k of the tension times `yʲ`
     /// at index `4 k + j` (m), `k` counted from the lowest knot.
     pub drive: [f64; fit::DRIVE_FEATURES],
-    /// Compliance of the strand at the contact, `g = g₀ + g₁ x ≥ 0` on the range: `[g₀, g₁]`
-    /// (m/N).
+    /// `[g, r]`: the compliance of the strand at the contact (m/N) and its stick ratio (the
+    /// part of the strand's answer in proportion to the contact's elastic slip), both ≥ 0.
     pub compliance: [f64; 2],
 }
 
@@ -353,10 +356,16 @@ impl ContactLaw {
         dot(&self.drive, &fit::drive_features(x, y))
     }
 
-    /// Compliance `g` at scaled tension x (m/N, ≥ 0).
+    /// Compliance `g` (m/N, ≥ 0).
     #[inline]
-    pub(crate) fn compliance_m_per_n(&self, x: f64) -> f64 {
-        (self.compliance[0] + self.compliance[1] * x).max(0.0)
+    pub(crate) fn compliance_m_per_n(&self) -> f64 {
+        self.compliance[0].max(0.0)
+    }
+
+    /// Stick ratio `r` (≥ 0).
+    #[inline]
+    pub(crate) fn stick_ratio(&self) -> f64 {
+        self.compliance[1].max(0.0)
     }
 }
 
@@ -376,13 +385,15 @@ impl JenkinsState {
     }
 
     /// Advances to drive `d` and normal force `f_N`: returns (slip, tangential force).
-    /// `stick_per_n = μ / γ_e` (1/m), `elastic_slip_m = γ_e`, `g` the compliance.
+    /// `stick_per_n = μ / γ_e` (1/m), `elastic_slip_m = γ_e`, `g` the compliance, `r` the
+    /// stick ratio.
     #[inline]
     pub(crate) fn step(
         &mut self,
         drive_m: f64,
         normal_force_n: f64,
         compliance_m_per_n: f64,
+        stick_ratio: f64,
         stick_per_m: f64,
         elastic_slip_m: f64,
     ) -> (f64, f64) {
@@ -393,7 +404,7 @@ impl JenkinsState {
             return (drive_m, 0.0);
         }
         let k = stick_per_m * normal_force_n;
-        let factor = 1.0 + compliance_m_per_n * k;
+        let factor = 1.0 + compliance_m_per_n * k + stick_ratio;
         let mut elastic = (drive_m - self.plastic_slip_m) / factor;
         if elastic.abs() > elastic_slip_m {
             elastic = elastic_slip_m.copysign(elastic);

@@ -102,7 +102,8 @@ fn run_contact(
         state.step(
             law.drive_m(x, y),
             law.normal_force_n(&force_features(x, y)),
-            law.compliance_m_per_n(x),
+            law.compliance_m_per_n(),
+            law.stick_ratio(),
             stick_per_m,
             reduced.elastic_slip_m,
         );
@@ -112,7 +113,8 @@ fn run_contact(
         let (slip, tangential) = state.step(
             law.drive_m(x, y),
             normal,
-            law.compliance_m_per_n(x),
+            law.compliance_m_per_n(),
+            law.stick_ratio(),
             stick_per_m,
             reduced.elastic_slip_m,
         );

@@ -22,39 +22,41 @@ const BENCHMARK: &str = include_str!(concat!(
 fn a_jenkins_element_follows_its_closed_form_loops() {
     let (mu_over_ge, ge, g, n) = (0.12 / 1e-5, 1e-5, 2e-8, 500.0);
     let k = mu_over_ge * n; // 6e6 N/m
-                            // stick: slip range 2D / (1 + g k)
-    let d = 0.5 * ge;
-    let mut st = JenkinsState::unloaded(0.0);
-    let mut lo = f64::INFINITY;
-    let mut hi = f64::NEG_INFINITY;
-    for i in 0..=400 {
-        let drive = d * (2.0 * PI * i as f64 / 100.0).sin();
-        let (s, f) = st.step(drive, n, g, mu_over_ge, ge);
-        assert!(f.abs() <= 0.12 * n * (1.0 + 1e-12));
-        lo = lo.min(s);
-        hi = hi.max(s);
-    }
-    let stick = 2.0 * d / (1.0 + g * k);
-    assert!(((hi - lo) - stick).abs() < 1e-12 * stick.max(1e-9) + 1e-15);
-    // gross slip: after the first half cycle the loop spans 2D − 2 g μ N
-    let d = 20.0 * ge;
-    let mut st = JenkinsState::unloaded(0.0);
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for i in 0..=400 {
-        let drive = d * (2.0 * PI * i as f64 / 100.0).sin();
-        let (s, f) = st.step(drive, n, g, mu_over_ge, ge);
-        if i >= 100 {
+    for r in [0.0, 0.3] {
+        // stick: slip range 2D / (1 + g k + r)
+        let d = 0.5 * ge;
+        let mut st = JenkinsState::unloaded(0.0);
+        let mut lo = f64::INFINITY;
+        let mut hi = f64::NEG_INFINITY;
+        for i in 0..=400 {
+            let drive = d * (2.0 * PI * i as f64 / 100.0).sin();
+            let (s, f) = st.step(drive, n, g, r, mu_over_ge, ge);
+            assert!(f.abs() <= 0.12 * n * (1.0 + 1e-12));
             lo = lo.min(s);
             hi = hi.max(s);
         }
-        assert!(f.abs() <= 0.12 * n * (1.0 + 1e-12));
+        let stick = 2.0 * d / (1.0 + g * k + r);
+        assert!(((hi - lo) - stick).abs() < 1e-12 * stick.max(1e-9) + 1e-15);
+        // gross slip: after the first half cycle the loop spans 2D − 2 (g μ N + r γ_e)
+        let d = 20.0 * ge;
+        let mut st = JenkinsState::unloaded(0.0);
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for i in 0..=400 {
+            let drive = d * (2.0 * PI * i as f64 / 100.0).sin();
+            let (s, f) = st.step(drive, n, g, r, mu_over_ge, ge);
+            if i >= 100 {
+                lo = lo.min(s);
+                hi = hi.max(s);
+            }
+            assert!(f.abs() <= 0.12 * n * (1.0 + 1e-12));
+        }
+        let gross = 2.0 * d - 2.0 * (g * 0.12 * n + r * ge);
+        assert!(
+            ((hi - lo) - gross).abs() < 1e-9 * gross,
+            "r = {r}: {} vs {gross}",
+            hi - lo
+        );
     }
-    let gross = 2.0 * d - 2.0 * g * 0.12 * n;
-    assert!(
-        ((hi - lo) - gross).abs() < 1e-9 * gross,
-        "{} vs {gross}",
-        hi - lo
-    );
 }
 
 fn model() -> StrandModel {
