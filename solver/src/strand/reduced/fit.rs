@@ -12,8 +12,8 @@
 //!   for the drive `d` (up to its level, which the Jenkins element never sees), the compliance
 //!   `g` and the stick ratio `r`, with the FE's elastic slip `s_e = f_T / k`, `k = μ f_N / γ_e`
 //!   (0 where the contact is open); if that makes `g` or `r` negative (no physical meaning: the
-//!   strand would push the contact along its own friction force), with the one of the two that
-//!   fits better alone, and if both are negative alone, with neither.
+//!   strand would push the contact along its own friction force), with `r = 0`, and if `g` is
+//!   then still negative, with `g = r = 0`.
 //!
 //! Each system is solved after Jacobi scaling (columns to unit diagonal) with a relative ridge
 //! of `RIDGE`, which only matters for a contact whose tangential force is (nearly) a linear

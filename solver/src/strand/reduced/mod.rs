@@ -9,11 +9,11 @@
 //! slider) that obeys the FE model's own tangential law, loaded through the rest of the strand,
 //! which is reduced to a drive and a compliance:
 //!
-//! - structure: `s + g f_T + r s_e = d(ε, κ)`, with the drive `d = Σ_k φ_k(x) (a_k + b_k y + c_k y² +
-//!   e_k y³)` in the scaled loads `x = (ε − ε₀)/ε_h`, `y = (κ − κ₀)/κ_h` ([`LoadScaling`]),
-//!   `φ_k` the hat functions of the tension on the bottom of the range and the design's six
-//!   tension levels (the slip per
-//!   unit curvature piecewise linear in the tension, cubic in the curvature), `g ≥ 0` the
+//! - structure: `s + g f_T + r s_e = d(ε, κ)`, with the drive
+//!   `d = Σ_k φ_k(x) (a_k + b_k y + c_k y² + e_k y³)` in the scaled loads `x = (ε − ε₀)/ε_h`,
+//!   `y = (κ − κ₀)/κ_h` ([`LoadScaling`]), `φ_k` the hat functions of the tension on the bottom
+//!   of the range and the design's six tension levels (the slip per unit curvature piecewise
+//!   linear in the tension, cubic in the curvature), `g ≥ 0` the
 //!   compliance through which the strand around the contact answers its tangential force, and
 //!   `r ≥ 0` a part of that answer in proportion to the contact's elastic slip `s_e` rather
 //!   than to its force: where the tension, and with it `f_N`, is small, a contact's force is
