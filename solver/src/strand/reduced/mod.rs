@@ -431,7 +431,8 @@ pub struct InterfaceFit {
     pub normal_rms_residual_n: f64,
     /// Root mean square of the normal force about each contact's mean (N).
     pub normal_rms_n: f64,
-    /// Contacts whose compliance was refitted at zero (the free fit made it negative).
+    /// Contacts whose stick ratio, or compliance and stick ratio, were refitted at zero (the free
+    /// fit made one of them negative).
     pub compliance_clamped: usize,
 }
 
