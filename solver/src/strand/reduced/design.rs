@@ -167,18 +167,6 @@ pub(crate) fn design_chains(
         }
         chains.push(v);
     }
-    // experiment: probe-only chains at extra tensions (`MF_EXTRA_KNOTS`, comma-separated)
-    if let Ok(list) = std::env::var("MF_EXTRA_KNOTS") {
-        for x in list.split(',').filter_map(|v| v.trim().parse::<f64>().ok()) {
-            let x = x.max(x_stroke_floor);
-            let mut v = vec![(x, -1.0, 1.0)];
-            for &yc in &params.probe_curvatures {
-                v.push((x, yc, 1.0));
-                push_probe(&mut v, (x, yc), a, cycles, [x + a, x - a]);
-            }
-            chains.push(v);
-        }
-    }
     chains
 }
 
