@@ -82,9 +82,6 @@ pub(crate) const DRIVE_FEATURES: usize = TENSION_KNOTS.len() * CURVATURE_POWERS;
 /// The hat functions of the tension at scaled tension `x`.
 #[inline]
 fn tension_hats(x: f64) -> [f64; TENSION_KNOTS.len()] {
-    if spline() {
-        return spline_basis(x);
-    }
     let k = &TENSION_KNOTS;
     let mut h = [0.0; TENSION_KNOTS.len()];
     // the interval [k_i, k_i+1] holding x, the outer ones continued
@@ -96,91 +93,6 @@ fn tension_hats(x: f64) -> [f64; TENSION_KNOTS.len()] {
     h[i] = 1.0 - t;
     h[i + 1] = t;
     h
-}
-
-fn spline() -> bool {
-    static ON: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *ON.get_or_init(|| std::env::var("MF_SPLINE").is_ok())
-}
-
-const NK: usize = TENSION_KNOTS.len();
-
-/// Second derivatives at the knots of the natural cubic spline through δ_jk, for every k.
-fn spline_moments() -> &'static [[f64; NK]; NK] {
-    static M: std::sync::OnceLock<[[f64; NK]; NK]> = std::sync::OnceLock::new();
-    M.get_or_init(|| {
-        let x = &TENSION_KNOTS;
-        let mut out = [[0.0; NK]; NK];
-        for (k, row) in out.iter_mut().enumerate() {
-            let y: Vec<f64> = (0..NK).map(|j| if j == k { 1.0 } else { 0.0 }).collect();
-            // tridiagonal system for the interior moments, natural ends
-            let n = NK - 2;
-            let mut a = vec![0.0; n];
-            let mut b = vec![0.0; n];
-            let mut c = vec![0.0; n];
-            let mut d = vec![0.0; n];
-            for i in 1..NK - 1 {
-                let (h0, h1) = (x[i] - x[i - 1], x[i + 1] - x[i]);
-                a[i - 1] = h0 / 6.0;
-                b[i - 1] = (h0 + h1) / 3.0;
-                c[i - 1] = h1 / 6.0;
-                d[i - 1] = (y[i + 1] - y[i]) / h1 - (y[i] - y[i - 1]) / h0;
-            }
-            for i in 1..n {
-                let w = a[i] / b[i - 1];
-                b[i] -= w * c[i - 1];
-                d[i] -= w * d[i - 1];
-            }
-            let mut m = vec![0.0; n];
-            m[n - 1] = d[n - 1] / b[n - 1];
-            for i in (0..n - 1).rev() {
-                m[i] = (d[i] - c[i] * m[i + 1]) / b[i];
-            }
-            for i in 0..n {
-                row[i + 1] = m[i];
-            }
-        }
-        out
-    })
-}
-
-/// The cardinal natural cubic spline basis at x, continued linearly beyond the outer knots.
-fn spline_basis(x: f64) -> [f64; NK] {
-    let k = &TENSION_KNOTS;
-    let m = spline_moments();
-    let mut out = [0.0; NK];
-    let xc = x.clamp(k[0], k[NK - 1]);
-    let i = k[1..NK - 1].iter().take_while(|&&knot| xc > knot).count();
-    let h = k[i + 1] - k[i];
-    let a = (k[i + 1] - xc) / h;
-    let b = 1.0 - a;
-    let (cc, dd) = ((a * a * a - a) * h * h / 6.0, (b * b * b - b) * h * h / 6.0);
-    for (j, o) in out.iter_mut().enumerate() {
-        let yi = if j == i { 1.0 } else { 0.0 };
-        let yi1 = if j == i + 1 { 1.0 } else { 0.0 };
-        *o = a * yi + b * yi1 + cc * m[j][i] + dd * m[j][i + 1];
-        // linear continuation beyond the ends (the natural spline's end slope)
-        if x < k[0] || x > k[NK - 1] {
-            let (e, s) = if x < k[0] {
-                let h0 = k[1] - k[0];
-                (
-                    0,
-                    ((if j == 1 { 1.0 } else { 0.0 }) - (if j == 0 { 1.0 } else { 0.0 })) / h0
-                        - h0 / 6.0 * m[j][1],
-                )
-            } else {
-                let h0 = k[NK - 1] - k[NK - 2];
-                (
-                    NK - 1,
-                    ((if j == NK - 1 { 1.0 } else { 0.0 }) - (if j == NK - 2 { 1.0 } else { 0.0 }))
-                        / h0
-                        + h0 / 6.0 * m[j][NK - 2],
-                )
-            };
-            *o += s * (x - k[e]);
-        }
-    }
-    out
 }
 
 /// The drive features at scaled loads (x, y).
