@@ -168,7 +168,8 @@ impl Prepared {
         Fitter {
             scaling: self.scaling,
             weights: &self.weights[chain],
-            fit: FitAccumulator::new(self.sites.len(), self.element_channels, self.stick_per_m),
+            fit: FitAccumulator::new(self.sites.len(), self.element_channels, self.stick_per_m)
+                .with_sectors(super::sector_ids(&self.sites, super::default_sectors())),
             buffer: Vec::with_capacity(self.sites.len()),
         }
     }
@@ -493,6 +494,7 @@ fn assemble(
         range: p.range,
         scaling: p.scaling,
         sites: p.sites.clone(),
+        sectors: super::default_sectors(),
         laws: fits.iter().map(|f| f.law).collect(),
         channels: p
             .channels
