@@ -168,8 +168,7 @@ impl Prepared {
         Fitter {
             scaling: self.scaling,
             weights: &self.weights[chain],
-            fit: FitAccumulator::new(self.sites.len(), self.element_channels, self.stick_per_m)
-                .with_sectors(super::sector_ids(&self.sites, super::default_sectors())),
+            fit: FitAccumulator::new(self.sites.len(), self.element_channels, self.stick_per_m),
             buffer: Vec::with_capacity(self.sites.len()),
         }
     }
@@ -494,7 +493,6 @@ fn assemble(
         range: p.range,
         scaling: p.scaling,
         sites: p.sites.clone(),
-        sectors: super::default_sectors(),
         laws: fits.iter().map(|f| f.law).collect(),
         channels: p
             .channels

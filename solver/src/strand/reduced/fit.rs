@@ -82,9 +82,6 @@ pub(crate) const DRIVE_FEATURES: usize = TENSION_KNOTS.len() * CURVATURE_POWERS;
 /// The hat functions of the tension at scaled tension `x`.
 #[inline]
 fn tension_hats(x: f64) -> [f64; TENSION_KNOTS.len()] {
-    if spline() {
-        return spline_basis(x);
-    }
     let k = &TENSION_KNOTS;
     let mut h = [0.0; TENSION_KNOTS.len()];
     // the interval [k_i, k_i+1] holding x, the outer ones continued
@@ -96,91 +93,6 @@ fn tension_hats(x: f64) -> [f64; TENSION_KNOTS.len()] {
     h[i] = 1.0 - t;
     h[i + 1] = t;
     h
-}
-
-fn spline() -> bool {
-    static ON: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *ON.get_or_init(|| std::env::var("MF_SPLINE").is_ok())
-}
-
-const NK: usize = TENSION_KNOTS.len();
-
-/// Second derivatives at the knots of the natural cubic spline through δ_jk, for every k.
-fn spline_moments() -> &'static [[f64; NK]; NK] {
-    static M: std::sync::OnceLock<[[f64; NK]; NK]> = std::sync::OnceLock::new();
-    M.get_or_init(|| {
-        let x = &TENSION_KNOTS;
-        let mut out = [[0.0; NK]; NK];
-        for (k, row) in out.iter_mut().enumerate() {
-            let y: Vec<f64> = (0..NK).map(|j| if j == k { 1.0 } else { 0.0 }).collect();
-            // tridiagonal system for the interior moments, natural ends
-            let n = NK - 2;
-            let mut a = vec![0.0; n];
-            let mut b = vec![0.0; n];
-            let mut c = vec![0.0; n];
-            let mut d = vec![0.0; n];
-            for i in 1..NK - 1 {
-                let (h0, h1) = (x[i] - x[i - 1], x[i + 1] - x[i]);
-                a[i - 1] = h0 / 6.0;
-                b[i - 1] = (h0 + h1) / 3.0;
-                c[i - 1] = h1 / 6.0;
-                d[i - 1] = (y[i + 1] - y[i]) / h1 - (y[i] - y[i - 1]) / h0;
-            }
-            for i in 1..n {
-                let w = a[i] / b[i - 1];
-                b[i] -= w * c[i - 1];
-                d[i] -= w * d[i - 1];
-            }
-            let mut m = vec![0.0; n];
-            m[n - 1] = d[n - 1] / b[n - 1];
-            for i in (0..n - 1).rev() {
-                m[i] = (d[i] - c[i] * m[i + 1]) / b[i];
-            }
-            for i in 0..n {
-                row[i + 1] = m[i];
-            }
-        }
-        out
-    })
-}
-
-/// The cardinal natural cubic spline basis at x, continued linearly beyond the outer knots.
-fn spline_basis(x: f64) -> [f64; NK] {
-    let k = &TENSION_KNOTS;
-    let m = spline_moments();
-    let mut out = [0.0; NK];
-    let xc = x.clamp(k[0], k[NK - 1]);
-    let i = k[1..NK - 1].iter().take_while(|&&knot| xc > knot).count();
-    let h = k[i + 1] - k[i];
-    let a = (k[i + 1] - xc) / h;
-    let b = 1.0 - a;
-    let (cc, dd) = ((a * a * a - a) * h * h / 6.0, (b * b * b - b) * h * h / 6.0);
-    for (j, o) in out.iter_mut().enumerate() {
-        let yi = if j == i { 1.0 } else { 0.0 };
-        let yi1 = if j == i + 1 { 1.0 } else { 0.0 };
-        *o = a * yi + b * yi1 + cc * m[j][i] + dd * m[j][i + 1];
-        // linear continuation beyond the ends (the natural spline's end slope)
-        if x < k[0] || x > k[NK - 1] {
-            let (e, s) = if x < k[0] {
-                let h0 = k[1] - k[0];
-                (
-                    0,
-                    ((if j == 1 { 1.0 } else { 0.0 }) - (if j == 0 { 1.0 } else { 0.0 })) / h0
-                        - h0 / 6.0 * m[j][1],
-                )
-            } else {
-                let h0 = k[NK - 1] - k[NK - 2];
-                (
-                    NK - 1,
-                    ((if j == NK - 1 { 1.0 } else { 0.0 }) - (if j == NK - 2 { 1.0 } else { 0.0 }))
-                        / h0
-                        + h0 / 6.0 * m[j][NK - 2],
-                )
-            };
-            *o += s * (x - k[e]);
-        }
-    }
-    out
 }
 
 /// The drive features at scaled loads (x, y).
@@ -197,40 +109,22 @@ pub(crate) fn drive_features(x: f64, y: f64) -> [f64; DRIVE_FEATURES] {
     f
 }
 
-fn clamp_collective() -> bool {
-    std::env::var("MF_HCLAMP").is_ok()
-}
-
-fn collective_max() -> f64 {
-    std::env::var("MF_HMAX")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(COLLECTIVE_MAX)
-}
-
 /// Unknowns of the structure equation: the drive's coefficients, the compliance `g` and the
 /// stick ratio `r`.
-const DRIVE_UNKNOWNS: usize = DRIVE_FEATURES + FORCE_COLUMNS;
-
-/// Force columns of the structure equation: `−f_T`, `−s_e` and the neighbours' mean plastic slip.
-const FORCE_COLUMNS: usize = 3;
-
-/// Largest admissible collective coefficient `h` (the closed loop of a sector's sliding must
-/// contract).
-pub(crate) const COLLECTIVE_MAX: f64 = 0.9;
+const DRIVE_UNKNOWNS: usize = DRIVE_FEATURES + 2;
 
 /// Sums of one contact's structure equation `s = ψ·d − g f_T − r s_e`, with the force columns
 /// `u = [−f_T, −s_e]`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct DriveSums {
     /// Σ ψ_i u_j.
-    psi_u: [[f64; FORCE_COLUMNS]; DRIVE_FEATURES],
-    /// Σ u_i u_j.
-    uu: [[f64; FORCE_COLUMNS]; FORCE_COLUMNS],
+    psi_u: [[f64; 2]; DRIVE_FEATURES],
+    /// Σ u_i u_j (00, 01, 11).
+    uu: [f64; 3],
     /// Σ ψ s.
     psi_s: [f64; DRIVE_FEATURES],
     /// Σ u s.
-    us: [f64; FORCE_COLUMNS],
+    us: [f64; 2],
     /// Σ s².
     ss: f64,
     /// Σ s.
@@ -240,14 +134,11 @@ struct DriveSums {
 impl DriveSums {
     fn merge(&mut self, o: &Self) {
         for (a, b) in self.psi_u.iter_mut().zip(&o.psi_u) {
-            for (p, q) in a.iter_mut().zip(b) {
-                *p += q;
-            }
+            a[0] += b[0];
+            a[1] += b[1];
         }
         for (a, b) in self.uu.iter_mut().zip(&o.uu) {
-            for (p, q) in a.iter_mut().zip(b) {
-                *p += q;
-            }
+            *a += b;
         }
         for (a, b) in self.psi_s.iter_mut().zip(&o.psi_s) {
             *a += b;
@@ -301,15 +192,8 @@ pub struct FitAccumulator {
     elements: Vec<ForceSums>,
     /// Drive features of the previous sample.
     previous_load: Option<[f64; DRIVE_FEATURES]>,
-    /// Every contact's (slip, tangential force, elastic slip, closed) at the previous sample.
-    previous_contacts: Vec<(f64, f64, f64, bool)>,
-    /// Sector of every contact (empty: no collective term).
-    sector: Vec<usize>,
-    /// Contacts per sector.
-    sector_size: Vec<usize>,
-    /// Scratch: every contact's plastic slip increment, every sector's sum of them.
-    plastic_increment: Vec<f64>,
-    sector_sum: Vec<f64>,
+    /// Every contact's (slip, tangential force, elastic slip) at the previous sample.
+    previous_contacts: Vec<(f64, f64, f64)>,
     /// `μ / γ_e` (1/m): the stick stiffness per unit normal force.
     stick_per_m: f64,
 }
@@ -329,24 +213,7 @@ impl FitAccumulator {
             previous_load: None,
             previous_contacts: Vec::new(),
             stick_per_m,
-            sector: Vec::new(),
-            sector_size: Vec::new(),
-            plastic_increment: Vec::new(),
-            sector_sum: Vec::new(),
         }
-    }
-
-    /// The same sums with the collective term: `sector[c]` the sector of contact `c`.
-    pub fn with_sectors(mut self, sector: Vec<usize>) -> Self {
-        let count = sector.iter().max().map_or(0, |m| m + 1);
-        self.sector_size = vec![0; count];
-        for &k in &sector {
-            self.sector_size[k] += 1;
-        }
-        self.sector_sum = vec![0.0; count];
-        self.plastic_increment = vec![0.0; sector.len()];
-        self.sector = sector;
-        self
     }
 
     /// Samples consumed.
@@ -389,63 +256,37 @@ impl FitAccumulator {
         let Some(previous) = self.previous_load.replace(psi) else {
             self.previous_contacts = contacts
                 .iter()
-                .map(|c| (c.0, c.2, elastic(c.1, c.2), c.1 > 0.0))
+                .map(|c| (c.0, c.2, elastic(c.1, c.2)))
                 .collect();
             return;
         };
-        // the neighbours' plastic slip increments, sector by sector
-        let collective = !self.sector.is_empty() && self.sector.len() == contacts.len();
-        if collective {
-            self.sector_sum.iter_mut().for_each(|v| *v = 0.0);
-            for (c, (&(s, f_n, f_t), prev)) in
-                contacts.iter().zip(&self.previous_contacts).enumerate()
-            {
-                let dq = if f_n > 0.0 && prev.3 {
-                    (s - elastic(f_n, f_t)) - (prev.0 - prev.2)
-                } else {
-                    0.0
-                };
-                self.plastic_increment[c] = dq;
-                self.sector_sum[self.sector[c]] += dq;
-            }
-        }
         let mut dpsi = [0.0; DRIVE_FEATURES];
         for ((d, a), b) in dpsi.iter_mut().zip(&psi).zip(&previous) {
             *d = a - b;
         }
         let psi_v = SVector::<f64, DRIVE_FEATURES>::from_column_slice(&dpsi);
         self.drive_gram += w * psi_v * psi_v.transpose();
-        for (c, ((&(s, f_n, f_t), d), prev)) in contacts
+        for ((&(s, f_n, f_t), d), prev) in contacts
             .iter()
             .zip(&mut self.drive)
             .zip(&mut self.previous_contacts)
-            .enumerate()
         {
-            let (ps, pf, pe, _) = *prev;
+            let (ps, pf, pe) = *prev;
             let e = elastic(f_n, f_t);
-            *prev = (s, f_t, e, f_n > 0.0);
+            *prev = (s, f_t, e);
             let ds = s - ps;
-            let neighbours = if collective {
-                let k = self.sector[c];
-                self.sector_sum[k] / self.sector_size[k] as f64
-            } else {
-                0.0
-            };
-            let u = [-(f_t - pf), -(e - pe), neighbours];
-            let ws = w * ds;
-            let wu = u.map(|v| w * v);
+            let u = [-(f_t - pf), -(e - pe)];
+            let (ws, wu) = (w * ds, [w * u[0], w * u[1]]);
             for ((pu, ps), p) in d.psi_u.iter_mut().zip(&mut d.psi_s).zip(&dpsi) {
-                for (a, b) in pu.iter_mut().zip(&wu) {
-                    *a += p * b;
-                }
+                pu[0] += p * wu[0];
+                pu[1] += p * wu[1];
                 *ps += p * ws;
             }
-            for (i, a) in wu.iter().enumerate() {
-                for (j, b) in u.iter().enumerate() {
-                    d.uu[i][j] += a * b;
-                }
-                d.us[i] += a * ds;
-            }
+            d.uu[0] += wu[0] * u[0];
+            d.uu[1] += wu[0] * u[1];
+            d.uu[2] += wu[1] * u[1];
+            d.us[0] += wu[0] * ds;
+            d.us[1] += wu[1] * ds;
             d.ss += ws * ds;
             d.s_sum += ws;
         }
@@ -480,13 +321,12 @@ impl FitAccumulator {
             .zip(&self.drive)
             .map(|(ns, ds)| {
                 let normal = self.force_fit(&normal_solver, ns);
-                let (drive, [g, r, h], slip_residual_ss, clamped) = self.drive_fit(ds);
+                let (drive, compliance, slip_residual_ss, clamped) = self.drive_fit(ds);
                 ContactFit {
                     law: ContactLaw {
                         normal: normal.coefficients,
                         drive,
-                        compliance: [g, r],
-                        collective: h,
+                        compliance,
                     },
                     slip_residual_ss,
                     slip_spread_ss: (ds.ss - ds.s_sum * ds.s_sum / n).max(0.0),
@@ -522,10 +362,9 @@ impl FitAccumulator {
         }
     }
 
-    /// The drive, `[g, r, h]`, Σ residual², whether they were refitted (the free fit makes `g`
-    /// or `r` negative: first `r = 0`, then `g = r = 0`; `h` outside `[0, COLLECTIVE_MAX]`: the
-    /// same without it).
-    fn drive_fit(&self, d: &DriveSums) -> ([f64; DRIVE_FEATURES], [f64; 3], f64, bool) {
+    /// The drive, `[g, r]`, Σ residual², whether they were refitted (the free fit makes `g` or
+    /// `r` negative: first `r = 0`, then `g = r = 0`).
+    fn drive_fit(&self, d: &DriveSums) -> ([f64; DRIVE_FEATURES], [f64; 2], f64, bool) {
         let n = DRIVE_UNKNOWNS;
         let mut m = DMatrix::<f64>::zeros(n, n);
         let mut rhs = DVector::<f64>::zeros(n);
@@ -533,68 +372,41 @@ impl FitAccumulator {
             for j in 0..DRIVE_FEATURES {
                 m[(i, j)] = self.drive_gram[(i, j)];
             }
-            for j in 0..FORCE_COLUMNS {
+            for j in 0..2 {
                 m[(i, DRIVE_FEATURES + j)] = d.psi_u[i][j];
                 m[(DRIVE_FEATURES + j, i)] = d.psi_u[i][j];
             }
             rhs[i] = d.psi_s[i];
         }
-        for i in 0..FORCE_COLUMNS {
-            for j in 0..FORCE_COLUMNS {
-                m[(DRIVE_FEATURES + i, DRIVE_FEATURES + j)] = d.uu[i][j];
-            }
-            rhs[DRIVE_FEATURES + i] = d.us[i];
-        }
-        let (a, b, c) = (DRIVE_FEATURES, DRIVE_FEATURES + 1, DRIVE_FEATURES + 2);
+        let (a, b) = (DRIVE_FEATURES, DRIVE_FEATURES + 1);
+        m[(a, a)] = d.uu[0];
+        m[(a, b)] = d.uu[1];
+        m[(b, a)] = d.uu[1];
+        m[(b, b)] = d.uu[2];
+        rhs[a] = d.us[0];
+        rhs[b] = d.us[1];
         let residual = |beta: &DVector<f64>| {
             (d.ss - 2.0 * beta.dot(&rhs) + (beta.transpose() * &m * beta)[0]).max(0.0)
         };
-        let has_force = d.uu[0][0] > 0.0;
-        let has_collective = d.uu[2][2] > 0.0;
-        let mut candidates: Vec<(Vec<usize>, bool)> = Vec::new();
-        for with_h in [true, false] {
-            if with_h && !has_collective {
+        let all: Vec<usize> = (0..n).collect();
+        let g_only: Vec<usize> = (0..=DRIVE_FEATURES).collect();
+        let neither: Vec<usize> = (0..DRIVE_FEATURES).collect();
+        let has_force = d.uu[0] > 0.0;
+        let candidates: [&[usize]; 3] = [&all, &g_only, &neither];
+        for (k, idx) in candidates.iter().enumerate() {
+            if !has_force && k < 2 {
                 continue;
             }
-            for k in 0..3 {
-                let mut idx: Vec<usize> = (0..DRIVE_FEATURES).collect();
-                if k < 2 {
-                    idx.push(a);
-                }
-                if k < 1 {
-                    idx.push(b);
-                }
-                if with_h {
-                    idx.push(c);
-                }
-                if !has_force && k < 2 {
-                    continue;
-                }
-                candidates.push((idx, k > 0 || !with_h && has_collective));
-            }
-        }
-        let cap = collective_max();
-        for (idx, refitted) in &candidates {
-            let mut beta = solve_subset(&m, &rhs, idx);
-            if idx.contains(&c) && beta[c] > cap && clamp_collective() {
-                // h at its bound, the others refitted with it
-                let rest: Vec<usize> = idx.iter().copied().filter(|&i| i != c).collect();
-                let shifted = &rhs - m.column(c) * cap;
-                beta = solve_subset(&m, &shifted, &rest);
-                beta[c] = cap;
-            }
-            let (g, r, h) = (beta[a], beta[b], beta[c]);
-            let admissible = beta.iter().all(|v| v.is_finite())
-                && g >= 0.0
-                && r >= 0.0
-                && (0.0..=cap).contains(&h);
+            let beta = solve_subset(&m, &rhs, idx);
+            let (g, r) = (beta[a], beta[b]);
+            let admissible = beta.iter().all(|v| v.is_finite()) && g >= 0.0 && r >= 0.0;
             if admissible || idx.len() == DRIVE_FEATURES {
                 let mut drive = [0.0; DRIVE_FEATURES];
                 drive.copy_from_slice(&beta.as_slice()[..DRIVE_FEATURES]);
-                return (drive, [g, r, h], residual(&beta), *refitted && has_force);
+                return (drive, [g, r], residual(&beta), k > 0 && has_force);
             }
         }
-        ([0.0; DRIVE_FEATURES], [0.0; 3], d.ss, false)
+        ([0.0; DRIVE_FEATURES], [0.0; 2], d.ss, false)
     }
 }
 

@@ -326,30 +326,6 @@ pub(crate) fn force_features(x: f64, y: f64) -> [f64; FORCE_FEATURES] {
     [1.0, x, y, x * y, x * x, y * y]
 }
 
-/// The sector of every contact: its layer interface and one of `sectors` equal angular
-/// sectors round the strand (empty if `sectors` is 0).
-pub(crate) fn sector_ids(sites: &[ContactSite], sectors: usize) -> Vec<usize> {
-    if sectors == 0 {
-        return Vec::new();
-    }
-    sites
-        .iter()
-        .map(|s| {
-            let f = (s.theta_rad + std::f64::consts::PI) / (2.0 * std::f64::consts::PI);
-            let bin = ((f * sectors as f64).floor().max(0.0) as usize).min(sectors - 1);
-            s.interface * sectors + bin
-        })
-        .collect()
-}
-
-/// Sectors of the collective term of a new calibration (experiment: `MF_SECTORS`).
-pub(crate) fn default_sectors() -> usize {
-    std::env::var("MF_SECTORS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(0)
-}
-
 fn dot<const N: usize>(a: &[f64; N], b: &[f64; N]) -> f64 {
     a.iter().zip(b).map(|(p, q)| p * q).sum()
 }
@@ -365,10 +341,6 @@ pub struct ContactLaw {
     /// `[g, r]`: the compliance of the strand at the contact (m/N) and its stick ratio (the
     /// part of the strand's answer in proportion to the contact's elastic slip), both ≥ 0.
     pub compliance: [f64; 2],
-    /// `h`: the part of the mean plastic slip of the other contacts of its sector (layer
-    /// interface and angular position) that adds to the contact's drive, in `[0, 1)`.
-    #[serde(default)]
-    pub collective: f64,
 }
 
 impl ContactLaw {
@@ -522,9 +494,6 @@ pub struct ReducedStrand {
     pub scaling: LoadScaling,
     /// Where every contact sits, mesh contact order.
     pub sites: Vec<ContactSite>,
-    /// Angular sectors per layer interface of the collective term (0: none).
-    #[serde(default)]
-    pub sectors: usize,
     /// Fitted law of every contact, mesh contact order.
     pub laws: Vec<ContactLaw>,
     /// Monitor channels of the FE run (no values).

@@ -145,191 +145,6 @@ fn run_contact(
     ))
 }
 
-/// The contacts of one sector through the history together: each one's drive gets `h` times
-/// the mean plastic slip of the others since the start (fixed-point sweeps per sample).
-fn run_sector(
-    reduced: &ReducedStrand,
-    h: &Scaled,
-    members: &[usize],
-    slip_gate_m: f64,
-    monitored: &[bool],
-) -> Result<Vec<(usize, ContactRecord, Vec<ContactSample>)>, ReducedError> {
-    let n = members.len();
-    let stick_per_m = reduced.friction_coefficient / reduced.elastic_slip_m;
-    let gamma = reduced.elastic_slip_m;
-    let laws: Vec<_> = members.iter().map(|&c| &reduced.laws[c]).collect();
-    let mut accs = Vec::with_capacity(n);
-    for _ in 0..n {
-        accs.push(ContactCycleAccumulator::new(slip_gate_m).map_err(|e| {
-            ReducedError::InvalidSetting {
-                field: "slip_gate_m",
-                value: slip_gate_m,
-                reason: e.to_string(),
-            }
-        })?);
-    }
-    let mut cycles: Vec<Vec<SlipCycle>> = vec![Vec::new(); n];
-    let mut series: Vec<Vec<ContactSample>> = members
-        .iter()
-        .map(|&c| Vec::with_capacity(if monitored[c] { h.loads.len() } else { 0 }))
-        .collect();
-    let mut max_normal = vec![0.0_f64; n];
-    let (x0, y0) = h.initial.start;
-    let mut states: Vec<JenkinsState> = laws
-        .iter()
-        .map(|l| JenkinsState::unloaded(l.drive_m(x0, y0)))
-        .collect();
-    let mut total_q = 0.0;
-    let mut drive = vec![0.0; n];
-    let mut normal = vec![0.0; n];
-    let mut trial = states.clone();
-    let mut out = vec![(0.0, 0.0); n];
-    let per = 1.0 / n.max(1) as f64;
-    // convergence of the sector's total plastic slip: far below a picometre per contact
-    let tol = 1e-13 * n as f64;
-    let path = h
-        .initial
-        .path
-        .iter()
-        .map(|&(x, y)| (x, y, force_features(x, y), false))
-        .chain(
-            h.loads
-                .iter()
-                .zip(&h.features)
-                .map(|(&(x, y), f)| (x, y, *f, true)),
-        );
-    for (x, y, f, record) in path {
-        for (i, l) in laws.iter().enumerate() {
-            drive[i] = l.drive_m(x, y);
-            normal[i] = l.normal_force_n(&f);
-        }
-        // the sector's total plastic slip Q solves Q = Q₀ + Σ Δq_i(Q), each contact driven by
-        // d_i + h_i Q / n: increasing in Q with slope ≥ 1 − max h > 0, piecewise linear, so
-        // Newton's method on the active set, kept in a bracket, ends in a few evaluations
-        let mut evaluate = |q: f64, trial: &mut Vec<JenkinsState>, out: &mut Vec<(f64, f64)>| {
-            let (mut moved, mut slope) = (0.0, 0.0);
-            for i in 0..n {
-                let mut st = states[i];
-                out[i] = st.step(
-                    drive[i] + laws[i].collective * q * per,
-                    normal[i],
-                    laws[i].compliance_m_per_n(),
-                    laws[i].stick_ratio(),
-                    stick_per_m,
-                    gamma,
-                );
-                if normal[i] > 0.0 {
-                    let dq = st.plastic_slip_m - states[i].plastic_slip_m;
-                    moved += dq;
-                    if dq != 0.0 {
-                        slope += laws[i].collective * per;
-                    }
-                }
-                trial[i] = st;
-            }
-            (q - total_q - moved, 1.0 - slope)
-        };
-        let mut q = total_q;
-        let (mut g, mut slope) = evaluate(q, &mut trial, &mut out);
-        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
-        for _ in 0..60 {
-            if g.abs() <= tol {
-                break;
-            }
-            if g > 0.0 {
-                hi = q;
-            } else {
-                lo = q;
-            }
-            let mut next = q - g / slope.max(1.0 - super::fit::COLLECTIVE_MAX);
-            if !(next > lo && next < hi) {
-                next = 0.5 * (lo + hi);
-            }
-            q = next;
-            (g, slope) = evaluate(q, &mut trial, &mut out);
-        }
-        total_q = q;
-        states.copy_from_slice(&trial);
-        if !record {
-            continue;
-        }
-        for i in 0..n {
-            // the last sweep's outputs
-            let (slip, tangential) = out[i];
-            let sample = ContactSample {
-                slip_m: slip,
-                normal_force_n: normal[i],
-                tangential_force_n: tangential,
-            };
-            accs[i]
-                .push(sample, &mut cycles[i])
-                .map_err(|e| ReducedError::Calibration {
-                    reason: format!("contact {}: {e}", members[i]),
-                })?;
-            max_normal[i] = max_normal[i].max(normal[i]);
-            if monitored[members[i]] {
-                series[i].push(sample);
-            }
-        }
-    }
-    let mut results = Vec::with_capacity(n);
-    for (i, (acc, mut cyc)) in accs.into_iter().zip(cycles).enumerate() {
-        acc.finish(&mut cyc);
-        let site = &reduced.sites[members[i]];
-        results.push((
-            members[i],
-            ContactRecord {
-                interface: site.interface,
-                theta_rad: site.theta_rad,
-                z_m: site.z_m,
-                max_normal_force_n: max_normal[i],
-                cycles: cyc,
-            },
-            std::mem::take(&mut series[i]),
-        ));
-    }
-    Ok(results)
-}
-
-/// Every contact through the history: independently, or sector by sector with the collective
-/// term.
-fn run_all(
-    reduced: &ReducedStrand,
-    h: &Scaled,
-    slip_gate_m: f64,
-    monitored: &[bool],
-) -> Result<Vec<(ContactRecord, Vec<ContactSample>)>, ReducedError> {
-    if reduced.sectors == 0 {
-        return (0..reduced.laws.len())
-            .into_par_iter()
-            .map(|c| run_contact(reduced, h, c, slip_gate_m, monitored[c]))
-            .collect();
-    }
-    let ids = super::sector_ids(&reduced.sites, reduced.sectors);
-    let count = ids.iter().max().map_or(0, |m| m + 1);
-    let mut members: Vec<Vec<usize>> = vec![Vec::new(); count];
-    for (c, &k) in ids.iter().enumerate() {
-        members[k].push(c);
-    }
-    let parts: Vec<Vec<(usize, ContactRecord, Vec<ContactSample>)>> = members
-        .par_iter()
-        .map(|m| run_sector(reduced, h, m, slip_gate_m, monitored))
-        .collect::<Result<_, _>>()?;
-    let mut all: Vec<Option<(ContactRecord, Vec<ContactSample>)>> =
-        (0..reduced.laws.len()).map(|_| None).collect();
-    for (c, r, s) in parts.into_iter().flatten() {
-        all[c] = Some((r, s));
-    }
-    all.into_iter()
-        .enumerate()
-        .map(|(c, r)| {
-            r.ok_or_else(|| ReducedError::Calibration {
-                reason: format!("contact {c} in no sector"),
-            })
-        })
-        .collect()
-}
-
 /// A checked history in the scaled loads, with its force features and the initialisation's
 /// path to its first sample: what every contact runs through.
 struct Scaled {
@@ -367,11 +182,10 @@ pub fn contact_series(
     samples: &[LoadSample],
 ) -> Result<Vec<Vec<ContactSample>>, ReducedError> {
     let h = scaled(reduced, samples)?;
-    let all = vec![true; reduced.laws.len()];
-    Ok(run_all(reduced, &h, 0.0, &all)?
-        .into_iter()
-        .map(|r| r.1)
-        .collect())
+    (0..reduced.laws.len())
+        .into_par_iter()
+        .map(|c| run_contact(reduced, &h, c, 0.0, true).map(|r| r.1))
+        .collect()
 }
 
 /// Runs `samples` through `reduced` (module docs): the outputs of an FE history run, with
@@ -395,7 +209,10 @@ pub fn run_reduced(
         }
         m
     };
-    let results = run_all(reduced, &h, slip_gate_m, &monitored)?;
+    let results: Vec<(ContactRecord, Vec<ContactSample>)> = (0..reduced.laws.len())
+        .into_par_iter()
+        .map(|c| run_contact(reduced, &h, c, slip_gate_m, monitored[c]))
+        .collect::<Result<_, _>>()?;
     let mut monitors = MonitorSeries {
         time_s: samples.iter().map(|s| s.time_s).collect(),
         strain: samples.iter().map(|s| s.strain).collect(),

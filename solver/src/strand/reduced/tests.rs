@@ -7,7 +7,6 @@ use std::f64::consts::PI;
 use super::compare::{compare_records, InterfaceComparison};
 use super::design::DesignParams;
 use super::*;
-use crate::strand::history::monitors::ContactSite;
 use crate::strand::history::{
     run_history, HistoryError, HistoryObserver, HistoryProgress, NoObserver,
 };
@@ -103,7 +102,6 @@ fn a_load_outside_the_calibrated_range_is_refused_with_the_range() {
         range,
         scaling: LoadScaling::of(&range),
         sites: Vec::new(),
-        sectors: 0,
         laws: Vec::new(),
         channels: Vec::new(),
         element_fits: Vec::new(),
@@ -267,169 +265,5 @@ fn a_stopped_calibration_stops_every_chain_and_says_so() {
             ..
         }) => {}
         other => panic!("expected a stopped FE run, got {:?}", other.map(|_| ())),
-    }
-}
-
-/// A reduced strand of `laws` whose contacts all sit on interface 0 at the same angle (one
-/// sector), over strain [5e-4, 1.5e-3] and curvature [−0.02, 0.02] 1/m.
-fn one_sector(laws: Vec<ContactLaw>) -> ReducedStrand {
-    let range = LoadRange {
-        strain: [5e-4, 1.5e-3],
-        curvature_per_m: [-0.02, 0.02],
-    };
-    ReducedStrand {
-        format: FORMAT_VERSION,
-        model_key: String::new(),
-        friction_coefficient: 0.12,
-        elastic_slip_m: 1e-5,
-        initial_strain_fraction: 0.1,
-        range,
-        scaling: LoadScaling::of(&range),
-        sites: laws
-            .iter()
-            .enumerate()
-            .map(|(c, _)| ContactSite {
-                interface: 0,
-                theta_rad: 0.1,
-                z_m: 0.01 * c as f64,
-            })
-            .collect(),
-        sectors: 24,
-        laws,
-        channels: Vec::new(),
-        element_fits: Vec::new(),
-        calibration: CalibrationReport {
-            design_samples: 0,
-            fe_substeps: 0,
-            fe_iterations: 0,
-            fe_wall_time_s: 0.0,
-            chains: Vec::new(),
-            fits: Vec::new(),
-            replay: Vec::new(),
-        },
-    }
-}
-
-/// A law with drive `a y` (m), normal force `n` (N), compliance `g`, stick ratio `r` and
-/// collective coefficient `h`.
-fn law(a: f64, n: f64, g: f64, r: f64, h: f64) -> ContactLaw {
-    let mut drive = [0.0; fit::DRIVE_FEATURES];
-    for k in 0..fit::TENSION_KNOTS.len() {
-        drive[4 * k + 1] = a;
-    }
-    let mut normal = [0.0; FORCE_FEATURES];
-    normal[0] = n;
-    ContactLaw {
-        normal,
-        drive,
-        compliance: [g, r],
-        collective: h,
-    }
-}
-
-#[test]
-fn a_sector_that_slides_together_lengthens_its_loops_by_one_over_one_minus_h() {
-    // identical contacts of one sector in gross slip: each one's drive gains h times the
-    // sector's mean plastic slip, so once they slide, they slide 1 / (1 − h) times as far:
-    // loop range 2 γ_e + (Δd − 2 γ_e F) / (1 − h), F = 1 + g k + r
-    let (ge, n, g, r, a) = (1e-5, 500.0, 2e-8, 0.3, 40e-6);
-    let k = 0.12 / ge * n;
-    let samples: Vec<LoadSample> = (0..=400)
-        .map(|i| LoadSample {
-            time_s: 0.1 * i as f64,
-            strain: 1e-3,
-            curvature_per_m: 0.018 * (2.0 * PI * i as f64 / 100.0).sin(),
-        })
-        .collect();
-    let swing = 2.0 * a * 0.9;
-    for h in [0.0, 0.4, 0.85] {
-        let reduced = one_sector(vec![law(a, n, g, r, h); 3]);
-        let series = contact_series(&reduced, &samples).expect("runs");
-        let expected = 2.0 * ge + (swing - 2.0 * ge * (1.0 + g * k + r)) / (1.0 - h);
-        for s in &series {
-            let slips = s[100..].iter().map(|c| c.slip_m);
-            let range = slips.clone().fold(f64::MIN, f64::max) - slips.fold(f64::MAX, f64::min);
-            assert!(
-                (range - expected).abs() < 1e-9 * expected,
-                "h = {h}: {range} vs {expected}"
-            );
-            assert!(s
-                .iter()
-                .all(|c| c.tangential_force_n.abs() <= 0.12 * n * (1.0 + 1e-12)));
-        }
-    }
-}
-
-#[test]
-fn the_fit_recovers_the_laws_of_a_sector_from_its_own_response() {
-    // contacts of one sector with different laws, through loads that make them stick and
-    // slide in turn with a varying normal force: the structure equation holds exactly for
-    // every increment, so the fit returns g, r and h, and the drive up to its level
-    let truth = [
-        law(30e-6, 400.0, 1e-8, 0.2, 0.5),
-        law(22e-6, 600.0, 3e-8, 0.0, 0.3),
-        law(35e-6, 300.0, 5e-9, 0.4, 0.6),
-        law(28e-6, 500.0, 2e-8, 0.1, 0.4),
-    ];
-    let laws: Vec<ContactLaw> = truth
-        .iter()
-        .enumerate()
-        .map(|(c, l)| {
-            let mut l = *l;
-            // the normal force follows the tension
-            l.normal[1] = 0.3 * l.normal[0] * (1.0 + 0.2 * c as f64);
-            l
-        })
-        .collect();
-    let reduced = one_sector(laws.clone());
-    let samples: Vec<LoadSample> = (0..2000)
-        .map(|i| {
-            let t = i as f64;
-            LoadSample {
-                time_s: 0.1 * t,
-                strain: 1e-3 + 4e-4 * (t / 37.0).sin() * (t / 211.0).cos(),
-                curvature_per_m: 0.018 * (t / 23.0).sin() * (0.3 + 0.7 * (t / 97.0).sin().abs()),
-            }
-        })
-        .collect();
-    let series = contact_series(&reduced, &samples).expect("runs");
-    let stick = 0.12 / 1e-5;
-    let mut acc = fit::FitAccumulator::new(laws.len(), 0, stick)
-        .with_sectors(sector_ids(&reduced.sites, reduced.sectors));
-    let mut slid = 0;
-    for (i, s) in samples.iter().enumerate() {
-        let (x, y) = reduced.scaling.scaled(s.strain, s.curvature_per_m);
-        let contacts: Vec<(f64, f64, f64)> = series
-            .iter()
-            .map(|c| (c[i].slip_m, c[i].normal_force_n, c[i].tangential_force_n))
-            .collect();
-        slid += series
-            .iter()
-            .filter(|c| {
-                (c[i].tangential_force_n.abs() - 0.12 * c[i].normal_force_n).abs()
-                    < 1e-9 * c[i].normal_force_n
-            })
-            .count();
-        acc.add(x, y, 1.0, &contacts, &[]);
-    }
-    assert!(
-        slid > 400,
-        "the loads make the contacts slide ({slid} samples)"
-    );
-    for (fit, law) in acc.contact_fits().iter().zip(&laws) {
-        let [g, r] = fit.law.compliance;
-        assert!(
-            (g - law.compliance[0]).abs() < 1e-6 * 3e-8,
-            "g {g} vs {:?}",
-            law
-        );
-        assert!((r - law.compliance[1]).abs() < 1e-6, "r {r} vs {:?}", law);
-        assert!(
-            (fit.law.collective - law.collective).abs() < 1e-6,
-            "h {} vs {}",
-            fit.law.collective,
-            law.collective
-        );
-        assert!(fit.slip_residual_ss < 1e-10 * fit.slip_spread_ss);
     }
 }
