@@ -206,7 +206,7 @@ fn calibrate(args: &CalibrateArgs) -> anyhow::Result<()> {
     println!("interface  slip rms resid/spread  f_N rms resid/spread  refit  replay: max range  accumulated  cycles");
     for (f, r) in c.fits.iter().zip(&c.replay) {
         println!(
-            "{:>9}  {:>9.2e} / {:<9.2e}  {:>8.2e} / {:<9.2e}  {:>5}  {:>+15.1}%  {:>+10.1}%  {:>+6.1}%",
+            "{:>9}  {:>9.2e} / {:<9.2e}  {:>8.2e} / {:<9.2e}  {:>5}  {:>+16.1}%  {:>+10.1}%  {:>+5.1}%",
             f.interface,
             f.slip_rms_residual_m,
             f.slip_rms_m,
