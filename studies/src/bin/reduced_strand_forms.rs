@@ -155,11 +155,7 @@ fn record(
         samples: 0,
     };
     let t = std::time::Instant::now();
-    let from: usize = std::env::var("MF_RECORD_FROM")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(0);
-    for (k, samples) in chains.iter().enumerate().skip(from) {
+    for (k, samples) in chains.iter().enumerate() {
         let fe = run_history(model, samples, options, &mut recorder)?;
         if let Some(e) = recorder.error.take() {
             return Err(e.into());

@@ -92,20 +92,6 @@ pub(crate) const FORMAT_VERSION: u32 = 8;
 /// outside is still accepted (round-off of the tension-to-strain conversion).
 pub(crate) const RANGE_SLACK: f64 = 0.01;
 
-/// Experiment: the sector of every site (interface × `n` equal angles), empty if `n` is 0.
-pub(crate) fn sector_ids(sites: &[ContactSite], n: usize) -> Vec<usize> {
-    if n == 0 {
-        return Vec::new();
-    }
-    sites
-        .iter()
-        .map(|s| {
-            let t = (s.theta_rad + std::f64::consts::PI) / std::f64::consts::TAU;
-            s.interface * n + ((t * n as f64).floor() as usize).min(n - 1)
-        })
-        .collect()
-}
-
 /// Errors of the reduced strand response.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ReducedError {
@@ -355,10 +341,6 @@ pub struct ContactLaw {
     /// `[g, r]`: the compliance of the strand at the contact (m/N) and its stick ratio (the
     /// part of the strand's answer in proportion to the contact's elastic slip), both ≥ 0.
     pub compliance: [f64; 2],
-    /// Experiment `MF_STATE`: the coefficient `h` of `W = ∫ s_e dk` in the structure equation
-    /// `s + g f_T + r s_e + h W = d` (m/N).
-    #[serde(default)]
-    pub state: [f64; 2],
 }
 
 impl ContactLaw {
@@ -392,11 +374,6 @@ impl ContactLaw {
 pub(crate) struct JenkinsState {
     /// Irreversible slip `s_p` (m).
     pub plastic_slip_m: f64,
-    /// `W = ∫ s_e dk` (N), own and the sector's mean.
-    pub w_n: f64,
-    pub w_sector_n: f64,
-    /// Stick stiffness and elastic slip at the previous step (0 while open).
-    pub previous: (f64, f64),
 }
 
 impl JenkinsState {
@@ -404,9 +381,6 @@ impl JenkinsState {
     pub(crate) fn unloaded(drive_m: f64) -> Self {
         Self {
             plastic_slip_m: drive_m,
-            w_n: 0.0,
-            w_sector_n: 0.0,
-            previous: (0.0, 0.0),
         }
     }
 
@@ -422,36 +396,20 @@ impl JenkinsState {
         stick_ratio: f64,
         stick_per_m: f64,
         elastic_slip_m: f64,
-        state: [f64; 2],
-        sector_dw_n: f64,
     ) -> (f64, f64) {
-        self.w_sector_n += sector_dw_n;
         if normal_force_n <= 0.0 {
             // an open contact carries nothing and forgets its elastic slip, as the FE
             // element's history does: it closes again unloaded where it is
-            self.plastic_slip_m = drive_m - state[0] * self.w_n - state[1] * self.w_sector_n;
-            self.previous = (0.0, 0.0);
-            return (self.plastic_slip_m, 0.0);
+            self.plastic_slip_m = drive_m;
+            return (drive_m, 0.0);
         }
         let k = stick_per_m * normal_force_n;
-        let (pk, pe) = self.previous;
-        let dw = if pk > 0.0 { (k - pk) * pe } else { 0.0 };
         let factor = 1.0 + compliance_m_per_n * k + stick_ratio;
-        let stick_only = fit::state_stick_only();
-        let d_trial = drive_m - state[0] * (self.w_n + dw) - state[1] * self.w_sector_n;
-        let mut elastic = (d_trial - self.plastic_slip_m) / factor;
-        if elastic.abs() <= elastic_slip_m || !stick_only {
-            self.w_n += dw;
-        }
-        let d = drive_m - state[0] * self.w_n - state[1] * self.w_sector_n;
-        if stick_only && elastic.abs() > elastic_slip_m {
-            elastic = (d - self.plastic_slip_m) / factor;
-        }
+        let mut elastic = (drive_m - self.plastic_slip_m) / factor;
         if elastic.abs() > elastic_slip_m {
             elastic = elastic_slip_m.copysign(elastic);
-            self.plastic_slip_m = d - elastic * factor;
+            self.plastic_slip_m = drive_m - elastic * factor;
         }
-        self.previous = (k, elastic);
         (elastic + self.plastic_slip_m, k * elastic)
     }
 }
