@@ -203,10 +203,10 @@ fn calibrate(args: &CalibrateArgs) -> anyhow::Result<()> {
             chain.samples, chain.substeps, chain.iterations, chain.wall_time_s
         );
     }
-    println!("interface  slip rms resid/spread  f_N rms resid/spread  refit  replay: max range  accumulated  cycles");
+    println!("interface  slip rms resid/spread  f_N rms resid/spread  refit  replay: max range  accumulated  cycles  as range");
     for (f, r) in c.fits.iter().zip(&c.replay) {
         println!(
-            "{:>9}  {:>9.2e} / {:<9.2e}  {:>8.2e} / {:<9.2e}  {:>5}  {:>+16.1}%  {:>+10.1}%  {:>+5.1}%",
+            "{:>9}  {:>9.2e} / {:<9.2e}  {:>8.2e} / {:<9.2e}  {:>5}  {:>+16.1}%  {:>+10.1}%  {:>+5.1}%  {:>8}",
             f.interface,
             f.slip_rms_residual_m,
             f.slip_rms_m,
@@ -215,7 +215,8 @@ fn calibrate(args: &CalibrateArgs) -> anyhow::Result<()> {
             f.compliance_clamped,
             100.0 * r.max_slip_range_error,
             100.0 * r.accumulated_slip_error,
-            100.0 * r.cycles_error
+            100.0 * r.cycles_error,
+            r.cycles_as_range_label()
         );
     }
     if let Some(out) = &args.out {
