@@ -155,11 +155,7 @@ fn record(
         samples: 0,
     };
     let t = std::time::Instant::now();
-    let from: usize = std::env::var("MF_RECORD_FROM")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(0);
-    for (k, samples) in chains.iter().enumerate().skip(from) {
+    for (k, samples) in chains.iter().enumerate() {
         let fe = run_history(model, samples, options, &mut recorder)?;
         if let Some(e) = recorder.error.take() {
             return Err(e.into());
@@ -522,7 +518,6 @@ fn main() -> Result<(), Error> {
     let (mut path, mut parts) = (String::new(), 8usize);
     let (mut loads, mut held_out, mut positional) = (Vec::new(), Vec::new(), Vec::new());
     let mut write: Option<String> = None;
-    let mut transverse: Option<String> = None;
     let mut it = args[1..].iter();
     while let Some(a) = it.next() {
         let mut value = || it.next().cloned().ok_or(format!("{a} needs a value"));
@@ -543,7 +538,6 @@ fn main() -> Result<(), Error> {
                 held_out.push((load, value()?));
             }
             "--write" => write = Some(value()?),
-            "--transverse" => transverse = Some(value()?),
             _ => positional.push(a.clone()),
         }
     }
@@ -788,22 +782,6 @@ fn main() -> Result<(), Error> {
     }
     let mut reduced = fit_recorded(&model, range, &options, samples)?;
     reduced.model_key = key;
-    if let Some(path) = &transverse {
-        let t = fit_recorded(
-            &model,
-            range,
-            &options,
-            chains_of(read_recording(Path::new(path))?),
-        )?;
-        for f in &t.calibration.fits {
-            println!(
-                "transverse fit interface {}: slip rms residual / spread {:.3}",
-                f.interface,
-                f.slip_rms_residual_m / f.slip_rms_m.max(f64::MIN_POSITIVE)
-            );
-        }
-        reduced.transverse = Some(t.laws);
-    }
     for f in &reduced.calibration.fits {
         println!(
             "fit interface {}: slip rms residual / spread {:.3}",

@@ -85,31 +85,6 @@ pub(crate) fn contact_sample(
     };
     let b = model.mesh.contacts[c].nodes[1].0;
     let t2 = (state.rotations[b] * model.mesh.nodes[b].tangent).normalize();
-    // experiment MF_TRANSVERSE: 1 = the transverse components (along n × t2) in place of the
-    // along-wire ones; 2 = slip: status (1 slip, 0 stick), force: |f_T| signed as along
-    match std::env::var("MF_TRANSVERSE").ok().as_deref() {
-        Some("1") => {
-            let t = r.normal.cross(&t2).normalize();
-            return ContactSample {
-                slip_m: r.total_slip.dot(&t),
-                normal_force_n: r.normal_force_n,
-                tangential_force_n: r.tangential_force.dot(&t),
-            };
-        }
-        Some("2") => {
-            let along = r.tangential_force.dot(&t2);
-            return ContactSample {
-                slip_m: if r.status == crate::contact::element::ContactStatus::Slip {
-                    1.0
-                } else {
-                    0.0
-                },
-                normal_force_n: r.normal_force_n,
-                tangential_force_n: r.tangential_force.norm().copysign(along),
-            };
-        }
-        _ => {}
-    }
     ContactSample {
         slip_m: r.total_slip.dot(&t2),
         normal_force_n: r.normal_force_n,

@@ -79,8 +79,6 @@ struct Fitter<'a> {
     weights: &'a [f64],
     fit: FitAccumulator,
     buffer: Vec<(f64, f64, f64)>,
-    /// Experiment: a factor on every weight of the chain.
-    scale: f64,
 }
 
 impl Fitter<'_> {
@@ -96,8 +94,7 @@ impl Fitter<'_> {
             .weights
             .get(sample.time_s as usize)
             .copied()
-            .unwrap_or(1.0)
-            * self.scale;
+            .unwrap_or(1.0);
         self.fit.add(x, y, w, &self.buffer, elements);
     }
 }
@@ -171,20 +168,8 @@ impl Prepared {
         Fitter {
             scaling: self.scaling,
             weights: &self.weights[chain],
-            fit: FitAccumulator::new(self.sites.len(), self.element_channels, self.stick_per_m)
-                .with_sectors(super::sector_ids(&self.sites, super::fit::state_sectors())),
+            fit: FitAccumulator::new(self.sites.len(), self.element_channels, self.stick_per_m),
             buffer: Vec::with_capacity(self.sites.len()),
-            scale: {
-                let var = if chain >= 7 {
-                    "MF_INIT_SCALE"
-                } else {
-                    "MF_BASE_SCALE"
-                };
-                std::env::var(var)
-                    .ok()
-                    .and_then(|v| v.parse().ok())
-                    .unwrap_or(1.0)
-            },
         }
     }
 }
@@ -509,7 +494,6 @@ fn assemble(
         scaling: p.scaling,
         sites: p.sites.clone(),
         laws: fits.iter().map(|f| f.law).collect(),
-        transverse: None,
         channels: p
             .channels
             .iter()

@@ -167,21 +167,6 @@ pub(crate) fn design_chains(
         }
         chains.push(v);
     }
-    // experiment (`MF_INIT_PROBES`): at every probe curvature, a chain that starts there at the
-    // second tension level, so that its FE run reaches it along the FE initialisation's path
-    // (bent at a tenth of that tension, then tensioned), as a history run reaches its first
-    // sample, then probes there and at every higher level on the way up
-    if std::env::var("MF_INIT_PROBES").is_ok() {
-        for &yc in &params.probe_curvatures {
-            let mut v: Vertices = Vec::new();
-            for j in 1..levels {
-                let xj = tension_level(j, levels).max(x_stroke_floor);
-                v.push((xj, yc, 1.0));
-                push_probe(&mut v, (xj, yc), a, cycles, [xj + a, xj - a]);
-            }
-            chains.push(v);
-        }
-    }
     chains
 }
 

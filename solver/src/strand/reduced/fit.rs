@@ -111,68 +111,20 @@ pub(crate) fn drive_features(x: f64, y: f64) -> [f64; DRIVE_FEATURES] {
 
 /// Unknowns of the structure equation: the drive's coefficients, the compliance `g` and the
 /// stick ratio `r`.
-const DRIVE_UNKNOWNS: usize = DRIVE_FEATURES + FORCE_COLUMNS;
-
-/// Force columns: `−f_T`, `−s_e` and (experiment `MF_STATE`) `−W`, the integral of the
-/// stick stiffness's changes times the elastic slip, `ΔW = Δk s_e`.
-const FORCE_COLUMNS: usize = 4;
-
-pub(crate) fn state_term() -> bool {
-    static ON: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *ON.get_or_init(|| std::env::var("MF_STATE").is_ok())
-}
-
-/// `MF_STATE=stick`: the state column only on the steps where the contact sticks.
-pub(crate) fn state_stick_only() -> bool {
-    static ON: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *ON.get_or_init(|| {
-        std::env::var("MF_STATE").is_ok_and(|v| v == "stick")
-            || std::env::var("MF_STATE_FIX_STICK").is_ok()
-    })
-}
-
-/// Experiment `MF_STATE_SLID=1`: the fixed share applies only once the contact has slid
-/// (in the design's chain, or in the history after the initialisation's path).
-pub(crate) fn state_slid() -> bool {
-    static ON: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *ON.get_or_init(|| std::env::var("MF_STATE_SLID").is_ok())
-}
-
-/// Experiment `MF_STATE_FIX=c`: the compliance acts on `f_T − c W` (the state term of
-/// `g f_T` scaled by `1 − c`), `h = −c g` fixed, no free column.
-pub(crate) fn state_fix() -> Option<f64> {
-    static C: std::sync::OnceLock<Option<f64>> = std::sync::OnceLock::new();
-    *C.get_or_init(|| {
-        std::env::var("MF_STATE_FIX")
-            .ok()
-            .and_then(|v| v.parse().ok())
-    })
-}
-
-/// Experiment `MF_STATE_SECTORS=N`: the sectors (interface × N angles) whose mean `ΔW` is a
-/// fourth column (0: none).
-pub(crate) fn state_sectors() -> usize {
-    static N: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
-    *N.get_or_init(|| {
-        std::env::var("MF_STATE_SECTORS")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(0)
-    })
-}
+const DRIVE_UNKNOWNS: usize = DRIVE_FEATURES + 2;
 
 /// Sums of one contact's structure equation `s = ψ·d − g f_T − r s_e`, with the force columns
 /// `u = [−f_T, −s_e]`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct DriveSums {
     /// Σ ψ_i u_j.
-    psi_u: [[f64; FORCE_COLUMNS]; DRIVE_FEATURES],
-    /// Σ u_i u_j.
-    uu: [[f64; FORCE_COLUMNS]; FORCE_COLUMNS],
+    psi_u: [[f64; 2]; DRIVE_FEATURES],
+    /// Σ u_i u_j (00, 01, 11).
+    uu: [f64; 3],
     /// Σ ψ s.
     psi_s: [f64; DRIVE_FEATURES],
     /// Σ u s.
-    us: [f64; FORCE_COLUMNS],
+    us: [f64; 2],
     /// Σ s².
     ss: f64,
     /// Σ s.
@@ -182,14 +134,11 @@ struct DriveSums {
 impl DriveSums {
     fn merge(&mut self, o: &Self) {
         for (a, b) in self.psi_u.iter_mut().zip(&o.psi_u) {
-            for (p, q) in a.iter_mut().zip(b) {
-                *p += q;
-            }
+            a[0] += b[0];
+            a[1] += b[1];
         }
         for (a, b) in self.uu.iter_mut().zip(&o.uu) {
-            for (p, q) in a.iter_mut().zip(b) {
-                *p += q;
-            }
+            *a += b;
         }
         for (a, b) in self.psi_s.iter_mut().zip(&o.psi_s) {
             *a += b;
@@ -243,18 +192,10 @@ pub struct FitAccumulator {
     elements: Vec<ForceSums>,
     /// Drive features of the previous sample.
     previous_load: Option<[f64; DRIVE_FEATURES]>,
-    /// Every contact's (slip, tangential force, elastic slip, stick stiffness) at the previous
-    /// sample.
-    previous_contacts: Vec<(f64, f64, f64, f64)>,
-    /// Experiment `MF_STATE_SLID`: whether each contact has slid in this chain.
-    slid: Vec<bool>,
+    /// Every contact's (slip, tangential force, elastic slip) at the previous sample.
+    previous_contacts: Vec<(f64, f64, f64)>,
     /// `μ / γ_e` (1/m): the stick stiffness per unit normal force.
     stick_per_m: f64,
-    /// Sector of every contact (empty: none), contacts per sector, scratch.
-    sector: Vec<usize>,
-    sector_size: Vec<usize>,
-    sector_sum: Vec<f64>,
-    dw: Vec<f64>,
 }
 
 impl FitAccumulator {
@@ -271,26 +212,8 @@ impl FitAccumulator {
             elements: vec![ForceSums::default(); elements],
             previous_load: None,
             previous_contacts: Vec::new(),
-            slid: Vec::new(),
             stick_per_m,
-            sector: Vec::new(),
-            sector_size: Vec::new(),
-            sector_sum: Vec::new(),
-            dw: Vec::new(),
         }
-    }
-
-    /// The same sums with the sectors' mean `ΔW` as a fourth column.
-    pub fn with_sectors(mut self, sector: Vec<usize>) -> Self {
-        let count = sector.iter().max().map_or(0, |m| m + 1);
-        self.sector_size = vec![0; count];
-        for &k in &sector {
-            self.sector_size[k] += 1;
-        }
-        self.sector_sum = vec![0.0; count];
-        self.dw = vec![0.0; sector.len()];
-        self.sector = sector;
-        self
     }
 
     /// Samples consumed.
@@ -333,7 +256,7 @@ impl FitAccumulator {
         let Some(previous) = self.previous_load.replace(psi) else {
             self.previous_contacts = contacts
                 .iter()
-                .map(|c| (c.0, c.2, elastic(c.1, c.2), stick * c.1.max(0.0)))
+                .map(|c| (c.0, c.2, elastic(c.1, c.2)))
                 .collect();
             return;
         };
@@ -343,76 +266,27 @@ impl FitAccumulator {
         }
         let psi_v = SVector::<f64, DRIVE_FEATURES>::from_column_slice(&dpsi);
         self.drive_gram += w * psi_v * psi_v.transpose();
-        let sectors = !self.sector.is_empty() && self.sector.len() == contacts.len();
-        if sectors {
-            self.sector_sum.iter_mut().for_each(|v| *v = 0.0);
-            for (c, (&(_, f_n, _), prev)) in
-                contacts.iter().zip(&self.previous_contacts).enumerate()
-            {
-                let k = stick * f_n.max(0.0);
-                let dw = if k > 0.0 && prev.3 > 0.0 {
-                    (k - prev.3) * prev.2
-                } else {
-                    0.0
-                };
-                self.dw[c] = dw;
-                self.sector_sum[self.sector[c]] += dw;
-            }
-        }
-        for (c, ((&(s, f_n, f_t), d), prev)) in contacts
+        for ((&(s, f_n, f_t), d), prev) in contacts
             .iter()
             .zip(&mut self.drive)
             .zip(&mut self.previous_contacts)
-            .enumerate()
         {
-            let (ps, pf, pe, pk) = *prev;
+            let (ps, pf, pe) = *prev;
             let e = elastic(f_n, f_t);
-            let k = stick * f_n.max(0.0);
-            *prev = (s, f_t, e, k);
+            *prev = (s, f_t, e);
             let ds = s - ps;
-            let sliding = ((s - e) - (ps - pe)).abs() > 1e-9;
-            let dw = if (state_term() || state_fix().is_some())
-                && k > 0.0
-                && pk > 0.0
-                && !(state_stick_only() && sliding)
-            {
-                (k - pk) * pe
-            } else {
-                0.0
-            };
-            if self.slid.len() != contacts.len() {
-                self.slid = vec![false; contacts.len()];
-            }
-            let active = !state_slid() || self.slid[c];
-            if sliding {
-                self.slid[c] = true;
-            }
-            let (df, dw) = match state_fix() {
-                Some(cf) if active => ((f_t - pf) - cf * dw, 0.0),
-                Some(_) => (f_t - pf, 0.0),
-                None => (f_t - pf, dw),
-            };
-            let mean = if sectors {
-                let k = self.sector[c];
-                self.sector_sum[k] / self.sector_size[k] as f64
-            } else {
-                0.0
-            };
-            let u = [-df, -(e - pe), -dw, -mean];
-            let ws = w * ds;
-            let wu = u.map(|v| w * v);
+            let u = [-(f_t - pf), -(e - pe)];
+            let (ws, wu) = (w * ds, [w * u[0], w * u[1]]);
             for ((pu, ps), p) in d.psi_u.iter_mut().zip(&mut d.psi_s).zip(&dpsi) {
-                for (a, b) in pu.iter_mut().zip(&wu) {
-                    *a += p * b;
-                }
+                pu[0] += p * wu[0];
+                pu[1] += p * wu[1];
                 *ps += p * ws;
             }
-            for (i, a) in wu.iter().enumerate() {
-                for (j, b) in u.iter().enumerate() {
-                    d.uu[i][j] += a * b;
-                }
-                d.us[i] += a * ds;
-            }
+            d.uu[0] += wu[0] * u[0];
+            d.uu[1] += wu[0] * u[1];
+            d.uu[2] += wu[1] * u[1];
+            d.us[0] += wu[0] * ds;
+            d.us[1] += wu[1] * ds;
             d.ss += ws * ds;
             d.s_sum += ws;
         }
@@ -447,16 +321,12 @@ impl FitAccumulator {
             .zip(&self.drive)
             .map(|(ns, ds)| {
                 let normal = self.force_fit(&normal_solver, ns);
-                let (drive, [g, r, h, h2], slip_residual_ss, clamped) = self.drive_fit(ds);
+                let (drive, compliance, slip_residual_ss, clamped) = self.drive_fit(ds);
                 ContactFit {
                     law: ContactLaw {
                         normal: normal.coefficients,
                         drive,
-                        compliance: [g, r],
-                        state: match state_fix() {
-                            Some(cf) => [-cf * g, h2],
-                            None => [h, h2],
-                        },
+                        compliance,
                     },
                     slip_residual_ss,
                     slip_spread_ss: (ds.ss - ds.s_sum * ds.s_sum / n).max(0.0),
@@ -492,9 +362,9 @@ impl FitAccumulator {
         }
     }
 
-    /// The drive, `[g, r, h]`, Σ residual², whether they were refitted (the free fit makes `g`
-    /// or `r` negative: first `r = 0`, then `g = r = 0`).
-    fn drive_fit(&self, d: &DriveSums) -> ([f64; DRIVE_FEATURES], [f64; 4], f64, bool) {
+    /// The drive, `[g, r]`, Σ residual², whether they were refitted (the free fit makes `g` or
+    /// `r` negative: first `r = 0`, then `g = r = 0`).
+    fn drive_fit(&self, d: &DriveSums) -> ([f64; DRIVE_FEATURES], [f64; 2], f64, bool) {
         let n = DRIVE_UNKNOWNS;
         let mut m = DMatrix::<f64>::zeros(n, n);
         let mut rhs = DVector::<f64>::zeros(n);
@@ -502,66 +372,41 @@ impl FitAccumulator {
             for j in 0..DRIVE_FEATURES {
                 m[(i, j)] = self.drive_gram[(i, j)];
             }
-            for j in 0..FORCE_COLUMNS {
+            for j in 0..2 {
                 m[(i, DRIVE_FEATURES + j)] = d.psi_u[i][j];
                 m[(DRIVE_FEATURES + j, i)] = d.psi_u[i][j];
             }
             rhs[i] = d.psi_s[i];
         }
-        for i in 0..FORCE_COLUMNS {
-            for j in 0..FORCE_COLUMNS {
-                m[(DRIVE_FEATURES + i, DRIVE_FEATURES + j)] = d.uu[i][j];
-            }
-            rhs[DRIVE_FEATURES + i] = d.us[i];
-        }
-        let (a, b, c, e) = (
-            DRIVE_FEATURES,
-            DRIVE_FEATURES + 1,
-            DRIVE_FEATURES + 2,
-            DRIVE_FEATURES + 3,
-        );
+        let (a, b) = (DRIVE_FEATURES, DRIVE_FEATURES + 1);
+        m[(a, a)] = d.uu[0];
+        m[(a, b)] = d.uu[1];
+        m[(b, a)] = d.uu[1];
+        m[(b, b)] = d.uu[2];
+        rhs[a] = d.us[0];
+        rhs[b] = d.us[1];
         let residual = |beta: &DVector<f64>| {
             (d.ss - 2.0 * beta.dot(&rhs) + (beta.transpose() * &m * beta)[0]).max(0.0)
         };
-        let has_force = d.uu[0][0] > 0.0;
-        let has_state = d.uu[2][2] > 0.0;
-        let has_sector = d.uu[3][3] > 0.0;
-        let mut candidates: Vec<(Vec<usize>, bool)> = Vec::new();
-        for with_h in [true, false] {
-            if with_h && !has_state {
+        let all: Vec<usize> = (0..n).collect();
+        let g_only: Vec<usize> = (0..=DRIVE_FEATURES).collect();
+        let neither: Vec<usize> = (0..DRIVE_FEATURES).collect();
+        let has_force = d.uu[0] > 0.0;
+        let candidates: [&[usize]; 3] = [&all, &g_only, &neither];
+        for (k, idx) in candidates.iter().enumerate() {
+            if !has_force && k < 2 {
                 continue;
             }
-            for k in 0..3 {
-                if !has_force && k < 2 {
-                    continue;
-                }
-                let mut idx: Vec<usize> = (0..DRIVE_FEATURES).collect();
-                if k < 2 {
-                    idx.push(a);
-                }
-                if k < 1 {
-                    idx.push(b);
-                }
-                if with_h {
-                    idx.push(c);
-                }
-                if has_sector {
-                    idx.push(e);
-                }
-                candidates.push((idx, k > 0 && has_force));
-            }
-        }
-        for (idx, refitted) in &candidates {
             let beta = solve_subset(&m, &rhs, idx);
-            let (g, r, h, h2) = (beta[a], beta[b], beta[c], beta[e]);
+            let (g, r) = (beta[a], beta[b]);
             let admissible = beta.iter().all(|v| v.is_finite()) && g >= 0.0 && r >= 0.0;
-            if admissible || !idx.contains(&a) {
+            if admissible || idx.len() == DRIVE_FEATURES {
                 let mut drive = [0.0; DRIVE_FEATURES];
                 drive.copy_from_slice(&beta.as_slice()[..DRIVE_FEATURES]);
-                return (drive, [g, r, h, h2], residual(&beta), *refitted);
+                return (drive, [g, r], residual(&beta), k > 0 && has_force);
             }
         }
-        ([0.0; DRIVE_FEATURES], [0.0; 4], d.ss, false)
+        ([0.0; DRIVE_FEATURES], [0.0; 2], d.ss, false)
     }
 }
 
@@ -785,45 +630,6 @@ mod tests {
         for (j, k) in TENSION_KNOTS[1..].iter().enumerate() {
             assert_eq!(super::super::design::tension_level(j, levels), *k);
         }
-    }
-
-    #[test]
-    fn the_state_coefficient_is_recovered() {
-        // s = ψ·d − g f_T − r s_e − h W with W = Σ Δk s_e(previous): the increments of W are
-        // those of the tangential force at a fixed elastic slip, which only a normal force
-        // that moves with the loads while the contact holds an elastic slip makes
-        if !state_term() {
-            return;
-        }
-        let truth: Vec<f64> = (0..DRIVE_FEATURES)
-            .map(|i| 1e-6 * ((i as f64 * 0.9).sin() + 0.1))
-            .collect();
-        let (g, r, h) = (2e-8, 0.3, 5e-8);
-        let mut acc = FitAccumulator::new(1, 0, STICK);
-        let (mut w, mut previous) = (0.0, None::<(f64, f64)>);
-        for i in 0..400 {
-            let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.53).cos());
-            let f_n = 100.0 + 30.0 * x + 10.0 * y;
-            let k = STICK * f_n;
-            let s_e = 4e-6 * (i as f64 * 1.1).sin();
-            if let Some((pk, pe)) = previous {
-                w += (k - pk) * pe;
-            }
-            previous = Some((k, s_e));
-            let d: f64 = drive_features(x, y)
-                .iter()
-                .zip(&truth)
-                .map(|(p, q)| p * q)
-                .sum();
-            let f_t = k * s_e;
-            let s = d - g * f_t - r * s_e - h * w;
-            acc.add(x, y, 1.0, &[(s, f_n, f_t)], &[]);
-        }
-        let fit = acc.contact_fits()[0];
-        let rel = |p: f64, q: f64| (p - q).abs() / q.abs();
-        assert!(rel(fit.law.compliance[0], g) < 1e-5, "{:?}", fit.law);
-        assert!(rel(fit.law.compliance[1], r) < 1e-5, "{:?}", fit.law);
-        assert!(rel(fit.law.state[0], h) < 1e-5, "{:?}", fit.law);
     }
 
     #[test]

@@ -92,20 +92,6 @@ pub(crate) const FORMAT_VERSION: u32 = 8;
 /// outside is still accepted (round-off of the tension-to-strain conversion).
 pub(crate) const RANGE_SLACK: f64 = 0.01;
 
-/// Experiment: the sector of every site (interface × `n` equal angles), empty if `n` is 0.
-pub(crate) fn sector_ids(sites: &[ContactSite], n: usize) -> Vec<usize> {
-    if n == 0 {
-        return Vec::new();
-    }
-    sites
-        .iter()
-        .map(|s| {
-            let t = (s.theta_rad + std::f64::consts::PI) / std::f64::consts::TAU;
-            s.interface * n + ((t * n as f64).floor() as usize).min(n - 1)
-        })
-        .collect()
-}
-
 /// Errors of the reduced strand response.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ReducedError {
@@ -355,10 +341,6 @@ pub struct ContactLaw {
     /// `[g, r]`: the compliance of the strand at the contact (m/N) and its stick ratio (the
     /// part of the strand's answer in proportion to the contact's elastic slip), both ≥ 0.
     pub compliance: [f64; 2],
-    /// Experiment `MF_STATE`: the coefficient `h` of `W = ∫ s_e dk` in the structure equation
-    /// `s + g f_T + r s_e + h W = d` (m/N).
-    #[serde(default)]
-    pub state: [f64; 2],
 }
 
 impl ContactLaw {
@@ -392,14 +374,6 @@ impl ContactLaw {
 pub(crate) struct JenkinsState {
     /// Irreversible slip `s_p` (m).
     pub plastic_slip_m: f64,
-    /// `W = ∫ s_e dk` (N), own and the sector's mean.
-    pub w_n: f64,
-    pub w_sector_n: f64,
-    /// Stick stiffness and elastic slip at the previous step (0 while open).
-    pub previous: (f64, f64),
-    /// Experiment `MF_STATE_SLID`: slid since armed; armed after the initialisation's path.
-    pub slid: bool,
-    pub armed: bool,
 }
 
 impl JenkinsState {
@@ -407,11 +381,6 @@ impl JenkinsState {
     pub(crate) fn unloaded(drive_m: f64) -> Self {
         Self {
             plastic_slip_m: drive_m,
-            w_n: 0.0,
-            w_sector_n: 0.0,
-            previous: (0.0, 0.0),
-            slid: false,
-            armed: false,
         }
     }
 
@@ -427,43 +396,20 @@ impl JenkinsState {
         stick_ratio: f64,
         stick_per_m: f64,
         elastic_slip_m: f64,
-        state: [f64; 2],
-        sector_dw_n: f64,
     ) -> (f64, f64) {
-        self.w_sector_n += sector_dw_n;
         if normal_force_n <= 0.0 {
             // an open contact carries nothing and forgets its elastic slip, as the FE
             // element's history does: it closes again unloaded where it is
-            self.plastic_slip_m = drive_m - state[0] * self.w_n - state[1] * self.w_sector_n;
-            self.previous = (0.0, 0.0);
-            return (self.plastic_slip_m, 0.0);
+            self.plastic_slip_m = drive_m;
+            return (drive_m, 0.0);
         }
         let k = stick_per_m * normal_force_n;
-        let (pk, pe) = self.previous;
-        let dw = if pk > 0.0 && (!fit::state_slid() || self.slid) {
-            (k - pk) * pe
-        } else {
-            0.0
-        };
         let factor = 1.0 + compliance_m_per_n * k + stick_ratio;
-        let stick_only = fit::state_stick_only();
-        let d_trial = drive_m - state[0] * (self.w_n + dw) - state[1] * self.w_sector_n;
-        let mut elastic = (d_trial - self.plastic_slip_m) / factor;
-        if elastic.abs() <= elastic_slip_m || !stick_only {
-            self.w_n += dw;
-        }
-        let d = drive_m - state[0] * self.w_n - state[1] * self.w_sector_n;
-        if stick_only && elastic.abs() > elastic_slip_m {
-            elastic = (d - self.plastic_slip_m) / factor;
-        }
+        let mut elastic = (drive_m - self.plastic_slip_m) / factor;
         if elastic.abs() > elastic_slip_m {
             elastic = elastic_slip_m.copysign(elastic);
-            self.plastic_slip_m = d - elastic * factor;
-            if self.armed {
-                self.slid = true;
-            }
+            self.plastic_slip_m = drive_m - elastic * factor;
         }
-        self.previous = (k, elastic);
         (elastic + self.plastic_slip_m, k * elastic)
     }
 }
@@ -557,72 +503,6 @@ pub struct ReducedStrand {
     pub element_fits: Vec<[f64; FORCE_FEATURES]>,
     /// How the calibration went.
     pub calibration: CalibrationReport,
-    /// Experiment: the laws of the transverse component (along n × t2) of every contact.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub transverse: Option<Vec<ContactLaw>>,
-}
-
-/// Experiment: a Jenkins element in the contact's tangent plane, along the outer wire (0) and
-/// across it (1), each component with its own structure equation `s + g f + r s_e = d`, the
-/// friction limit on the magnitude `|s_e| ≤ γ_e` (associated flow).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Jenkins2 {
-    pub plastic_m: [f64; 2],
-}
-
-impl Jenkins2 {
-    pub(crate) fn unloaded(drive_m: [f64; 2]) -> Self {
-        Self { plastic_m: drive_m }
-    }
-
-    /// One step: (along slip, along force).
-    pub(crate) fn step(
-        &mut self,
-        drive_m: [f64; 2],
-        normal_force_n: f64,
-        compliance: [[f64; 2]; 2],
-        stick_per_m: f64,
-        elastic_slip_m: f64,
-    ) -> (f64, f64) {
-        if normal_force_n <= 0.0 {
-            self.plastic_m = drive_m;
-            return (drive_m[0], 0.0);
-        }
-        let k = stick_per_m * normal_force_n;
-        let f = [
-            1.0 + compliance[0][0] * k + compliance[0][1],
-            1.0 + compliance[1][0] * k + compliance[1][1],
-        ];
-        let e = [
-            (drive_m[0] - self.plastic_m[0]) / f[0],
-            (drive_m[1] - self.plastic_m[1]) / f[1],
-        ];
-        let g2 = elastic_slip_m * elastic_slip_m;
-        let mut se = e;
-        if e[0] * e[0] + e[1] * e[1] > g2 {
-            // |s_e(λ)|² = Σ (e_c / (1 + λ / (γ F_c)))² = γ², decreasing and convex in λ:
-            // Newton from λ = 0 converges from the left
-            let mut lambda = 0.0_f64;
-            for _ in 0..60 {
-                let mut phi = -g2;
-                let mut dphi = 0.0;
-                for c in 0..2 {
-                    let a = 1.0 + lambda / (elastic_slip_m * f[c]);
-                    phi += e[c] * e[c] / (a * a);
-                    dphi += -2.0 * e[c] * e[c] / (a * a * a) / (elastic_slip_m * f[c]);
-                }
-                if phi.abs() <= 1e-12 * g2 || dphi == 0.0 {
-                    break;
-                }
-                lambda -= phi / dphi;
-            }
-            for c in 0..2 {
-                se[c] = e[c] / (1.0 + lambda / (elastic_slip_m * f[c]));
-                self.plastic_m[c] = drive_m[c] - f[c] * se[c];
-            }
-        }
-        (se[0] + self.plastic_m[0], k * se[0])
-    }
 }
 
 impl ReducedStrand {

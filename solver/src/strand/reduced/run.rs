@@ -97,58 +97,6 @@ fn run_contact(
     let mut cycles: Vec<SlipCycle> = Vec::new();
     let mut series = Vec::with_capacity(if keep_series { loads.len() } else { 0 });
     let mut max_normal = 0.0_f64;
-    if let Some(tl) = &reduced.transverse {
-        let tl = &tl[c];
-        let comp = [
-            [law.compliance_m_per_n(), law.stick_ratio()],
-            [tl.compliance_m_per_n(), tl.stick_ratio()],
-        ];
-        let drives = |x: f64, y: f64| [law.drive_m(x, y), tl.drive_m(x, y)];
-        let mut st = super::Jenkins2::unloaded(drives(initial.start.0, initial.start.1));
-        for &(x, y) in &initial.path {
-            st.step(
-                drives(x, y),
-                law.normal_force_n(&force_features(x, y)),
-                comp,
-                stick_per_m,
-                reduced.elastic_slip_m,
-            );
-        }
-        for (&(x, y), f) in loads.iter().zip(features) {
-            let normal = law.normal_force_n(f);
-            let (slip, tangential) = st.step(
-                drives(x, y),
-                normal,
-                comp,
-                stick_per_m,
-                reduced.elastic_slip_m,
-            );
-            let sample = ContactSample {
-                slip_m: slip,
-                normal_force_n: normal,
-                tangential_force_n: tangential,
-            };
-            acc.push(sample, &mut cycles)
-                .map_err(|e| ReducedError::Calibration {
-                    reason: format!("contact {c}: {e}"),
-                })?;
-            max_normal = max_normal.max(normal);
-            if keep_series {
-                series.push(sample);
-            }
-        }
-        acc.finish(&mut cycles);
-        return Ok((
-            ContactRecord {
-                interface: site.interface,
-                theta_rad: site.theta_rad,
-                z_m: site.z_m,
-                max_normal_force_n: max_normal,
-                cycles,
-            },
-            series,
-        ));
-    }
     let mut state = JenkinsState::unloaded(law.drive_m(initial.start.0, initial.start.1));
     for &(x, y) in &initial.path {
         state.step(
@@ -158,11 +106,8 @@ fn run_contact(
             law.stick_ratio(),
             stick_per_m,
             reduced.elastic_slip_m,
-            law.state,
-            0.0,
         );
     }
-    state.armed = true;
     for (&(x, y), f) in loads.iter().zip(features) {
         let normal = law.normal_force_n(f);
         let (slip, tangential) = state.step(
@@ -172,8 +117,6 @@ fn run_contact(
             law.stick_ratio(),
             stick_per_m,
             reduced.elastic_slip_m,
-            law.state,
-            0.0,
         );
         let sample = ContactSample {
             slip_m: slip,
@@ -200,148 +143,6 @@ fn run_contact(
         },
         series,
     ))
-}
-
-/// Experiment `MF_STATE_SECTORS`: the contacts of one sector stepped together, sample by
-/// sample, each told its sector's mean `ΔW`.
-fn run_sector(
-    reduced: &ReducedStrand,
-    h: &Scaled,
-    members: &[usize],
-    slip_gate_m: f64,
-    keep: &[bool],
-) -> Result<Vec<(usize, ContactRecord, Vec<ContactSample>)>, ReducedError> {
-    let stick_per_m = reduced.friction_coefficient / reduced.elastic_slip_m;
-    let ge = reduced.elastic_slip_m;
-    let n = members.len().max(1) as f64;
-    let mut states: Vec<JenkinsState> = members
-        .iter()
-        .map(|&c| {
-            JenkinsState::unloaded(reduced.laws[c].drive_m(h.initial.start.0, h.initial.start.1))
-        })
-        .collect();
-    let mut accs = Vec::with_capacity(members.len());
-    for _ in members {
-        accs.push(ContactCycleAccumulator::new(slip_gate_m).map_err(|e| {
-            ReducedError::InvalidSetting {
-                field: "slip_gate_m",
-                value: slip_gate_m,
-                reason: e.to_string(),
-            }
-        })?);
-    }
-    let mut cycles: Vec<Vec<SlipCycle>> = vec![Vec::new(); members.len()];
-    let mut series: Vec<Vec<ContactSample>> = vec![Vec::new(); members.len()];
-    let mut max_normal = vec![0.0_f64; members.len()];
-    let mut normals = vec![0.0; members.len()];
-    let mut step_all = |x: f64, y: f64, f: &[f64; FORCE_FEATURES], states: &mut [JenkinsState]| {
-        let mut sum = 0.0;
-        for ((&c, st), nf) in members.iter().zip(states.iter()).zip(normals.iter_mut()) {
-            *nf = reduced.laws[c].normal_force_n(f);
-            let k = stick_per_m * *nf;
-            let (pk, pe) = st.previous;
-            if k > 0.0 && pk > 0.0 {
-                sum += (k - pk) * pe;
-            }
-        }
-        let mean = sum / n;
-        let mut out = Vec::with_capacity(members.len());
-        for ((&c, st), &nf) in members.iter().zip(states.iter_mut()).zip(normals.iter()) {
-            let law = &reduced.laws[c];
-            out.push((
-                st.step(
-                    law.drive_m(x, y),
-                    nf,
-                    law.compliance_m_per_n(),
-                    law.stick_ratio(),
-                    stick_per_m,
-                    ge,
-                    law.state,
-                    mean,
-                ),
-                nf,
-            ));
-        }
-        out
-    };
-    for &(x, y) in &h.initial.path {
-        step_all(x, y, &force_features(x, y), &mut states);
-    }
-    for (&(x, y), f) in h.loads.iter().zip(&h.features) {
-        let out = step_all(x, y, f, &mut states);
-        for (m, ((slip, tangential), normal)) in out.into_iter().enumerate() {
-            let sample = ContactSample {
-                slip_m: slip,
-                normal_force_n: normal,
-                tangential_force_n: tangential,
-            };
-            accs[m]
-                .push(sample, &mut cycles[m])
-                .map_err(|e| ReducedError::Calibration {
-                    reason: format!("contact {}: {e}", members[m]),
-                })?;
-            max_normal[m] = max_normal[m].max(normal);
-            if keep[members[m]] {
-                series[m].push(sample);
-            }
-        }
-    }
-    let mut result = Vec::with_capacity(members.len());
-    for (m, (acc, mut cyc)) in accs.into_iter().zip(cycles).enumerate() {
-        acc.finish(&mut cyc);
-        let c = members[m];
-        let site = &reduced.sites[c];
-        result.push((
-            c,
-            ContactRecord {
-                interface: site.interface,
-                theta_rad: site.theta_rad,
-                z_m: site.z_m,
-                max_normal_force_n: max_normal[m],
-                cycles: cyc,
-            },
-            std::mem::take(&mut series[m]),
-        ));
-    }
-    Ok(result)
-}
-
-/// Every contact through the history, by sectors when the experiment is on.
-fn run_all(
-    reduced: &ReducedStrand,
-    h: &Scaled,
-    slip_gate_m: f64,
-    keep: &[bool],
-) -> Result<Vec<(ContactRecord, Vec<ContactSample>)>, ReducedError> {
-    let n = super::fit::state_sectors();
-    if n == 0 {
-        return (0..reduced.laws.len())
-            .into_par_iter()
-            .map(|c| run_contact(reduced, h, c, slip_gate_m, keep[c]))
-            .collect();
-    }
-    let ids = super::sector_ids(&reduced.sites, n);
-    let count = ids.iter().max().map_or(0, |m| m + 1);
-    let mut groups: Vec<Vec<usize>> = vec![Vec::new(); count];
-    for (c, &k) in ids.iter().enumerate() {
-        groups[k].push(c);
-    }
-    let parts: Vec<Vec<(usize, ContactRecord, Vec<ContactSample>)>> = groups
-        .par_iter()
-        .map(|g| run_sector(reduced, h, g, slip_gate_m, keep))
-        .collect::<Result<_, _>>()?;
-    let mut out: Vec<Option<(ContactRecord, Vec<ContactSample>)>> =
-        (0..reduced.laws.len()).map(|_| None).collect();
-    for (c, r, s) in parts.into_iter().flatten() {
-        out[c] = Some((r, s));
-    }
-    out.into_iter()
-        .map(|o| {
-            o.ok_or_else(|| ReducedError::Calibration {
-                reason: "a contact without a sector".into(),
-            })
-        })
-        .collect()
 }
 
 /// A checked history in the scaled loads, with its force features and the initialisation's
@@ -381,11 +182,10 @@ pub fn contact_series(
     samples: &[LoadSample],
 ) -> Result<Vec<Vec<ContactSample>>, ReducedError> {
     let h = scaled(reduced, samples)?;
-    let keep = vec![true; reduced.laws.len()];
-    Ok(run_all(reduced, &h, 0.0, &keep)?
-        .into_iter()
-        .map(|r| r.1)
-        .collect())
+    (0..reduced.laws.len())
+        .into_par_iter()
+        .map(|c| run_contact(reduced, &h, c, 0.0, true).map(|r| r.1))
+        .collect()
 }
 
 /// Runs `samples` through `reduced` (module docs): the outputs of an FE history run, with
@@ -409,7 +209,10 @@ pub fn run_reduced(
         }
         m
     };
-    let results = run_all(reduced, &h, slip_gate_m, &monitored)?;
+    let results: Vec<(ContactRecord, Vec<ContactSample>)> = (0..reduced.laws.len())
+        .into_par_iter()
+        .map(|c| run_contact(reduced, &h, c, slip_gate_m, monitored[c]))
+        .collect::<Result<_, _>>()?;
     let mut monitors = MonitorSeries {
         time_s: samples.iter().map(|s| s.time_s).collect(),
         strain: samples.iter().map(|s| s.strain).collect(),

@@ -30,7 +30,7 @@ fn a_jenkins_element_follows_its_closed_form_loops() {
         let mut hi = f64::NEG_INFINITY;
         for i in 0..=400 {
             let drive = d * (2.0 * PI * i as f64 / 100.0).sin();
-            let (s, f) = st.step(drive, n, g, r, mu_over_ge, ge, [0.0; 2], 0.0);
+            let (s, f) = st.step(drive, n, g, r, mu_over_ge, ge);
             assert!(f.abs() <= 0.12 * n * (1.0 + 1e-12));
             lo = lo.min(s);
             hi = hi.max(s);
@@ -43,7 +43,7 @@ fn a_jenkins_element_follows_its_closed_form_loops() {
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for i in 0..=400 {
             let drive = d * (2.0 * PI * i as f64 / 100.0).sin();
-            let (s, f) = st.step(drive, n, g, r, mu_over_ge, ge, [0.0; 2], 0.0);
+            let (s, f) = st.step(drive, n, g, r, mu_over_ge, ge);
             if i >= 100 {
                 lo = lo.min(s);
                 hi = hi.max(s);
@@ -94,7 +94,6 @@ fn a_load_outside_the_calibrated_range_is_refused_with_the_range() {
         curvature_per_m: [-0.02, 0.03],
     };
     let reduced = ReducedStrand {
-        transverse: None,
         format: FORMAT_VERSION,
         model_key: String::new(),
         friction_coefficient: 0.12,
