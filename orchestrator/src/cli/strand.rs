@@ -203,6 +203,21 @@ fn calibrate(args: &CalibrateArgs) -> anyhow::Result<()> {
             chain.samples, chain.substeps, chain.iterations, chain.wall_time_s
         );
     }
+    if let Some(m) = &reduced.modes {
+        println!(
+            "collective modes of the interfaces, measured in {:.1} s: own amplification, \
+             uniform / bending, per interface",
+            c.modes_wall_time_s
+        );
+        for (x, table) in m.knots.iter().zip(&m.amplification) {
+            let own: Vec<String> = table
+                .iter()
+                .enumerate()
+                .map(|(i, row)| format!("{:.2}/{:.2}", row[i][0], row[i][1]))
+                .collect();
+            println!("  scaled tension {x:+.2}: {}", own.join("  "));
+        }
+    }
     println!("interface  slip rms resid/spread  f_N rms resid/spread  refit  replay: max range  accumulated  cycles  as range");
     for (f, r) in c.fits.iter().zip(&c.replay) {
         println!(

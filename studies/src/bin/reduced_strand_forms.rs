@@ -46,15 +46,15 @@ use moorfret_solver::fretting::{ContactRecord, ContactSample};
 use moorfret_solver::strand::history::monitors::ContactSite;
 use moorfret_solver::strand::history::stiffness::{samples_from_tension, SlackTension};
 use moorfret_solver::strand::history::{
-    checkpoint::HistoryCheckpoint, run_history, HistoryObserver, HistoryOptions, HistoryProgress,
-    LoadSample,
+    checkpoint::HistoryCheckpoint, run_history, run_history_from, HistoryObserver, HistoryOptions,
+    HistoryProgress, LoadSample,
 };
 use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::profiles_from_json;
 use moorfret_solver::strand::reduced::compare::compare_records;
 use moorfret_solver::strand::reduced::{
     calibration_design, contact_series, fit_recorded, model_key, run_reduced, CalibrationOptions,
-    LoadRange, RecordedSample, ReducedStrand,
+    LoadRange, ModeCoupling, RecordedSample, ReducedStrand,
 };
 use moorfret_studies::load_file;
 
@@ -508,6 +508,274 @@ fn probe_recorded(
     Ok(())
 }
 
+/// Captures a run's checkpoints and the contacts of its last sample.
+#[derive(Default)]
+struct Capture {
+    checkpoint: Option<HistoryCheckpoint>,
+    last: Vec<ContactSample>,
+}
+
+impl HistoryObserver for Capture {
+    fn progress(&mut self, _progress: &HistoryProgress) {}
+
+    fn checkpoint(&mut self, checkpoint: &HistoryCheckpoint) {
+        self.checkpoint = Some(checkpoint.clone());
+    }
+
+    fn sample(&mut self, _sample: &LoadSample, contacts: &[ContactSample], _elements: &[f64]) {
+        self.last = contacts.to_vec();
+    }
+
+    fn should_stop(&mut self) -> bool {
+        false
+    }
+}
+
+/// The contacts' answer to a plastic slip `delta` imposed at one contact (or at every contact
+/// of its interface within `sector_rad` of its angle), along the outer wire, at a load point
+/// reached along the FE initialisation's path: the columns of the influence matrix of the
+/// contacts' irreversible slips on their slips, measured on the FE model.
+///
+/// The FE state is checkpointed at a load a hair away from the point, then solved back to the
+/// point twice from the checkpoint: as it is (the baseline) and with the chosen contacts'
+/// elastic gaps shortened by `delta` along the outer wire (their anchors moved as a slide of
+/// `delta` would move them). The difference of the two solutions is the answer.
+#[allow(clippy::too_many_arguments)]
+fn couple(
+    model: &StrandModel,
+    scaling: &moorfret_solver::strand::reduced::LoadScaling,
+    point: (f64, f64),
+    contacts: &[usize],
+    delta: f64,
+    sector_rad: f64,
+    pattern: usize,
+    reduced: Option<&ReducedStrand>,
+    mut csv: Option<&mut std::fs::File>,
+) -> Result<(), Error> {
+    let load = |t: f64, x: f64, y: f64| {
+        let (strain, curvature_per_m) = scaling.load(x, y);
+        LoadSample {
+            time_s: t,
+            strain,
+            curvature_per_m,
+        }
+    };
+    let (x, y) = point;
+    let samples = [
+        load(0.0, x, y),
+        load(1.0, x + 1e-3, y + 1e-3),
+        load(2.0, x, y),
+    ];
+    let options = HistoryOptions {
+        checkpoint_interval_segments: 1,
+        ..HistoryOptions::default()
+    };
+    let t0 = std::time::Instant::now();
+    let mut capture = Capture::default();
+    run_history(model, &samples, &options, &mut capture)?;
+    let checkpoint = capture.checkpoint.take().ok_or("no checkpoint")?;
+    let base = capture.last.clone();
+    let sites = moorfret_solver::strand::history::monitors::contact_sites(model);
+    let mu = model.strand.friction_coefficient;
+    let gamma = 1e-5;
+    println!(
+        "point x {x:.3} y {y:.3} (strain {:.4e}, curvature {:.4e} 1/m): {:.1} s",
+        samples[0].strain,
+        samples[0].curvature_per_m,
+        t0.elapsed().as_secs_f64()
+    );
+    println!(
+        "contact interface theta f_N f_T s_e/gamma perturbed self_ds/delta implied(gk+r) \
+         law(gk+r) same_sector_sum other_same_interface_sum inner_interface_sum \
+         outer_interface_sum largest_other(contact,ds/delta) count>0.05self"
+    );
+    let angle = |a: f64, b: f64| {
+        let d = (a - b).rem_euclid(std::f64::consts::TAU);
+        d.min(std::f64::consts::TAU - d)
+    };
+    for &j in contacts {
+        let site = sites.get(j).ok_or("contact index beyond the model")?;
+        // the contacts perturbed and the share of `delta` each gets: `sector_rad` > 0, every
+        // contact of the interface within that angle; < 0, the whole interface with the
+        // pattern `pattern` (0: uniform, 1: cos θ, 2: sin θ)
+        let weight = |c: usize| match pattern {
+            1 => sites[c].theta_rad.cos(),
+            2 => sites[c].theta_rad.sin(),
+            // random signs (a fixed hash of the contact): the projection on this pattern is the
+            // interface's mean answer of a contact to its own irreversible slip
+            3 => {
+                if (c as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 63 == 0 {
+                    1.0
+                } else {
+                    -1.0
+                }
+            }
+            _ => 1.0,
+        };
+        let perturbed: Vec<(usize, f64)> = if sector_rad != 0.0 {
+            (0..sites.len())
+                .filter(|&c| {
+                    sites[c].interface == site.interface
+                        && (sector_rad < 0.0
+                            || angle(sites[c].theta_rad, site.theta_rad) <= sector_rad)
+                })
+                .map(|c| (c, weight(c)))
+                .collect()
+        } else {
+            vec![(j, 1.0)]
+        };
+        let mut cp = checkpoint.clone();
+        for &(c, w) in &perturbed {
+            cp.histories[c].elastic_gap_m[1] -= w * delta;
+        }
+        let mut run = Capture::default();
+        run_history_from(model, &samples, &options, Some(&cp), &mut run)?;
+        let ds: Vec<f64> = run
+            .last
+            .iter()
+            .zip(&base)
+            .map(|(a, b)| (a.slip_m - b.slip_m) / delta)
+            .collect();
+        if let Some(out) = csv.as_mut() {
+            writeln!(
+                out,
+                "{x},{y},{j},{},{pattern},{}",
+                sector_rad,
+                ds.iter()
+                    .map(|v| format!("{v:.6e}"))
+                    .collect::<Vec<_>>()
+                    .join(",")
+            )?;
+        }
+        let b = &base[j];
+        let k = mu * b.normal_force_n / gamma;
+        let se = if k > 0.0 {
+            b.tangential_force_n / k
+        } else {
+            0.0
+        };
+        let a = ds[j];
+        let law = reduced.map_or(f64::NAN, |r| {
+            let l = &r.laws[j];
+            let (xs, ys) = r
+                .scaling
+                .scaled(samples[0].strain, samples[0].curvature_per_m);
+            let fnl = l.normal_force_n(&[1.0, xs, ys, xs * ys, xs * xs, ys * ys]);
+            l.compliance[0] * mu * fnl / gamma + l.compliance[1]
+        });
+        let (mut sector, mut same, mut inner, mut outer) = (0.0, 0.0, 0.0, 0.0);
+        let (mut largest, mut count) = ((0usize, 0.0_f64), 0usize);
+        for (c, (&d, s)) in ds.iter().zip(&sites).enumerate() {
+            if c == j {
+                continue;
+            }
+            if d.abs() > 0.05 * a.abs() {
+                count += 1;
+            }
+            if d.abs() > largest.1.abs() {
+                largest = (c, d);
+            }
+            if s.interface == site.interface {
+                if angle(s.theta_rad, site.theta_rad) <= 0.13 {
+                    sector += d;
+                } else {
+                    same += d;
+                }
+            } else if s.interface + 1 == site.interface {
+                inner += d;
+            } else if s.interface == site.interface + 1 {
+                outer += d;
+            }
+        }
+        // by the wires: the contacts of j's own wire pair, of its outer wire with others, of
+        // its inner wire with others, the rest
+        let wires = |c: usize| {
+            let [a, b] = model.mesh.contacts[c].nodes;
+            (model.mesh.nodes[a.0].wire, model.mesh.nodes[b.0].wire)
+        };
+        let (wa, wb) = wires(j);
+        let mut by_wire = [(0.0, 0usize); 4];
+        for (c, &d) in ds.iter().enumerate() {
+            if c == j {
+                continue;
+            }
+            let (a, b) = wires(c);
+            let k = if (a, b) == (wa, wb) {
+                0
+            } else if a == wb || b == wb {
+                1
+            } else if a == wa || b == wa {
+                2
+            } else {
+                3
+            };
+            by_wire[k].0 += d;
+            by_wire[k].1 += 1;
+        }
+        println!(
+            "  by wires: own pair {:.4} ({} contacts), outer wire's others {:.4} ({}), inner \
+             wire's others {:.4} ({}), rest {:.4} ({})",
+            by_wire[0].0,
+            by_wire[0].1,
+            by_wire[1].0,
+            by_wire[1].1,
+            by_wire[2].0,
+            by_wire[2].1,
+            by_wire[3].0,
+            by_wire[3].1
+        );
+        // per interface: the answer projected on the pattern, and what is left
+        let interfaces = sites.iter().map(|s| s.interface + 1).max().unwrap_or(0);
+        let mut line = String::from("  on the pattern per interface (coef, rms left, rms):");
+        for i in 0..interfaces {
+            let (mut wd, mut ww, mut dd, mut n) = (0.0, 0.0, 0.0, 0usize);
+            for (c, &d) in ds.iter().enumerate() {
+                if sites[c].interface == i && c != j {
+                    wd += weight(c) * d;
+                    ww += weight(c) * weight(c);
+                    dd += d * d;
+                    n += 1;
+                }
+            }
+            let coef = wd / ww.max(f64::MIN_POSITIVE);
+            let left = ((dd - coef * wd).max(0.0) / n.max(1) as f64).sqrt();
+            line.push_str(&format!(
+                " i{i} {coef:.4e} {left:.2e} {:.2e};",
+                (dd / n.max(1) as f64).sqrt()
+            ));
+        }
+        println!("{line}");
+        println!(
+            "{j} {} {:.3} {:.2} {:.3} {:.3} {} {:.4} {:.3} {:.3} {:.4} {:.4} {:.4} {:.4} ({},{:.4}) {count}",
+            site.interface,
+            site.theta_rad,
+            b.normal_force_n,
+            b.tangential_force_n,
+            se / gamma,
+            perturbed.len(),
+            a,
+            a / (1.0 - a),
+            law,
+            sector,
+            same,
+            inner,
+            outer,
+            largest.0,
+            largest.1,
+        );
+    }
+    println!("{:.1} s in all", t0.elapsed().as_secs_f64());
+    Ok(())
+}
+
+/// The collective modes of `measure-modes`, from their JSON file.
+fn modes_of(path: &Option<String>) -> Result<ModeCoupling, Error> {
+    let path = path
+        .as_ref()
+        .ok_or("--modes MODES.json (written by `measure-modes`)")?;
+    Ok(serde_json::from_str(&std::fs::read_to_string(path)?)?)
+}
+
 fn main() -> Result<(), Error> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mode = args.first().ok_or("record | fit")?.clone();
@@ -518,6 +786,11 @@ fn main() -> Result<(), Error> {
     let (mut path, mut parts) = (String::new(), 8usize);
     let (mut loads, mut held_out, mut positional) = (Vec::new(), Vec::new(), Vec::new());
     let mut write: Option<String> = None;
+    let (mut points, mut couple_contacts, mut delta, mut sector_rad) =
+        (Vec::new(), Vec::new(), 1e-6, 0.0);
+    let mut pattern = 0usize;
+    let mut calibration: Option<String> = None;
+    let mut modes_file: Option<String> = None;
     let mut it = args[1..].iter();
     while let Some(a) = it.next() {
         let mut value = || it.next().cloned().ok_or(format!("{a} needs a value"));
@@ -538,6 +811,21 @@ fn main() -> Result<(), Error> {
                 held_out.push((load, value()?));
             }
             "--write" => write = Some(value()?),
+            "--at" => {
+                let v = value()?;
+                let (x, y) = v.split_once(',').ok_or("--at x,y")?;
+                points.push((x.trim().parse::<f64>()?, y.trim().parse::<f64>()?));
+            }
+            "--contacts" => {
+                for c in value()?.split(',') {
+                    couple_contacts.push(c.trim().parse::<usize>()?);
+                }
+            }
+            "--delta" => delta = value()?.parse()?,
+            "--sector-rad" => sector_rad = value()?.parse()?,
+            "--pattern" => pattern = value()?.parse()?,
+            "--calibration" => calibration = Some(value()?),
+            "--modes" => modes_file = Some(value()?),
             _ => positional.push(a.clone()),
         }
     }
@@ -551,6 +839,47 @@ fn main() -> Result<(), Error> {
         range.strain, range.curvature_per_m
     );
     let options = CalibrationOptions::default();
+    if mode == "measure-modes" {
+        // the interfaces' collective modes as a calibration measures them, to a JSON file
+        // (for `fit` with MF_MODES_FILE)
+        let t = std::time::Instant::now();
+        let two = CalibrationOptions {
+            history: HistoryOptions {
+                threads: 2,
+                ..options.history
+            },
+            ..options.clone()
+        };
+        let modes = moorfret_solver::strand::reduced::measure_modes(&model, range, &two)?;
+        std::fs::write(recording, serde_json::to_string(&modes)?)?;
+        println!("modes measured in {:.1} s", t.elapsed().as_secs_f64());
+        return Ok(());
+    }
+    if mode == "couple" {
+        let scaling = moorfret_solver::strand::reduced::LoadScaling::of(&range);
+        let reduced = match &calibration {
+            Some(path) => Some(ReducedStrand::from_json(&std::fs::read(path)?)?),
+            None => None,
+        };
+        let mut csv = match positional.get(1) {
+            Some(path) => Some(std::fs::File::create(path)?),
+            None => None,
+        };
+        for &point in &points {
+            couple(
+                &model,
+                &scaling,
+                point,
+                &couple_contacts,
+                delta,
+                sector_rad,
+                pattern,
+                reduced.as_ref(),
+                csv.as_mut(),
+            )?;
+        }
+        return Ok(());
+    }
     if mode == "record-path" {
         // a straight-line path through scaled load vertices "x,y;x,y;…", `parts` samples per
         // stretch, one second apart
@@ -694,7 +1023,7 @@ fn main() -> Result<(), Error> {
         // REC --probe HELD --interface I: the series of the interface-I contact with the largest
         // FE slip range in HELD (or of `--contact C`), FE against reduced, sample by sample
         let rec = chains_of(read_recording(Path::new(recording))?);
-        let mut reduced = fit_recorded(&model, range, &options, rec)?;
+        let mut reduced = fit_recorded(&model, range, &options, modes_of(&modes_file)?, rec)?;
         reduced.model_key = key;
         let held = read_recording(Path::new(probe.as_deref().ok_or("--probe HELD.bin")?))?;
         let loads: Vec<LoadSample> = held.iter().map(|h| h.0).collect();
@@ -780,7 +1109,7 @@ fn main() -> Result<(), Error> {
         let fe: Vec<ContactRecord> = serde_json::from_str(&text)?;
         references.push((read_load(load, ea)?, fe, dir.clone()));
     }
-    let mut reduced = fit_recorded(&model, range, &options, samples)?;
+    let mut reduced = fit_recorded(&model, range, &options, modes_of(&modes_file)?, samples)?;
     reduced.model_key = key;
     for f in &reduced.calibration.fits {
         println!(

@@ -9,7 +9,7 @@ use super::compare::compare_records;
 use super::design::{design_history_weighted, split_weights, DesignParams};
 use super::fit::FitAccumulator;
 use super::{
-    CalibrationReport, ChainCost, InterfaceFit, LoadRange, LoadScaling, ReducedError,
+    CalibrationReport, ChainCost, InterfaceFit, LoadRange, LoadScaling, ModeCoupling, ReducedError,
     ReducedStrand, FORMAT_VERSION,
 };
 use crate::contact::TangentialLaw;
@@ -160,6 +160,24 @@ struct Prepared {
     sites: Vec<ContactSite>,
     channels: Vec<MonitorChannel>,
     element_channels: usize,
+    modes: Option<ModeCoupling>,
+}
+
+/// The layer interfaces' collective modes of `model` over `range`, measured on the FE model
+/// (the `modes` module), as a calibration measures them before its designed history.
+pub fn measure_modes(
+    model: &StrandModel,
+    range: LoadRange,
+    options: &CalibrationOptions,
+) -> Result<ModeCoupling, ReducedError> {
+    let range = range.validated()?;
+    super::modes::measure(
+        model,
+        &LoadScaling::of(&range),
+        &super::modes::MODE_POINTS,
+        &options.history,
+        options.history.threads,
+    )
 }
 
 impl Prepared {
@@ -168,7 +186,8 @@ impl Prepared {
         Fitter {
             scaling: self.scaling,
             weights: &self.weights[chain],
-            fit: FitAccumulator::new(self.sites.len(), self.element_channels, self.stick_per_m),
+            fit: FitAccumulator::new(self.sites.len(), self.element_channels, self.stick_per_m)
+                .with_modes(&self.sites, self.modes.as_ref()),
             buffer: Vec::with_capacity(self.sites.len()),
         }
     }
@@ -214,6 +233,7 @@ fn prepare(
         .filter(|c| matches!(c.target, MonitorTarget::Element(_)))
         .count();
     Ok(Prepared {
+        modes: None,
         scaling: LoadScaling::of(&range),
         range,
         elastic_slip_m,
@@ -360,7 +380,17 @@ pub fn calibrate(
     observer: &mut dyn HistoryObserver,
 ) -> Result<ReducedStrand, ReducedError> {
     let start = Instant::now();
-    let p = prepare(model, range, options)?;
+    let mut p = prepare(model, range, options)?;
+    // the collective modes first: the fit takes their answer off the FE slips as it goes
+    let t_modes = Instant::now();
+    p.modes = Some(super::modes::measure(
+        model,
+        &p.scaling,
+        &super::modes::MODE_POINTS,
+        &p.history,
+        p.history.threads,
+    )?);
+    let modes_wall_time_s = t_modes.elapsed().as_secs_f64();
     let runs = run_chains(model, &p, observer)?;
     let mut fit = FitAccumulator::new(p.sites.len(), p.element_channels, p.stick_per_m);
     let mut costs = Vec::with_capacity(runs.len());
@@ -374,6 +404,7 @@ pub fn calibrate(
         });
     }
     let mut reduced = assemble(model, &p, &fit, costs, start);
+    reduced.calibration.modes_wall_time_s = modes_wall_time_s;
     // the design replayed chain by chain, every contact's cycles of all chains together
     let mut fe: Vec<ContactRecord> = Vec::new();
     let mut replay: Vec<ContactRecord> = Vec::new();
@@ -405,19 +436,21 @@ pub type RecordedSample = (LoadSample, Vec<ContactSample>, Vec<f64>);
 
 /// The reduced response fitted on recorded FE runs of the chains of [`calibration_design`]
 /// (every chain's samples in order, as [`HistoryObserver::sample`] saw them), without running
-/// the FE model: for studies of the reduced model's form on one FE run. The report has no FE
-/// cost and no replay.
+/// the FE model: for studies of the reduced model's form on one FE run, with the collective
+/// modes measured apart ([`measure_modes`]). The report has no FE cost and no replay.
 pub fn fit_recorded<C>(
     model: &StrandModel,
     range: LoadRange,
     options: &CalibrationOptions,
+    modes: ModeCoupling,
     chains: impl IntoIterator<Item = C>,
 ) -> Result<ReducedStrand, ReducedError>
 where
     C: IntoIterator<Item = RecordedSample>,
 {
     let start = Instant::now();
-    let p = prepare(model, range, options)?;
+    let mut p = prepare(model, range, options)?;
+    p.modes = Some(modes);
     let mut fit = FitAccumulator::new(p.sites.len(), p.element_channels, p.stick_per_m);
     for (chain, samples) in chains.into_iter().enumerate() {
         if chain >= p.design.len() {
@@ -493,6 +526,7 @@ fn assemble(
         range: p.range,
         scaling: p.scaling,
         sites: p.sites.clone(),
+        modes: p.modes.clone(),
         laws: fits.iter().map(|f| f.law).collect(),
         channels: p
             .channels
@@ -510,6 +544,7 @@ fn assemble(
             fe_iterations: chains.iter().map(|c| c.iterations).sum(),
             fe_wall_time_s: start.elapsed().as_secs_f64(),
             chains,
+            modes_wall_time_s: 0.0,
             fits: fits_report,
             replay: Vec::new(),
         },

@@ -11,7 +11,9 @@
 //! - structure: `Δs ≈ Δψ·d − g Δf_T − r Δs_e` on the increment `Δ` from one sample to the next,
 //!   for the drive `d` (up to its level, which the Jenkins element never sees), the compliance
 //!   `g` and the stick ratio `r`, with the FE's elastic slip `s_e = f_T / k`, `k = μ f_N / γ_e`
-//!   (0 where the contact is open); if that makes `g` or `r` negative (no physical meaning: the
+//!   (0 where the contact is open), `Δs` net of the interfaces' collective answer
+//!   ([`super::ModeCoupling`]) to the FE's irreversible slips `s − s_e`; if that makes `g` or
+//!   `r` negative (no physical meaning: the
 //!   strand would push the contact along its own friction force), with `r = 0`, and if `g` is
 //!   then still negative, with `g = r = 0`.
 //!
@@ -23,7 +25,8 @@
 
 use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 
-use super::{force_features, ContactLaw, FORCE_FEATURES};
+use super::{force_features, mode_shapes, ContactLaw, ModeCoupling, FORCE_FEATURES, MODES};
+use crate::strand::history::monitors::ContactSite;
 
 /// Relative ridge of the scaled normal equations.
 pub(crate) const RIDGE: f64 = 1e-10;
@@ -196,6 +199,82 @@ pub struct FitAccumulator {
     previous_contacts: Vec<(f64, f64, f64)>,
     /// `μ / γ_e` (1/m): the stick stiffness per unit normal force.
     stick_per_m: f64,
+    /// The interfaces' collective modes, if any: their answer is taken off the FE slips
+    /// before the contacts' own laws are fitted.
+    modes: Option<ModeTerms>,
+}
+
+/// What the fit needs of the interfaces' collective modes ([`ModeCoupling`]).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct ModeTerms {
+    coupling: ModeCoupling,
+    /// Interface of every contact.
+    interface: Vec<usize>,
+    /// Mode shapes at every contact.
+    shape: Vec<[f64; MODES]>,
+    /// Σ shape² over each interface's contacts.
+    norm: Vec<[f64; MODES]>,
+    /// The collective drive per interface and mode at the previous sample.
+    previous: Vec<[f64; MODES]>,
+    /// Scratch: the amplifications at the current tension.
+    amplification: Vec<f64>,
+}
+
+impl ModeTerms {
+    pub(crate) fn new(sites: &[ContactSite], coupling: Option<&ModeCoupling>) -> Option<Self> {
+        let coupling = coupling?.clone();
+        let interfaces = coupling.interfaces();
+        let shape: Vec<[f64; MODES]> = sites.iter().map(|s| mode_shapes(s.theta_rad)).collect();
+        let mut norm = vec![[0.0; MODES]; interfaces];
+        for (s, sh) in sites.iter().zip(&shape) {
+            if let Some(n) = norm.get_mut(s.interface) {
+                for (n, v) in n.iter_mut().zip(sh) {
+                    *n += v * v;
+                }
+            }
+        }
+        Some(Self {
+            coupling,
+            interface: sites.iter().map(|s| s.interface).collect(),
+            shape,
+            norm,
+            previous: Vec::new(),
+            amplification: Vec::new(),
+        })
+    }
+
+    /// The collective drive per interface and mode, `Σ_J a[I][J][m] q_{J,m}`, of the
+    /// irreversible slips `s − s_e` at scaled tension `x`.
+    pub(crate) fn drive(
+        &mut self,
+        x: f64,
+        irreversible: impl Iterator<Item = f64>,
+    ) -> Vec<[f64; MODES]> {
+        let n = self.norm.len();
+        let mut q = vec![[0.0; MODES]; n];
+        for ((sp, &i), sh) in irreversible.zip(&self.interface).zip(&self.shape) {
+            if let Some(q) = q.get_mut(i) {
+                for (a, v) in q.iter_mut().zip(sh) {
+                    *a += v * sp;
+                }
+            }
+        }
+        for (a, nm) in q.iter_mut().zip(&self.norm) {
+            for (v, nm) in a.iter_mut().zip(nm) {
+                *v /= nm.max(f64::MIN_POSITIVE);
+            }
+        }
+        self.coupling.at(x, &mut self.amplification);
+        (0..n)
+            .map(|i| {
+                std::array::from_fn(|m| {
+                    (0..n)
+                        .map(|j| self.amplification[(i * n + j) * MODES + m] * q[j][m])
+                        .sum()
+                })
+            })
+            .collect()
+    }
 }
 
 impl FitAccumulator {
@@ -213,7 +292,19 @@ impl FitAccumulator {
             previous_load: None,
             previous_contacts: Vec::new(),
             stick_per_m,
+            modes: None,
         }
+    }
+
+    /// The same sums with the interfaces' collective modes taken off the FE slips (none if
+    /// `modes` is empty).
+    pub(crate) fn with_modes(
+        mut self,
+        sites: &[ContactSite],
+        modes: Option<&ModeCoupling>,
+    ) -> Self {
+        self.modes = ModeTerms::new(sites, modes);
+        self
     }
 
     /// Samples consumed.
@@ -253,6 +344,19 @@ impl FitAccumulator {
                 0.0
             }
         };
+        // the collective modes' answer since the previous sample, per interface
+        let mode_change = self.modes.as_mut().map(|m| {
+            let w = m.drive(x, contacts.iter().map(|c| c.0 - elastic(c.1, c.2)));
+            let previous = std::mem::replace(&mut m.previous, w.clone());
+            if previous.len() == w.len() {
+                w.iter()
+                    .zip(&previous)
+                    .map(|(a, b)| std::array::from_fn(|k| a[k] - b[k]))
+                    .collect()
+            } else {
+                vec![[0.0; MODES]; w.len()]
+            }
+        });
         let Some(previous) = self.previous_load.replace(psi) else {
             self.previous_contacts = contacts
                 .iter()
@@ -266,15 +370,25 @@ impl FitAccumulator {
         }
         let psi_v = SVector::<f64, DRIVE_FEATURES>::from_column_slice(&dpsi);
         self.drive_gram += w * psi_v * psi_v.transpose();
-        for ((&(s, f_n, f_t), d), prev) in contacts
+        for (c, ((&(s, f_n, f_t), d), prev)) in contacts
             .iter()
             .zip(&mut self.drive)
             .zip(&mut self.previous_contacts)
+            .enumerate()
         {
             let (ps, pf, pe) = *prev;
             let e = elastic(f_n, f_t);
             *prev = (s, f_t, e);
-            let ds = s - ps;
+            let collective = match (&self.modes, &mode_change) {
+                (Some(m), Some(change)) => {
+                    let (i, sh) = (m.interface[c], &m.shape[c]);
+                    change
+                        .get(i)
+                        .map_or(0.0, |w| w.iter().zip(sh).map(|(a, b)| a * b).sum::<f64>())
+                }
+                _ => 0.0,
+            };
+            let ds = s - ps - collective;
             let u = [-(f_t - pf), -(e - pe)];
             let (ws, wu) = (w * ds, [w * u[0], w * u[1]]);
             for ((pu, ps), p) in d.psi_u.iter_mut().zip(&mut d.psi_s).zip(&dpsi) {

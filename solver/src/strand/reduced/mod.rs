@@ -60,8 +60,21 @@
 //! state this leaves (which contacts slid while the strand was bent at a small tension, with
 //! little normal force) sets how each contact answers a change of tension afterwards.
 //!
-//! What it leaves out, by construction: the interaction of contacts beyond `g` and `r`
-//! (the slip of one contact changes the load of its neighbours only through the fitted drive).
+//! # Collective modes
+//!
+//! A contact's own answer to its sliding is small (a few percent of the slip, measured on the
+//! FE model), but a pattern of sliding over a whole layer interface moves the layers
+//! themselves: a uniform slip of every contact of an interface comes back as 70-96 % of itself,
+//! a cos θ or sin θ pattern as 1-64 %, rising with the tension, and the neighbouring
+//! interfaces answer a bending pattern by up to a quarter of it, in opposition. The contacts
+//! are therefore coupled through the projections `q` of each interface's irreversible slips on
+//! the modes uniform, cos θ, sin θ ([`ModeCoupling`]): the drive of a contact of interface `I`
+//! gains `Σ_J Σ_m a[I][J][m](x) ψ_m(θ) q_{J,m}`, with the amplifications `a` measured on the
+//! FE model at seven tensions (`modes.rs`) and their answer taken off the FE slips before the
+//! contact laws are fitted. A run solves the amplitudes at every sample by Newton's method.
+//!
+//! What it leaves out, by construction: the interaction of contacts beyond `g`, `r` and the
+//! interfaces' three modes (higher patterns round the strand, and neighbours along a wire).
 //! Its error against
 //! the FE model is measured on held-out histories (docs/reduced-strand.md), not assumed.
 //!
@@ -71,6 +84,7 @@ mod calibrate;
 pub mod compare;
 pub mod design;
 pub mod fit;
+pub(crate) mod modes;
 mod run;
 
 use serde::{Deserialize, Serialize};
@@ -79,14 +93,15 @@ use super::history::monitors::{ContactSite, MonitorChannel};
 use super::history::{HistoryError, LoadSample};
 
 pub use calibrate::{
-    calibrate, calibration_design, fit_recorded, model_key, CalibrationOptions, RecordedSample,
+    calibrate, calibration_design, fit_recorded, measure_modes, model_key, CalibrationOptions,
+    RecordedSample,
 };
 pub use run::{contact_series, run_reduced};
 
 /// Version of the stored calibration and of the fit that made it; a file of another version is
 /// refused. Part of the cache key of a calibration, so every change to the model, the design or
 /// the fit bumps it.
-pub(crate) const FORMAT_VERSION: u32 = 8;
+pub(crate) const FORMAT_VERSION: u32 = 9;
 
 /// Slack of the calibrated range, as a fraction of each channel's range: a sample this far
 /// outside is still accepted (round-off of the tension-to-strain conversion).
@@ -451,6 +466,10 @@ pub struct CalibrationReport {
     /// What each chain of the design cost ([`design`] module docs), in chain order.
     #[serde(default)]
     pub chains: Vec<ChainCost>,
+    /// Wall time of the measurement of the interfaces' collective modes, before the chains
+    /// (s; part of `fe_wall_time_s`).
+    #[serde(default)]
+    pub modes_wall_time_s: f64,
     /// Least-squares fits per interface.
     pub fits: Vec<InterfaceFit>,
     /// The designed history replayed through the reduced model against the FE run.
@@ -503,6 +522,113 @@ pub struct ReducedStrand {
     pub element_fits: Vec<[f64; FORCE_FEATURES]>,
     /// How the calibration went.
     pub calibration: CalibrationReport,
+    /// Collective modes of the layer interfaces ([`ModeCoupling`]); none: every contact
+    /// answers alone.
+    #[serde(default)]
+    pub modes: Option<ModeCoupling>,
+}
+
+/// Number of collective modes of a layer interface: its contacts' irreversible slips uniform,
+/// and in proportion to cos θ and sin θ of their angle from the neutral axis.
+pub(crate) const MODES: usize = 3;
+
+/// The shapes of the collective modes at angle `theta_rad` from the neutral axis.
+#[inline]
+pub(crate) fn mode_shapes(theta_rad: f64) -> [f64; MODES] {
+    [1.0, theta_rad.cos(), theta_rad.sin()]
+}
+
+/// The collective answer of the layer interfaces to their contacts' sliding: a pattern of
+/// irreversible slip over an interface moves the layers themselves, so every contact of
+/// interface `I` slips by `Σ_J Σ_m a[I][J][m] ψ_m(θ) q_{J,m}` on top of its own answer, with
+/// `q_{J,m}` the projection of interface `J`'s irreversible slips on mode `m`
+/// ([`mode_shapes`]). Measured on the FE model by imposing each pattern on every contact of
+/// an interface at once, at a few tensions; linear in the scaled tension between them.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ModeCoupling {
+    /// Scaled tensions of the measurements, increasing.
+    pub knots: Vec<f64>,
+    /// `amplification[k][I][J][m]` at knot `k` (dimensionless).
+    pub amplification: Vec<Vec<Vec<[f64; MODES]>>>,
+}
+
+/// The number of layer interfaces of the contacts at `sites`.
+fn interface_count(sites: &[ContactSite]) -> usize {
+    sites.iter().map(|s| s.interface + 1).max().unwrap_or(0)
+}
+
+impl ModeCoupling {
+    /// Checks a stored coupling against the model's `interfaces`: knots finite and increasing,
+    /// one square table per knot, amplifications finite, and every interface's own below one
+    /// (a mode that answered its own slip whole would be a mechanism).
+    fn check(&self, interfaces: usize) -> Result<(), ReducedError> {
+        let bad = |reason: String| ReducedError::Calibration { reason };
+        if self.knots.is_empty() || self.knots.len() != self.amplification.len() {
+            return Err(bad(format!(
+                "modes: {} knots for {} amplification tables",
+                self.knots.len(),
+                self.amplification.len()
+            )));
+        }
+        if !self.knots.iter().all(|k| k.is_finite()) || self.knots.windows(2).any(|w| w[1] <= w[0])
+        {
+            return Err(bad("modes: the knots must be finite and increase".into()));
+        }
+        for (k, table) in self.amplification.iter().enumerate() {
+            if table.len() != interfaces || table.iter().any(|row| row.len() != interfaces) {
+                return Err(bad(format!(
+                    "modes: the table at knot {k} is not {interfaces} × {interfaces}"
+                )));
+            }
+            for (i, row) in table.iter().enumerate() {
+                for (j, a) in row.iter().enumerate() {
+                    if a.iter().any(|v| !v.is_finite())
+                        || (i == j && a.iter().any(|v| v.abs() >= 1.0))
+                    {
+                        return Err(bad(format!(
+                            "modes: amplification of interface {i} by {j} at knot {k} is {a:?}: \
+                             not finite, or an own amplification of 1 or more"
+                        )));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Number of interfaces.
+    pub(crate) fn interfaces(&self) -> usize {
+        self.amplification.first().map_or(0, Vec::len)
+    }
+
+    /// `a[I][J][m]` at scaled tension `x`, flattened as `(I · n + J) · MODES + m`.
+    pub(crate) fn at(&self, x: f64, out: &mut Vec<f64>) {
+        let n = self.interfaces();
+        out.clear();
+        out.resize(n * n * MODES, 0.0);
+        let k = &self.knots;
+        if k.is_empty() {
+            return;
+        }
+        let (i, t) = if x <= k[0] || k.len() == 1 {
+            (0, 0.0)
+        } else if x >= k[k.len() - 1] {
+            (k.len() - 2, 1.0)
+        } else {
+            let i = k.iter().take_while(|&&v| v <= x).count() - 1;
+            (i, (x - k[i]) / (k[i + 1] - k[i]))
+        };
+        let j = (i + 1).min(k.len() - 1);
+        for a in 0..n {
+            for b in 0..n {
+                for m in 0..MODES {
+                    let lo = self.amplification[i][a][b][m];
+                    let hi = self.amplification[j][a][b][m];
+                    out[(a * n + b) * MODES + m] = lo + t * (hi - lo);
+                }
+            }
+        }
+    }
 }
 
 impl ReducedStrand {
@@ -567,6 +693,9 @@ impl ReducedStrand {
         let f = self.initial_strain_fraction;
         if !(f > 0.0 && f <= 1.0) {
             return Err(invalid("initial_strain_fraction", f, "must lie in (0, 1]"));
+        }
+        if let Some(m) = &self.modes {
+            m.check(interface_count(&self.sites))?;
         }
         for (c, law) in self.laws.iter().enumerate() {
             let finite = law

@@ -9,7 +9,9 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use super::{force_features, JenkinsState, ReducedError, ReducedStrand, FORCE_FEATURES};
+use super::{
+    force_features, mode_shapes, JenkinsState, ReducedError, ReducedStrand, FORCE_FEATURES, MODES,
+};
 use crate::fretting::{ContactCycleAccumulator, ContactRecord, ContactSample, SlipCycle};
 use crate::strand::history::monitors::{MonitorQuantity, MonitorSeries, MonitorTarget};
 use crate::strand::history::{HistoryResult, HistoryStats, LoadSample};
@@ -145,6 +147,278 @@ fn run_contact(
     ))
 }
 
+/// Largest number of Newton iterations on the interfaces' mode amplitudes per sample.
+const MODE_ITERATIONS: usize = 60;
+
+/// Samples per block of the coupled run's drives and normal forces, computed side by side.
+const BLOCK: usize = 128;
+
+/// Tolerance on the mode amplitudes (m): far below the slips that count (1 µm).
+const MODE_TOLERANCE_M: f64 = 1e-13;
+
+/// Every contact through the history, coupled by the interfaces' collective modes
+/// ([`super::ModeCoupling`]): at every sample, the mode amplitudes `q` solve `q = P(s_p(q))`,
+/// the projections of the contacts' irreversible slips after the step taken with the drives
+/// `d + Σ a ψ q`, by Newton's method on the piecewise-linear map (a sliding contact passes a
+/// change of its drive whole to its irreversible slip).
+fn run_coupled(
+    reduced: &ReducedStrand,
+    coupling: &super::ModeCoupling,
+    h: &Scaled,
+    slip_gate_m: f64,
+    keep_series: &(dyn Fn(usize) -> bool + Sync),
+) -> Result<Vec<(ContactRecord, Vec<ContactSample>)>, ReducedError> {
+    let nc = reduced.laws.len();
+    let ni = coupling.interfaces();
+    let nq = ni * MODES;
+    let stick_per_m = reduced.friction_coefficient / reduced.elastic_slip_m;
+    let gamma = reduced.elastic_slip_m;
+    let interface: Vec<usize> = reduced
+        .sites
+        .iter()
+        .map(|s| s.interface.min(ni.max(1) - 1))
+        .collect();
+    let shapes: Vec<[f64; MODES]> = reduced
+        .sites
+        .iter()
+        .map(|s| mode_shapes(s.theta_rad))
+        .collect();
+    let mut norm = vec![[0.0; MODES]; ni];
+    for (&i, sh) in interface.iter().zip(&shapes) {
+        for (n, v) in norm[i].iter_mut().zip(sh) {
+            *n += v * v;
+        }
+    }
+    let (x0, y0) = h.initial.start;
+    let mut states: Vec<JenkinsState> = reduced
+        .laws
+        .iter()
+        .map(|law| JenkinsState::unloaded(law.drive_m(x0, y0)))
+        .collect();
+    let project = |states: &[JenkinsState]| {
+        let mut p = vec![0.0; nq];
+        for ((st, &i), sh) in states.iter().zip(&interface).zip(&shapes) {
+            for m in 0..MODES {
+                p[i * MODES + m] += sh[m] * st.plastic_slip_m;
+            }
+        }
+        for i in 0..ni {
+            for m in 0..MODES {
+                p[i * MODES + m] /= norm[i][m].max(f64::MIN_POSITIVE);
+            }
+        }
+        p
+    };
+    let origin = project(&states);
+    let mut q = vec![0.0; nq];
+    let mut counters = Vec::with_capacity(nc);
+    for c in 0..nc {
+        counters.push(Counter {
+            accumulator: ContactCycleAccumulator::new(slip_gate_m).map_err(|e| {
+                ReducedError::InvalidSetting {
+                    field: "slip_gate_m",
+                    value: slip_gate_m,
+                    reason: e.to_string(),
+                }
+            })?,
+            cycles: Vec::new(),
+            series: Vec::with_capacity(if keep_series(c) { h.loads.len() } else { 0 }),
+            max_normal: 0.0,
+        });
+    }
+    let mut outputs = vec![
+        ContactSample {
+            slip_m: 0.0,
+            normal_force_n: 0.0,
+            tangential_force_n: 0.0,
+        };
+        nc * BLOCK
+    ];
+    let mut base: Vec<(f64, f64)> = vec![(0.0, 0.0); nc];
+    let mut trial = states.clone();
+    let mut out: Vec<(f64, f64)> = vec![(0.0, 0.0); nc];
+    let mut amp = Vec::new();
+    let steps = h.initial.path.len();
+    let points: Vec<(f64, f64)> = h.initial.path.iter().chain(&h.loads).copied().collect();
+    // every contact's drive and normal force over a block of samples, computed side by side
+    // (contact-major: `block[c · BLOCK + k]`)
+    let mut block: Vec<(f64, f64)> = vec![(0.0, 0.0); nc * BLOCK];
+    for (n, &(x, y)) in points.iter().enumerate() {
+        let k = n % BLOCK;
+        if k == 0 {
+            let end = (n + BLOCK).min(points.len());
+            let span = &points[n..end];
+            block
+                .par_chunks_mut(BLOCK)
+                .enumerate()
+                .for_each(|(c, column)| {
+                    let law = &reduced.laws[c];
+                    for (b, &(x, y)) in column.iter_mut().zip(span) {
+                        *b = (law.drive_m(x, y), law.normal_force_n(&force_features(x, y)));
+                    }
+                });
+        }
+        for (c, b) in base.iter_mut().enumerate() {
+            *b = block[c * BLOCK + k];
+        }
+        coupling.at(x, &mut amp);
+        let mut converged = false;
+        for iteration in 0..MODE_ITERATIONS {
+            // the collective drive per interface and mode
+            let w: Vec<f64> = (0..nq)
+                .map(|im| {
+                    let (i, m) = (im / MODES, im % MODES);
+                    (0..ni)
+                        .map(|j| amp[(i * ni + j) * MODES + m] * q[j * MODES + m])
+                        .sum()
+                })
+                .collect();
+            let mut p = vec![0.0; nq];
+            // Σ ψ_m ψ_l over each interface's sliding contacts
+            let mut slide = vec![[[0.0; MODES]; MODES]; ni];
+            for c in 0..nc {
+                let law = &reduced.laws[c];
+                let (i, sh) = (interface[c], &shapes[c]);
+                let collective: f64 = (0..MODES).map(|m| sh[m] * w[i * MODES + m]).sum();
+                let mut st = states[c];
+                out[c] = st.step(
+                    base[c].0 + collective,
+                    base[c].1,
+                    law.compliance_m_per_n(),
+                    law.stick_ratio(),
+                    stick_per_m,
+                    gamma,
+                );
+                let sliding = st.plastic_slip_m != states[c].plastic_slip_m;
+                trial[c] = st;
+                for m in 0..MODES {
+                    p[i * MODES + m] += sh[m] * st.plastic_slip_m;
+                    if sliding {
+                        for l in 0..MODES {
+                            slide[i][m][l] += sh[m] * sh[l];
+                        }
+                    }
+                }
+            }
+            let mut r = nalgebra::DVector::<f64>::zeros(nq);
+            for im in 0..nq {
+                let (i, m) = (im / MODES, im % MODES);
+                r[im] = p[im] / norm[i][m].max(f64::MIN_POSITIVE) - origin[im] - q[im];
+            }
+            if r.iter().all(|v| v.abs() <= MODE_TOLERANCE_M) {
+                converged = true;
+                break;
+            }
+            // (1 − ∂P/∂q) Δq = r, ∂P_{I,m}/∂q_{J,l} = Σ_sliding ψ_m ψ_l a[I][J][l] / norm_{I,m}
+            let mut a = nalgebra::DMatrix::<f64>::identity(nq, nq);
+            for i in 0..ni {
+                for m in 0..MODES {
+                    let nm = norm[i][m].max(f64::MIN_POSITIVE);
+                    for j in 0..ni {
+                        for l in 0..MODES {
+                            a[(i * MODES + m, j * MODES + l)] -=
+                                slide[i][m][l] * amp[(i * ni + j) * MODES + l] / nm;
+                        }
+                    }
+                }
+            }
+            let dq = a.lu().solve(&r).unwrap_or(r);
+            // a full step can cycle between two sets of sliding contacts: halve it late on
+            let step = if iteration < MODE_ITERATIONS / 2 {
+                1.0
+            } else {
+                0.5
+            };
+            for (v, d) in q.iter_mut().zip(dq.iter()) {
+                *v += step * d;
+            }
+        }
+        if !converged {
+            return Err(ReducedError::Calibration {
+                reason: format!(
+                    "the interfaces' collective modes did not converge in {MODE_ITERATIONS} \
+                     iterations at sample {} (scaled loads {x:.4}, {y:.4})",
+                    n.saturating_sub(steps)
+                ),
+            });
+        }
+        std::mem::swap(&mut states, &mut trial);
+        // the block's samples go to the contacts' counters side by side at its end
+        for (c, o) in out.iter().enumerate() {
+            outputs[c * BLOCK + k] = ContactSample {
+                slip_m: o.0,
+                normal_force_n: base[c].1,
+                tangential_force_n: o.1,
+            };
+        }
+        if k + 1 == BLOCK || n + 1 == points.len() {
+            let from = steps.saturating_sub(n - k).min(k + 1);
+            outputs
+                .par_chunks(BLOCK)
+                .zip(counters.par_iter_mut())
+                .enumerate()
+                .try_for_each(|(c, (column, counter))| {
+                    for &sample in &column[from..=k] {
+                        counter
+                            .accumulator
+                            .push(sample, &mut counter.cycles)
+                            .map_err(|e| ReducedError::Calibration {
+                                reason: format!("contact {c}: {e}"),
+                            })?;
+                        counter.max_normal = counter.max_normal.max(sample.normal_force_n);
+                        if keep_series(c) {
+                            counter.series.push(sample);
+                        }
+                    }
+                    Ok::<(), ReducedError>(())
+                })?;
+        }
+    }
+    let mut results = Vec::with_capacity(nc);
+    for (c, mut counter) in counters.into_iter().enumerate() {
+        counter.accumulator.finish(&mut counter.cycles);
+        let site = &reduced.sites[c];
+        results.push((
+            ContactRecord {
+                interface: site.interface,
+                theta_rad: site.theta_rad,
+                z_m: site.z_m,
+                max_normal_force_n: counter.max_normal,
+                cycles: counter.cycles,
+            },
+            counter.series,
+        ));
+    }
+    Ok(results)
+}
+
+/// One contact's slip-cycle counter and outputs in the coupled run.
+struct Counter {
+    accumulator: ContactCycleAccumulator,
+    cycles: Vec<SlipCycle>,
+    series: Vec<ContactSample>,
+    max_normal: f64,
+}
+
+/// Every contact through the history: alone, or coupled by the interfaces' collective
+/// modes if the calibration has them.
+fn run_contacts(
+    reduced: &ReducedStrand,
+    h: &Scaled,
+    slip_gate_m: f64,
+    keep_series: &(dyn Fn(usize) -> bool + Sync),
+) -> Result<Vec<(ContactRecord, Vec<ContactSample>)>, ReducedError> {
+    match &reduced.modes {
+        Some(coupling) if coupling.interfaces() > 0 => {
+            run_coupled(reduced, coupling, h, slip_gate_m, keep_series)
+        }
+        _ => (0..reduced.laws.len())
+            .into_par_iter()
+            .map(|c| run_contact(reduced, h, c, slip_gate_m, keep_series(c)))
+            .collect(),
+    }
+}
+
 /// A checked history in the scaled loads, with its force features and the initialisation's
 /// path to its first sample: what every contact runs through.
 struct Scaled {
@@ -182,10 +456,10 @@ pub fn contact_series(
     samples: &[LoadSample],
 ) -> Result<Vec<Vec<ContactSample>>, ReducedError> {
     let h = scaled(reduced, samples)?;
-    (0..reduced.laws.len())
-        .into_par_iter()
-        .map(|c| run_contact(reduced, &h, c, 0.0, true).map(|r| r.1))
-        .collect()
+    Ok(run_contacts(reduced, &h, 0.0, &|_| true)?
+        .into_iter()
+        .map(|r| r.1)
+        .collect())
 }
 
 /// Runs `samples` through `reduced` (module docs): the outputs of an FE history run, with
@@ -209,10 +483,7 @@ pub fn run_reduced(
         }
         m
     };
-    let results: Vec<(ContactRecord, Vec<ContactSample>)> = (0..reduced.laws.len())
-        .into_par_iter()
-        .map(|c| run_contact(reduced, &h, c, slip_gate_m, monitored[c]))
-        .collect::<Result<_, _>>()?;
+    let results = run_contacts(reduced, &h, slip_gate_m, &|c| monitored[c])?;
     let mut monitors = MonitorSeries {
         time_s: samples.iter().map(|s| s.time_s).collect(),
         strain: samples.iter().map(|s| s.strain).collect(),

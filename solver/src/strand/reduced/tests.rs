@@ -59,6 +59,124 @@ fn a_jenkins_element_follows_its_closed_form_loops() {
     }
 }
 
+/// A reduced strand of `n` identical contacts on interface 0 (angles spread round the
+/// strand), each with normal force `f_n`, drive `d_m · y`, compliance `g` and stick ratio `r`,
+/// and the interface's mode amplifications `modes` (none if `None`).
+fn identical_contacts(
+    n: usize,
+    f_n: f64,
+    d_m: f64,
+    g: f64,
+    r: f64,
+    modes: Option<[f64; MODES]>,
+) -> ReducedStrand {
+    let range = LoadRange {
+        strain: [5e-4, 1.5e-3],
+        curvature_per_m: [-0.02, 0.03],
+    };
+    let mut drive = [0.0; fit::DRIVE_FEATURES];
+    for k in 0..fit::DRIVE_FEATURES / 4 {
+        drive[4 * k + 1] = d_m;
+    }
+    let mut normal = [0.0; FORCE_FEATURES];
+    normal[0] = f_n;
+    ReducedStrand {
+        format: FORMAT_VERSION,
+        model_key: String::new(),
+        friction_coefficient: 0.12,
+        elastic_slip_m: 1e-5,
+        initial_strain_fraction: 0.1,
+        range,
+        scaling: LoadScaling::of(&range),
+        sites: (0..n)
+            .map(|i| ContactSite {
+                interface: 0,
+                theta_rad: -PI + 2.0 * PI * (i as f64 + 0.5) / n as f64,
+                z_m: 0.0,
+            })
+            .collect(),
+        laws: vec![
+            ContactLaw {
+                normal,
+                drive,
+                compliance: [g, r],
+            };
+            n
+        ],
+        channels: Vec::new(),
+        element_fits: Vec::new(),
+        calibration: CalibrationReport {
+            design_samples: 0,
+            fe_substeps: 0,
+            fe_iterations: 0,
+            fe_wall_time_s: 0.0,
+            chains: Vec::new(),
+            modes_wall_time_s: 0.0,
+            fits: Vec::new(),
+            replay: Vec::new(),
+        },
+        modes: modes.map(|a| ModeCoupling {
+            knots: vec![0.0],
+            amplification: vec![vec![vec![a]]],
+        }),
+    }
+}
+
+/// Curvature cycles over the whole scaled range y = ±1 at the middle tension.
+fn curvature_cycles(cycles: usize) -> Vec<LoadSample> {
+    (0..=100 * cycles)
+        .map(|i| LoadSample {
+            time_s: i as f64,
+            strain: 1e-3,
+            curvature_per_m: 0.005 + 0.025 * (2.0 * PI * i as f64 / 100.0).sin(),
+        })
+        .collect()
+}
+
+#[test]
+fn modes_without_amplification_leave_every_contact_as_it_answers_alone() {
+    let h = curvature_cycles(3);
+    for d_m in [2e-6, 6e-5] {
+        let alone = run_reduced(
+            &identical_contacts(5, 400.0, d_m, 2e-8, 0.2, None),
+            &h,
+            1e-8,
+        )
+        .expect("runs");
+        let coupled = run_reduced(
+            &identical_contacts(5, 400.0, d_m, 2e-8, 0.2, Some([0.0; MODES])),
+            &h,
+            1e-8,
+        )
+        .expect("runs");
+        assert_eq!(alone.contacts, coupled.contacts, "drive {d_m}");
+    }
+}
+
+#[test]
+fn a_uniform_mode_lengthens_gross_slip_loops_by_its_closed_form() {
+    // n identical contacts slide together: the interface's irreversible slip moves the
+    // drive by a times itself, so past the stick part a loop spans (Δd − 2 γ_e F) / (1 − a)
+    let (f_n, d_m, g, r, ge) = (400.0, 6e-5, 2e-8, 0.2, 1e-5);
+    let f = 1.0 + g * 0.12 * f_n / ge + r;
+    let h = curvature_cycles(3);
+    for a in [0.0, 0.4, 0.85] {
+        let reduced = identical_contacts(4, f_n, d_m, g, r, Some([a, 0.3, 0.3]));
+        let series = contact_series(&reduced, &h).expect("runs");
+        for s in &series {
+            let late = &s[100..];
+            let hi = late.iter().map(|c| c.slip_m).fold(f64::MIN, f64::max);
+            let lo = late.iter().map(|c| c.slip_m).fold(f64::MAX, f64::min);
+            let expected = 2.0 * ge + (2.0 * d_m - 2.0 * ge * f) / (1.0 - a);
+            assert!(
+                ((hi - lo) - expected).abs() < 1e-9 * expected,
+                "a = {a}: {} against {expected}",
+                hi - lo
+            );
+        }
+    }
+}
+
 fn model() -> StrandModel {
     let strand = profile_from_json(BENCHMARK)
         .expect("benchmark profile parses")
@@ -105,12 +223,14 @@ fn a_load_outside_the_calibrated_range_is_refused_with_the_range() {
         laws: Vec::new(),
         channels: Vec::new(),
         element_fits: Vec::new(),
+        modes: None,
         calibration: CalibrationReport {
             design_samples: 0,
             fe_substeps: 0,
             fe_iterations: 0,
             fe_wall_time_s: 0.0,
             chains: Vec::new(),
+            modes_wall_time_s: 0.0,
             fits: Vec::new(),
             replay: Vec::new(),
         },
