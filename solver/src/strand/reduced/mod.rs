@@ -368,7 +368,7 @@ impl ContactLaw {
     /// Drive `d` at scaled loads (x, y) (m).
     #[inline]
     pub(crate) fn drive_m(&self, x: f64, y: f64) -> f64 {
-        dot(&self.drive, &fit::drive_features(x, y))
+        fit::drive_dot(&self.drive, x, y)
     }
 
     /// Compliance `g` (m/N, ≥ 0).
