@@ -207,34 +207,8 @@ fn irregular(samples: usize, phase: f64) -> Vec<LoadSample> {
 
 #[test]
 fn a_load_outside_the_calibrated_range_is_refused_with_the_range() {
-    let range = LoadRange {
-        strain: [5e-4, 1.5e-3],
-        curvature_per_m: [-0.02, 0.03],
-    };
-    let reduced = ReducedStrand {
-        format: FORMAT_VERSION,
-        model_key: String::new(),
-        friction_coefficient: 0.12,
-        elastic_slip_m: 1e-5,
-        initial_strain_fraction: 0.1,
-        range,
-        scaling: LoadScaling::of(&range),
-        sites: Vec::new(),
-        laws: Vec::new(),
-        channels: Vec::new(),
-        element_fits: Vec::new(),
-        modes: None,
-        calibration: CalibrationReport {
-            design_samples: 0,
-            fe_substeps: 0,
-            fe_iterations: 0,
-            fe_wall_time_s: 0.0,
-            chains: Vec::new(),
-            modes_wall_time_s: 0.0,
-            fits: Vec::new(),
-            replay: Vec::new(),
-        },
-    };
+    // no contacts: the range check comes before any of them
+    let reduced = identical_contacts(0, 400.0, 0.0, 0.0, 0.0, None);
     let mut h = irregular(20, 0.0);
     assert!(run_reduced(&reduced, &h, 1e-8).is_ok());
     h[7].curvature_per_m = 0.05;
