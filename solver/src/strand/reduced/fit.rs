@@ -82,17 +82,24 @@ const CURVATURE_POWERS: usize = 4;
 /// everywhere) times the powers `j = 0 … 3` of the curvature.
 pub(crate) const DRIVE_FEATURES: usize = TENSION_KNOTS.len() * CURVATURE_POWERS;
 
-/// The hat functions of the tension at scaled tension `x`.
+/// The interval `[k_i, k_i+1]` of [`TENSION_KNOTS`] that holds `x` (the outer ones continued)
+/// and the position `t` of `x` in it: the hats `i` and `i + 1` are `1 − t` and `t`, the others
+/// zero.
 #[inline]
-fn tension_hats(x: f64) -> [f64; TENSION_KNOTS.len()] {
+fn tension_interval(x: f64) -> (usize, f64) {
     let k = &TENSION_KNOTS;
-    let mut h = [0.0; TENSION_KNOTS.len()];
-    // the interval [k_i, k_i+1] holding x, the outer ones continued
     let i = k[1..k.len() - 1]
         .iter()
         .take_while(|&&knot| x > knot)
         .count();
-    let t = (x - k[i]) / (k[i + 1] - k[i]);
+    (i, (x - k[i]) / (k[i + 1] - k[i]))
+}
+
+/// The hat functions of the tension at scaled tension `x`.
+#[inline]
+fn tension_hats(x: f64) -> [f64; TENSION_KNOTS.len()] {
+    let mut h = [0.0; TENSION_KNOTS.len()];
+    let (i, t) = tension_interval(x);
     h[i] = 1.0 - t;
     h[i + 1] = t;
     h
@@ -102,12 +109,7 @@ fn tension_hats(x: f64) -> [f64; TENSION_KNOTS.len()] {
 /// `x`, in the same order: the same sum to the bit at a quarter of the work.
 #[inline]
 pub(crate) fn drive_dot(coefficients: &[f64; DRIVE_FEATURES], x: f64, y: f64) -> f64 {
-    let k = &TENSION_KNOTS;
-    let i = k[1..k.len() - 1]
-        .iter()
-        .take_while(|&&knot| x > knot)
-        .count();
-    let t = (x - k[i]) / (k[i + 1] - k[i]);
+    let (i, t) = tension_interval(x);
     let powers = [1.0, y, y * y, y * y * y];
     // as `Iterator::sum` of f64 starts
     let mut sum = -0.0;
