@@ -205,8 +205,8 @@ fn calibrate(args: &CalibrateArgs) -> anyhow::Result<()> {
     }
     if let Some(m) = &reduced.modes {
         println!(
-            "collective modes of the interfaces, measured in {:.1} s: own amplification, \
-             uniform / bending, per interface",
+            "collective modes of the interfaces, known after {:.1} s (beside the chains): \
+             own amplification, uniform / bending, per interface",
             c.modes_wall_time_s
         );
         for (x, table) in m.knots.iter().zip(&m.amplification) {

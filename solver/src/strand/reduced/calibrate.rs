@@ -1,8 +1,8 @@
 //! Calibration of a reduced strand response on its FE model ([`super`] module docs).
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, VecDeque};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::{mpsc, Mutex};
+use std::sync::{mpsc, Mutex, OnceLock};
 use std::time::Instant;
 
 use super::compare::compare_records;
@@ -10,7 +10,7 @@ use super::design::{design_history_weighted, split_weights, DesignParams};
 use super::fit::FitAccumulator;
 use super::{
     CalibrationReport, ChainCost, InterfaceFit, LoadRange, LoadScaling, ModeCoupling, ReducedError,
-    ReducedStrand, FORMAT_VERSION,
+    ReducedStrand, FORMAT_VERSION, MODES,
 };
 use crate::contact::TangentialLaw;
 use crate::fretting::{ContactRecord, ContactSample};
@@ -20,7 +20,7 @@ use crate::strand::history::monitors::{
 };
 use crate::strand::history::{
     run_history, HistoryError, HistoryObserver, HistoryOptions, HistoryProgress, HistoryResult,
-    LoadSample,
+    LoadSample, NoObserver,
 };
 use crate::strand::model::{StrandModel, StrandModelParameters};
 use crate::strand::profile::Strand;
@@ -107,12 +107,33 @@ struct ChainProgress {
 }
 
 /// Feeds every sample of one chain's FE run to its fit, passes progress to the calling thread,
-/// and stops when asked to.
+/// and stops when asked to. The fit takes the collective modes' answer off the FE slips: while
+/// the modes are still being measured on another thread, the samples wait in `pending`.
 struct Learner<'a> {
     chain: usize,
-    fitter: Fitter<'a>,
+    prepared: &'a Prepared,
+    modes: &'a OnceLock<ModeCoupling>,
+    fitter: Option<Fitter<'a>>,
+    pending: Vec<RecordedSample>,
     progress: mpsc::Sender<ChainProgress>,
     stop: &'a AtomicBool,
+}
+
+impl<'a> Learner<'a> {
+    /// Starts the fit as soon as the modes are known, with the samples that waited for them.
+    fn catch_up(&mut self) {
+        if self.fitter.is_some() {
+            return;
+        }
+        if let Some(modes) = self.modes.get() {
+            let mut fitter = self.prepared.fitter(self.chain, Some(modes));
+            for (sample, contacts, elements) in self.pending.drain(..) {
+                fitter.add(&sample, &contacts, &elements);
+            }
+            self.pending = Vec::new();
+            self.fitter = Some(fitter);
+        }
+    }
 }
 
 impl HistoryObserver for Learner<'_> {
@@ -127,7 +148,13 @@ impl HistoryObserver for Learner<'_> {
     fn checkpoint(&mut self, _checkpoint: &HistoryCheckpoint) {}
 
     fn sample(&mut self, sample: &LoadSample, contacts: &[ContactSample], elements: &[f64]) {
-        self.fitter.add(sample, contacts, elements);
+        self.catch_up();
+        match &mut self.fitter {
+            Some(fitter) => fitter.add(sample, contacts, elements),
+            None => self
+                .pending
+                .push((*sample, contacts.to_vec(), elements.to_vec())),
+        }
     }
 
     fn should_stop(&mut self) -> bool {
@@ -164,30 +191,27 @@ struct Prepared {
 }
 
 /// The layer interfaces' collective modes of `model` over `range`, measured on the FE model
-/// (the `modes` module), as a calibration measures them before its designed history.
+/// (the `modes` module), as a calibration measures them beside its designed history.
 pub fn measure_modes(
     model: &StrandModel,
     range: LoadRange,
     options: &CalibrationOptions,
 ) -> Result<ModeCoupling, ReducedError> {
-    let range = range.validated()?;
-    super::modes::measure(
-        model,
-        &LoadScaling::of(&range),
-        &super::modes::MODE_POINTS,
-        &options.history,
-        options.history.threads,
-    )
+    let mut p = prepare(model, range, options)?;
+    p.design.clear();
+    p.weights.clear();
+    let (modes, _, _) = run_chains(model, &p, &mut NoObserver)?;
+    Ok(modes)
 }
 
 impl Prepared {
-    /// Empty sums for one chain.
-    fn fitter(&self, chain: usize) -> Fitter<'_> {
+    /// Empty sums for one chain, which take the answer of `modes` off the FE slips.
+    fn fitter(&self, chain: usize, modes: Option<&ModeCoupling>) -> Fitter<'_> {
         Fitter {
             scaling: self.scaling,
             weights: &self.weights[chain],
             fit: FitAccumulator::new(self.sites.len(), self.element_channels, self.stick_per_m)
-                .with_modes(&self.sites, self.modes.as_ref()),
+                .with_modes(&self.sites, modes),
             buffer: Vec::with_capacity(self.sites.len()),
         }
     }
@@ -266,57 +290,184 @@ struct ChainRun {
     wall_time_s: f64,
 }
 
-/// Runs the FE model through every chain of the design, as many at a time as
-/// `p.history.threads` (each run on one thread; with more threads than chains, the threads
-/// are shared out among the runs). The results do not depend on the threads. `observer` sees
-/// the samples done over all chains and may stop the runs.
+/// What one task of [`run_chains`] left: the amplifications at a knot of the collective modes,
+/// or a chain's FE run with its fit, or its samples if the modes were not known yet.
+enum Done<'a> {
+    Knot(Vec<Vec<[f64; MODES]>>),
+    Chain(Box<ChainDone<'a>>),
+}
+
+/// A chain's FE run with its fit, or its samples if the modes were not known yet.
+struct ChainDone<'a> {
+    fitter: Option<Fitter<'a>>,
+    pending: Vec<RecordedSample>,
+    fe: HistoryResult,
+    wall_time_s: f64,
+}
+
+/// A task of [`run_chains`].
+#[derive(Clone, Copy, Debug)]
+enum Task {
+    /// The FE run to the knots of the collective modes.
+    Stroke,
+    /// The collective modes at one knot, from the stroke's state there.
+    Knot(usize),
+    /// One chain of the design.
+    Chain(usize),
+}
+
+/// Measures the collective modes at the knots of [`super::modes::MODE_POINTS`] and runs the
+/// FE model through every chain of the design, as many of these tasks at a time as
+/// `p.history.threads` (each on one thread; with more threads than tasks, the threads are
+/// shared out): first one FE run through the knots ([`super::modes::Stroke`]), beside the
+/// first chains; then the knots, each probed from the stroke's state there, before the
+/// chains left. A chain that runs while the modes are still being measured keeps its samples
+/// until they are known, then fits them in order: the sums, and so the results, do not depend
+/// on the threads. `observer` sees the samples done over all chains and may stop the runs.
+/// Returns the modes, the chains' runs and the wall time until the modes were known (s).
 fn run_chains(
     model: &StrandModel,
     p: &Prepared,
     observer: &mut dyn HistoryObserver,
-) -> Result<Vec<ChainRun>, ReducedError> {
+) -> Result<(ModeCoupling, Vec<ChainRun>, f64), ReducedError> {
     let start = Instant::now();
+    let knots = &super::modes::MODE_POINTS;
     let chains = p.design.len();
-    let concurrent = p.history.threads.clamp(1, chains.max(1));
+    // the stroke, the knots and the chains, in the order of `results`
+    let tasks = 1 + knots.len() + chains;
+    let slot_of = |task: Task| match task {
+        Task::Stroke => 0,
+        Task::Knot(k) => 1 + k,
+        Task::Chain(c) => 1 + knots.len() + c,
+    };
+    let concurrent = p.history.threads.clamp(1, 1 + chains.max(knots.len()));
     let per_run = HistoryOptions {
         threads: (p.history.threads / concurrent).max(1),
         ..p.history
     };
-    let next = AtomicUsize::new(0);
+    let queue: Mutex<VecDeque<Task>> = Mutex::new(
+        std::iter::once(Task::Stroke)
+            .chain((0..chains).map(Task::Chain))
+            .collect(),
+    );
+    let stroke: OnceLock<super::modes::Stroke> = OnceLock::new();
+    let stroke_pending = AtomicBool::new(true);
+    let knots_left = AtomicUsize::new(knots.len());
+    let modes: OnceLock<ModeCoupling> = OnceLock::new();
+    let modes_known_s = Mutex::new(0.0);
     let stop = AtomicBool::new(false);
-    let results: Vec<Mutex<Option<Result<ChainRun, ReducedError>>>> =
-        (0..chains).map(|_| Mutex::new(None)).collect();
+    let results: Vec<Mutex<Option<Result<Done, ReducedError>>>> =
+        (0..tasks).map(|_| Mutex::new(None)).collect();
     let total: usize = p.design.iter().map(Vec::len).sum();
     let (sender, receiver) = mpsc::channel();
     std::thread::scope(|scope| {
         for _ in 0..concurrent {
             let sender = sender.clone();
-            let (next, stop, results, per_run) = (&next, &stop, &results, &per_run);
+            let (queue, stop, results, per_run) = (&queue, &stop, &results, &per_run);
+            let (stroke, stroke_pending, knots_left, modes, modes_known_s) = (
+                &stroke,
+                &stroke_pending,
+                &knots_left,
+                &modes,
+                &modes_known_s,
+            );
             scope.spawn(move || loop {
-                let chain = next.fetch_add(1, Ordering::SeqCst);
-                if chain >= chains || stop.load(Ordering::Relaxed) {
+                if stop.load(Ordering::Relaxed) {
                     break;
                 }
-                let t = Instant::now();
-                let mut learner = Learner {
-                    chain,
-                    fitter: p.fitter(chain),
-                    progress: sender.clone(),
-                    stop,
+                let Some(task) = queue.lock().ok().and_then(|mut q| q.pop_front()) else {
+                    // the stroke, still running, will queue the knots
+                    if stroke_pending.load(Ordering::SeqCst) {
+                        std::thread::sleep(std::time::Duration::from_millis(20));
+                        continue;
+                    }
+                    break;
                 };
-                let run = run_history(model, &p.design[chain], per_run, &mut learner);
-                let outcome = match run {
-                    Ok(fe) => Ok(ChainRun {
-                        fit: learner.fitter.fit,
-                        fe,
-                        wall_time_s: t.elapsed().as_secs_f64(),
-                    }),
-                    Err(source) => {
-                        stop.store(true, Ordering::Relaxed);
-                        Err(ReducedError::History { chain, source })
+                let outcome = match task {
+                    Task::Stroke => {
+                        let run = super::modes::Stroke::run(model, &p.scaling, knots, per_run);
+                        let outcome = match run {
+                            Ok(s) => {
+                                let _ = stroke.set(s);
+                                // the knots go before the chains not started yet
+                                if let Ok(mut q) = queue.lock() {
+                                    for k in (0..knots.len()).rev() {
+                                        q.push_front(Task::Knot(k));
+                                    }
+                                }
+                                None
+                            }
+                            Err(e) => Some(Err(e)),
+                        };
+                        stroke_pending.store(false, Ordering::SeqCst);
+                        match outcome {
+                            None => continue,
+                            Some(e) => e,
+                        }
+                    }
+                    Task::Knot(k) => {
+                        let measured = stroke
+                            .get()
+                            .ok_or(ReducedError::Calibration {
+                                reason: "a knot of the modes before their stroke".into(),
+                            })
+                            .and_then(|s| s.probe(model, k))
+                            .and_then(|probe| super::modes::measure_point(&probe));
+                        match measured {
+                            Ok(table) => {
+                                if let Ok(mut slot) = results[slot_of(task)].lock() {
+                                    *slot = Some(Ok(Done::Knot(table)));
+                                }
+                                // the last knot measured: the modes are known to every chain
+                                if knots_left.fetch_sub(1, Ordering::SeqCst) == 1 {
+                                    let amplification = results[1..1 + knots.len()]
+                                        .iter()
+                                        .filter_map(|slot| match slot.lock().ok()?.as_ref()? {
+                                            Ok(Done::Knot(table)) => Some(table.clone()),
+                                            _ => None,
+                                        })
+                                        .collect();
+                                    let _ = modes.set(ModeCoupling {
+                                        knots: knots.iter().map(|k| k.0).collect(),
+                                        amplification,
+                                    });
+                                    if let Ok(mut t) = modes_known_s.lock() {
+                                        *t = start.elapsed().as_secs_f64();
+                                    }
+                                }
+                                continue;
+                            }
+                            Err(e) => Err(e),
+                        }
+                    }
+                    Task::Chain(chain) => {
+                        let t = Instant::now();
+                        let mut learner = Learner {
+                            chain,
+                            prepared: p,
+                            modes,
+                            fitter: None,
+                            pending: Vec::new(),
+                            progress: sender.clone(),
+                            stop,
+                        };
+                        let run = run_history(model, &p.design[chain], per_run, &mut learner);
+                        learner.catch_up();
+                        run.map(|fe| {
+                            Done::Chain(Box::new(ChainDone {
+                                fitter: learner.fitter,
+                                pending: learner.pending,
+                                fe,
+                                wall_time_s: t.elapsed().as_secs_f64(),
+                            }))
+                        })
+                        .map_err(|source| ReducedError::History { chain, source })
                     }
                 };
-                if let Ok(mut slot) = results[chain].lock() {
+                if outcome.is_err() {
+                    stop.store(true, Ordering::Relaxed);
+                }
+                if let Ok(mut slot) = results[slot_of(task)].lock() {
                     *slot = Some(outcome);
                 }
             });
@@ -338,13 +489,18 @@ fn run_chains(
             }
         }
     });
-    // the first chain that failed, rather than one that stopped because of it; a chain that
+    // the first task that failed, rather than one that stopped because of it; a task that
     // never started was stopped before it
-    let mut runs = Vec::with_capacity(chains);
+    let mut done = Vec::with_capacity(chains);
     let mut stopped = None;
-    for (chain, slot) in results.into_iter().enumerate() {
-        match slot.into_inner().ok().flatten() {
-            Some(Ok(run)) => runs.push(run),
+    for (task, slot) in results.into_iter().enumerate() {
+        let chain = task.saturating_sub(1 + knots.len());
+        let slot = slot.into_inner().ok().flatten();
+        if task == 0 && slot.is_none() && stroke.get().is_some() {
+            continue;
+        }
+        match slot {
+            Some(Ok(d)) => done.push(d),
             Some(Err(
                 e @ ReducedError::History {
                     source: HistoryError::Stopped { .. },
@@ -365,10 +521,35 @@ fn run_chains(
             }
         }
     }
-    match stopped {
-        Some(e) => Err(e),
-        None => Ok(runs),
+    if let Some(e) = stopped {
+        return Err(e);
     }
+    let modes = modes.get().cloned().ok_or(ReducedError::Calibration {
+        reason: "the collective modes were not measured at every knot".into(),
+    })?;
+    let modes_known_s = modes_known_s.into_inner().unwrap_or(0.0);
+    let mut runs = Vec::with_capacity(chains);
+    for (chain, d) in done.into_iter().skip(knots.len()).enumerate() {
+        if let Done::Chain(chain_done) = d {
+            let ChainDone {
+                fitter,
+                pending,
+                fe,
+                wall_time_s,
+            } = *chain_done;
+            // a chain that ended before the modes were known fits its samples now
+            let mut fitter = fitter.unwrap_or_else(|| p.fitter(chain, Some(&modes)));
+            for (sample, contacts, elements) in pending {
+                fitter.add(&sample, &contacts, &elements);
+            }
+            runs.push(ChainRun {
+                fit: fitter.fit,
+                fe,
+                wall_time_s,
+            });
+        }
+    }
+    Ok((modes, runs, modes_known_s))
 }
 
 /// Calibrates the reduced response of `model` over `range` (module docs of [`super`]);
@@ -381,17 +562,8 @@ pub fn calibrate(
 ) -> Result<ReducedStrand, ReducedError> {
     let start = Instant::now();
     let mut p = prepare(model, range, options)?;
-    // the collective modes first: the fit takes their answer off the FE slips as it goes
-    let t_modes = Instant::now();
-    p.modes = Some(super::modes::measure(
-        model,
-        &p.scaling,
-        &super::modes::MODE_POINTS,
-        &p.history,
-        p.history.threads,
-    )?);
-    let modes_wall_time_s = t_modes.elapsed().as_secs_f64();
-    let runs = run_chains(model, &p, observer)?;
+    let (modes, runs, modes_wall_time_s) = run_chains(model, &p, observer)?;
+    p.modes = Some(modes);
     let mut fit = FitAccumulator::new(p.sites.len(), p.element_channels, p.stick_per_m);
     let mut costs = Vec::with_capacity(runs.len());
     for (chain, run) in runs.iter().enumerate() {
@@ -462,7 +634,7 @@ where
                 ),
             });
         }
-        let mut fitter = p.fitter(chain);
+        let mut fitter = p.fitter(chain, p.modes.as_ref());
         for (load, contacts, elements) in samples {
             fitter.add(&load, &contacts, &elements);
         }

@@ -96,6 +96,8 @@ pub use calibrate::{
     calibrate, calibration_design, fit_recorded, measure_modes, model_key, CalibrationOptions,
     RecordedSample,
 };
+#[cfg(test)]
+use run::contact_series_stepping_all;
 pub use run::{contact_series, run_reduced};
 
 /// Version of the stored calibration and of the fit that made it; a file of another version is
@@ -412,21 +414,56 @@ impl JenkinsState {
         stick_per_m: f64,
         elastic_slip_m: f64,
     ) -> (f64, f64) {
+        let (k, factor) =
+            slide_factor(normal_force_n, compliance_m_per_n, stick_ratio, stick_per_m);
+        self.step_factored(drive_m, normal_force_n, k, factor, elastic_slip_m)
+    }
+
+    /// [`Self::step`] with the contact's stiffness `k` and [`slide_factor`] given.
+    #[inline]
+    pub(crate) fn step_factored(
+        &mut self,
+        drive_m: f64,
+        normal_force_n: f64,
+        k: f64,
+        factor: f64,
+        elastic_slip_m: f64,
+    ) -> (f64, f64) {
         if normal_force_n <= 0.0 {
             // an open contact carries nothing and forgets its elastic slip, as the FE
             // element's history does: it closes again unloaded where it is
             self.plastic_slip_m = drive_m;
             return (drive_m, 0.0);
         }
-        let k = stick_per_m * normal_force_n;
-        let factor = 1.0 + compliance_m_per_n * k + stick_ratio;
+        let elastic = self.advance(drive_m, factor, elastic_slip_m);
+        (elastic + self.plastic_slip_m, k * elastic)
+    }
+
+    /// Advances a closed contact to drive `d`, `factor` its [`slide_factor`]: returns the
+    /// elastic slip.
+    #[inline]
+    pub(crate) fn advance(&mut self, drive_m: f64, factor: f64, elastic_slip_m: f64) -> f64 {
         let mut elastic = (drive_m - self.plastic_slip_m) / factor;
         if elastic.abs() > elastic_slip_m {
             elastic = elastic_slip_m.copysign(elastic);
             self.plastic_slip_m = drive_m - elastic * factor;
         }
-        (elastic + self.plastic_slip_m, k * elastic)
+        elastic
     }
+}
+
+/// A closed contact's tangential stiffness `k = μ f_N / γ_e` and the ratio `1 + g k + r` of the
+/// rate at which it slides to the rate at which it sticks, for normal force `f_N`,
+/// compliance `g`, stick ratio `r` and `stick_per_m = μ / γ_e`.
+#[inline]
+pub(crate) fn slide_factor(
+    normal_force_n: f64,
+    compliance_m_per_n: f64,
+    stick_ratio: f64,
+    stick_per_m: f64,
+) -> (f64, f64) {
+    let k = stick_per_m * normal_force_n;
+    (k, 1.0 + compliance_m_per_n * k + stick_ratio)
 }
 
 /// In-sample quality of one layer interface's fit on the calibration run.
@@ -466,8 +503,8 @@ pub struct CalibrationReport {
     /// What each chain of the design cost ([`design`] module docs), in chain order.
     #[serde(default)]
     pub chains: Vec<ChainCost>,
-    /// Wall time of the measurement of the interfaces' collective modes, before the chains
-    /// (s; part of `fe_wall_time_s`).
+    /// Wall time from the calibration's start until the interfaces' collective modes were
+    /// measured, beside the first chains (s; part of `fe_wall_time_s`).
     #[serde(default)]
     pub modes_wall_time_s: f64,
     /// Least-squares fits per interface.

@@ -14,12 +14,12 @@
 //! periodic ends, whose interfaces are rings, cos θ and sin θ answer alike within 1 %; on a
 //! short strand with tied ends they do not.
 
-use super::{LoadScaling, ModeCoupling, ReducedError, MODES};
+use super::{LoadScaling, ReducedError, MODES};
 use crate::fretting::ContactSample;
 use crate::strand::history::checkpoint::HistoryCheckpoint;
 use crate::strand::history::monitors::{contact_sites, ContactSite};
 use crate::strand::history::{
-    run_history, run_history_from, HistoryObserver, HistoryOptions, LoadSample,
+    run_history, run_history_from, HistoryError, HistoryObserver, HistoryOptions, LoadSample,
 };
 use crate::strand::model::StrandModel;
 
@@ -39,21 +39,32 @@ pub(crate) const MODE_POINTS: [(f64, f64); 7] = [
     (0.9, 0.0),
 ];
 
-/// The checkpoint and the last sample's contacts of a run.
+/// The checkpoints of a run and the last sample's contacts; with `stop_after`, the run
+/// stops after that many segments.
 #[derive(Default)]
 struct Capture {
-    checkpoint: Option<HistoryCheckpoint>,
+    checkpoints: Vec<HistoryCheckpoint>,
     last: Vec<ContactSample>,
+    stop_after: Option<usize>,
+    segments: usize,
 }
 
 impl HistoryObserver for Capture {
+    fn progress(&mut self, _progress: &crate::strand::history::HistoryProgress) {
+        self.segments += 1;
+    }
+
     fn checkpoint(&mut self, checkpoint: &HistoryCheckpoint) {
-        self.checkpoint = Some(checkpoint.clone());
+        self.checkpoints.push(checkpoint.clone());
     }
 
     fn sample(&mut self, _sample: &LoadSample, contacts: &[ContactSample], _elements: &[f64]) {
         self.last.clear();
         self.last.extend_from_slice(contacts);
+    }
+
+    fn should_stop(&mut self) -> bool {
+        self.stop_after.is_some_and(|n| self.segments >= n)
     }
 }
 
@@ -73,12 +84,94 @@ fn pattern_weight(p: usize, c: usize, site: &ContactSite) -> f64 {
     }
 }
 
-/// The FE state at one load point, checkpointed to be solved again with imposed slips.
-struct Probe<'a> {
-    model: &'a StrandModel,
-    samples: [LoadSample; 3],
+/// The FE states at the load points of a mode measurement, reached by one FE run: along the
+/// FE initialisation's path to the first point, then from point to point, each point
+/// approached through a hair beyond it (where the state is checkpointed, to be solved back to
+/// the point with imposed slips).
+pub(crate) struct Stroke {
+    samples: Vec<LoadSample>,
     options: HistoryOptions,
-    checkpoint: HistoryCheckpoint,
+    checkpoints: Vec<HistoryCheckpoint>,
+}
+
+impl Stroke {
+    /// The stroke through `points` (scaled loads, in the order given: increasing tension
+    /// keeps every point on the initialisation's monotonic path).
+    pub(crate) fn run(
+        model: &StrandModel,
+        scaling: &LoadScaling,
+        points: &[(f64, f64)],
+        history: &HistoryOptions,
+    ) -> Result<Self, ReducedError> {
+        let mut samples = Vec::with_capacity(3 * points.len());
+        for &(x, y) in points {
+            for (dx, dy) in [(0.0, 0.0), (1e-3, 1e-3), (0.0, 0.0)] {
+                let (strain, curvature_per_m) = scaling.load(x + dx, y + dy);
+                samples.push(LoadSample {
+                    time_s: samples.len() as f64,
+                    strain,
+                    curvature_per_m,
+                });
+            }
+        }
+        let options = HistoryOptions {
+            checkpoint_interval_segments: 1,
+            turning_point_tolerance: 0.0,
+            ..*history
+        };
+        let mut capture = Capture::default();
+        run_history(model, &samples, &options, &mut capture).map_err(history_failed)?;
+        // after segment 3k + 1, a hair beyond point k
+        let checkpoints: Vec<HistoryCheckpoint> = capture
+            .checkpoints
+            .into_iter()
+            .filter(|cp| cp.next_segment % 3 == 1)
+            .collect();
+        if checkpoints.len() != points.len() {
+            return Err(ReducedError::Calibration {
+                reason: format!(
+                    "the mode measurement's FE run handed {} checkpoints for {} points",
+                    checkpoints.len(),
+                    points.len()
+                ),
+            });
+        }
+        Ok(Self {
+            samples,
+            options,
+            checkpoints,
+        })
+    }
+
+    /// The state at point `k`, to be probed.
+    pub(crate) fn probe<'a>(
+        &'a self,
+        model: &'a StrandModel,
+        k: usize,
+    ) -> Result<Probe<'a>, ReducedError> {
+        let checkpoint = self.checkpoints.get(k).ok_or(ReducedError::Calibration {
+            reason: format!("no mode measurement point {k}"),
+        })?;
+        let sites = contact_sites(model);
+        let interfaces = sites.iter().map(|s| s.interface + 1).max().unwrap_or(0);
+        let mut probe = Probe {
+            model,
+            stroke: self,
+            checkpoint,
+            base: Vec::new(),
+            sites,
+            interfaces,
+        };
+        probe.base = probe.solve(checkpoint)?;
+        Ok(probe)
+    }
+}
+
+/// The FE state at one load point, checkpointed to be solved again with imposed slips.
+pub(crate) struct Probe<'a> {
+    model: &'a StrandModel,
+    stroke: &'a Stroke,
+    checkpoint: &'a HistoryCheckpoint,
     base: Vec<ContactSample>,
     sites: Vec<ContactSite>,
     interfaces: usize,
@@ -91,57 +184,23 @@ fn history_failed(source: crate::strand::history::HistoryError) -> ReducedError 
     }
 }
 
-impl<'a> Probe<'a> {
-    /// The FE state at scaled loads (x, y), reached along the FE initialisation's path.
-    fn at(
-        model: &'a StrandModel,
-        scaling: &LoadScaling,
-        (x, y): (f64, f64),
-        history: &HistoryOptions,
-    ) -> Result<Self, ReducedError> {
-        let load = |t: f64, x: f64, y: f64| {
-            let (strain, curvature_per_m) = scaling.load(x, y);
-            LoadSample {
-                time_s: t,
-                strain,
-                curvature_per_m,
-            }
-        };
-        let samples = [
-            load(0.0, x, y),
-            load(1.0, x + 1e-3, y + 1e-3),
-            load(2.0, x, y),
-        ];
-        let options = HistoryOptions {
-            checkpoint_interval_segments: 1,
-            turning_point_tolerance: 0.0,
-            ..*history
-        };
-        let mut capture = Capture::default();
-        run_history(model, &samples, &options, &mut capture).map_err(history_failed)?;
-        let checkpoint = capture.checkpoint.take().ok_or(ReducedError::Calibration {
-            reason: "the mode measurement's FE run handed no checkpoint".into(),
-        })?;
-        let sites = contact_sites(model);
-        let interfaces = sites.iter().map(|s| s.interface + 1).max().unwrap_or(0);
-        let mut probe = Self {
-            model,
-            samples,
-            options,
-            checkpoint,
-            base: Vec::new(),
-            sites,
-            interfaces,
-        };
-        probe.base = probe.solve(&probe.checkpoint)?;
-        Ok(probe)
-    }
-
+impl Probe<'_> {
+    /// The last segment to the point solved from `cp`: every contact's state at the point.
     fn solve(&self, cp: &HistoryCheckpoint) -> Result<Vec<ContactSample>, ReducedError> {
-        let mut run = Capture::default();
-        run_history_from(self.model, &self.samples, &self.options, Some(cp), &mut run)
-            .map_err(history_failed)?;
-        Ok(run.last)
+        let mut run = Capture {
+            stop_after: Some(1),
+            ..Capture::default()
+        };
+        match run_history_from(
+            self.model,
+            &self.stroke.samples,
+            &self.stroke.options,
+            Some(cp),
+            &mut run,
+        ) {
+            Ok(_) | Err(HistoryError::Stopped { .. }) => Ok(run.last),
+            Err(e) => Err(history_failed(e)),
+        }
     }
 
     /// Every contact's answer, per unit of imposed slip, to the irreversible slips `w`.
@@ -174,16 +233,10 @@ impl<'a> Probe<'a> {
     }
 }
 
-/// The amplifications `a[I][J][m]` at one load point (scaled `x`, `y`), net of the contacts'
-/// own answer on the diagonal. Uniform patterns answer across interfaces by a few percent and
-/// are kept on the diagonal only.
-pub(crate) fn measure_point(
-    model: &StrandModel,
-    scaling: &LoadScaling,
-    point: (f64, f64),
-    history: &HistoryOptions,
-) -> Result<Vec<Vec<[f64; MODES]>>, ReducedError> {
-    let probe = Probe::at(model, scaling, point, history)?;
+/// The amplifications `a[I][J][m]` at the probed load point, net of the contacts' own answer
+/// on the diagonal. Uniform patterns answer across interfaces by a few percent and are kept on
+/// the diagonal only.
+pub(crate) fn measure_point(probe: &Probe) -> Result<Vec<Vec<[f64; MODES]>>, ReducedError> {
     let n = probe.interfaces;
     let pattern = |p: usize| move |c: usize, site: &ContactSite| pattern_weight(p, c, site);
     // random signs on every interface at once: each contact's own answer (the patterns of
@@ -223,58 +276,6 @@ pub(crate) fn measure_point(
     Ok(a)
 }
 
-/// The collective modes over the tension knots `points` (scaled loads, increasing in x), each
-/// measured on its own FE run, as many at a time as `threads`.
-pub(crate) fn measure(
-    model: &StrandModel,
-    scaling: &LoadScaling,
-    points: &[(f64, f64)],
-    history: &HistoryOptions,
-    threads: usize,
-) -> Result<ModeCoupling, ReducedError> {
-    let single = HistoryOptions {
-        threads: 1,
-        ..*history
-    };
-    let results: Vec<Result<Vec<Vec<[f64; MODES]>>, ReducedError>> = std::thread::scope(|scope| {
-        let concurrent = threads.clamp(1, points.len().max(1));
-        let chunks: Vec<Vec<usize>> = (0..concurrent)
-            .map(|t| (t..points.len()).step_by(concurrent).collect())
-            .collect();
-        let handles: Vec<_> = chunks
-            .into_iter()
-            .map(|idx| {
-                let single = &single;
-                scope.spawn(move || {
-                    idx.into_iter()
-                        .map(|k| (k, measure_point(model, scaling, points[k], single)))
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        let mut all: Vec<(usize, Result<_, _>)> = handles
-            .into_iter()
-            .flat_map(|h| {
-                h.join().unwrap_or_else(|_| {
-                    vec![(
-                        usize::MAX,
-                        Err(ReducedError::Calibration {
-                            reason: "a mode measurement thread panicked".into(),
-                        }),
-                    )]
-                })
-            })
-            .collect();
-        all.sort_by_key(|(k, _)| *k);
-        all.into_iter().map(|(_, r)| r).collect()
-    });
-    let amplification = results.into_iter().collect::<Result<Vec<_>, _>>()?;
-    Ok(ModeCoupling {
-        knots: points.iter().map(|p| p.0).collect(),
-        amplification,
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -303,13 +304,14 @@ mod tests {
             strain: [5e-4, 1.5e-3],
             curvature_per_m: [0.0, 0.03],
         };
-        let probe = Probe::at(
+        let stroke = Stroke::run(
             &model,
             &LoadScaling::of(&range),
-            (0.0, 0.0),
+            &[(0.0, 0.0)],
             &HistoryOptions::default(),
         )
-        .expect("the probe solves");
+        .expect("the stroke solves");
+        let probe = stroke.probe(&model, 0).expect("the probe solves");
         let on = |j: usize, p: usize| {
             move |c: usize, site: &ContactSite| {
                 if site.interface == j {

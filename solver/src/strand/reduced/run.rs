@@ -153,63 +153,167 @@ const MODE_ITERATIONS: usize = 60;
 /// Samples per block of the coupled run's drives and normal forces, computed side by side.
 const BLOCK: usize = 128;
 
+/// Contacts per tile of a block (`Tiles`).
+const TILE: usize = 256;
+
 /// Tolerance on the mode amplitudes (m): far below the slips that count (1 µm).
 const MODE_TOLERANCE_M: f64 = 1e-13;
+
+/// Relative margin on a stuck contact's distance to sliding within which a Newton iteration
+/// steps it again (rounding of the drives is some 1e-16 of them).
+const STICK_MARGIN: f64 = 1e-6;
+
+/// One contact at one sample of the coupled run: its drive, normal force and
+/// [`slide_factor`](super::slide_factor).
+#[derive(Clone, Copy, Default)]
+struct Row {
+    drive_m: f64,
+    normal_force_n: f64,
+    factor: f64,
+}
+
+/// Every contact's [`Row`] over a block of samples, in tiles of [`TILE`] contacts, each tile
+/// sample by sample: a tile is computed (and its contacts' counters fed) on one thread, and
+/// the sequential solve reads a sample's contacts tile after tile, each run contiguous.
+struct Tiles {
+    rows: Vec<Row>,
+}
+
+impl Tiles {
+    fn new(contacts: usize) -> Self {
+        Self {
+            rows: vec![Row::default(); contacts.div_ceil(TILE) * TILE * BLOCK],
+        }
+    }
+
+    /// Contact `c` at sample `k` of the block.
+    #[inline]
+    fn at(&self, c: usize, k: usize) -> Row {
+        self.rows[(c / TILE) * TILE * BLOCK + k * TILE + c % TILE]
+    }
+
+    /// The tiles, each with the index of its first contact.
+    fn tiles_mut(&mut self) -> impl IndexedParallelIterator<Item = (usize, &mut [Row])> {
+        self.rows
+            .par_chunks_mut(TILE * BLOCK)
+            .enumerate()
+            .map(|(t, tile)| (t * TILE, tile))
+    }
+
+    fn tiles(&self) -> impl IndexedParallelIterator<Item = &[Row]> {
+        self.rows.par_chunks(TILE * BLOCK)
+    }
+}
+
+/// The contacts' geometry in the interfaces' modes: each one's interface and mode shapes, and
+/// the norms of each interface's mode shapes.
+struct ModeGeometry {
+    interface: Vec<usize>,
+    shapes: Vec<[f64; MODES]>,
+    norm: Vec<[f64; MODES]>,
+}
+
+impl ModeGeometry {
+    fn new(reduced: &ReducedStrand, interfaces: usize) -> Self {
+        let interface: Vec<usize> = reduced
+            .sites
+            .iter()
+            .map(|s| s.interface.min(interfaces.max(1) - 1))
+            .collect();
+        let shapes: Vec<[f64; MODES]> = reduced
+            .sites
+            .iter()
+            .map(|s| mode_shapes(s.theta_rad))
+            .collect();
+        let mut norm = vec![[0.0; MODES]; interfaces];
+        for (&i, sh) in interface.iter().zip(&shapes) {
+            for (n, v) in norm[i].iter_mut().zip(sh) {
+                *n += v * v;
+            }
+        }
+        Self {
+            interface,
+            shapes,
+            norm,
+        }
+    }
+
+    /// The collective drive of contact `c` under the interfaces' collective drives `w`.
+    #[inline]
+    fn collective(&self, c: usize, w: &[f64]) -> f64 {
+        let (i, sh) = (self.interface[c], &self.shapes[c]);
+        (0..MODES).map(|m| sh[m] * w[i * MODES + m]).sum()
+    }
+
+    /// The projections of the irreversible slips `plastic` on each interface's mode shapes.
+    fn project(&self, plastic: &[f64]) -> Vec<f64> {
+        let mut p = vec![0.0; self.norm.len() * MODES];
+        for (c, &s) in plastic.iter().enumerate() {
+            let (i, sh) = (self.interface[c], &self.shapes[c]);
+            for m in 0..MODES {
+                p[i * MODES + m] += sh[m] * s;
+            }
+        }
+        self.normalise(&mut p);
+        p
+    }
+
+    fn normalise(&self, p: &mut [f64]) {
+        for (i, n) in self.norm.iter().enumerate() {
+            for m in 0..MODES {
+                p[i * MODES + m] /= n[m].max(f64::MIN_POSITIVE);
+            }
+        }
+    }
+}
+
+/// The collective drives `w[I, m] = Σ_J a[I][J][m] q[J, m]` of the mode amplitudes `q`.
+fn collective_drives(amp: &[f64], q: &[f64], ni: usize, w: &mut [f64]) {
+    for (im, v) in w.iter_mut().enumerate() {
+        let (i, m) = (im / MODES, im % MODES);
+        *v = (0..ni)
+            .map(|j| amp[(i * ni + j) * MODES + m] * q[j * MODES + m])
+            .sum();
+    }
+}
 
 /// Every contact through the history, coupled by the interfaces' collective modes
 /// ([`super::ModeCoupling`]): at every sample, the mode amplitudes `q` solve `q = P(s_p(q))`,
 /// the projections of the contacts' irreversible slips after the step taken with the drives
 /// `d + Σ a ψ q`, by Newton's method on the piecewise-linear map (a sliding contact passes a
 /// change of its drive whole to its irreversible slip).
+///
+/// The first iteration of a sample steps every contact; the later ones step only the contacts
+/// that slid or opened in the first and the stuck ones whose distance to sliding the change of
+/// their collective drive since may reach (`|ψ_m| ≤ 1`: the change is at most the sum of the
+/// changes of their interface's collective drives); the others stay stuck. `step_all` steps
+/// every contact in every iteration instead, to the same results to the bit (a test's
+/// reference). The samples' outputs and the slip counters follow in blocks, contacts side by
+/// side, with the converged collective drives.
 fn run_coupled(
     reduced: &ReducedStrand,
     coupling: &super::ModeCoupling,
     h: &Scaled,
     slip_gate_m: f64,
     keep_series: &(dyn Fn(usize) -> bool + Sync),
+    step_all: bool,
 ) -> Result<Vec<(ContactRecord, Vec<ContactSample>)>, ReducedError> {
     let nc = reduced.laws.len();
     let ni = coupling.interfaces();
     let nq = ni * MODES;
     let stick_per_m = reduced.friction_coefficient / reduced.elastic_slip_m;
     let gamma = reduced.elastic_slip_m;
-    let interface: Vec<usize> = reduced
-        .sites
-        .iter()
-        .map(|s| s.interface.min(ni.max(1) - 1))
-        .collect();
-    let shapes: Vec<[f64; MODES]> = reduced
-        .sites
-        .iter()
-        .map(|s| mode_shapes(s.theta_rad))
-        .collect();
-    let mut norm = vec![[0.0; MODES]; ni];
-    for (&i, sh) in interface.iter().zip(&shapes) {
-        for (n, v) in norm[i].iter_mut().zip(sh) {
-            *n += v * v;
-        }
-    }
+    // the stuck contacts nearer sliding than this (m of drive) are listed after a sample's
+    // first iteration; a later one that moves an interface's drives further steps them all
+    let near_m = 0.1 * gamma;
+    let geometry = ModeGeometry::new(reduced, ni);
     let (x0, y0) = h.initial.start;
-    let mut states: Vec<JenkinsState> = reduced
+    let mut plastic: Vec<f64> = reduced
         .laws
         .iter()
-        .map(|law| JenkinsState::unloaded(law.drive_m(x0, y0)))
+        .map(|law| JenkinsState::unloaded(law.drive_m(x0, y0)).plastic_slip_m)
         .collect();
-    let project = |states: &[JenkinsState]| {
-        let mut p = vec![0.0; nq];
-        for ((st, &i), sh) in states.iter().zip(&interface).zip(&shapes) {
-            for m in 0..MODES {
-                p[i * MODES + m] += sh[m] * st.plastic_slip_m;
-            }
-        }
-        for i in 0..ni {
-            for m in 0..MODES {
-                p[i * MODES + m] /= norm[i][m].max(f64::MIN_POSITIVE);
-            }
-        }
-        p
-    };
-    let origin = project(&states);
+    let origin = geometry.project(&plastic);
     let mut q = vec![0.0; nq];
     let mut counters = Vec::with_capacity(nc);
     for c in 0..nc {
@@ -226,84 +330,137 @@ fn run_coupled(
             max_normal: 0.0,
         });
     }
-    let mut outputs = vec![
-        ContactSample {
-            slip_m: 0.0,
-            normal_force_n: 0.0,
-            tangential_force_n: 0.0,
-        };
-        nc * BLOCK
-    ];
-    let mut base: Vec<(f64, f64)> = vec![(0.0, 0.0); nc];
-    let mut trial = states.clone();
-    let mut out: Vec<(f64, f64)> = vec![(0.0, 0.0); nc];
-    let mut amp = Vec::new();
     let steps = h.initial.path.len();
     let points: Vec<(f64, f64)> = h.initial.path.iter().chain(&h.loads).copied().collect();
-    // every contact's drive and normal force over a block of samples, computed side by side
-    // (contact-major: `block[c · BLOCK + k]`)
-    let mut block: Vec<(f64, f64)> = vec![(0.0, 0.0); nc * BLOCK];
-    for (n, &(x, y)) in points.iter().enumerate() {
+    // every contact's drive, normal force and slide factor over a block of samples, computed
+    // side by side
+    let mut tiles = Tiles::new(nc);
+    // the irreversible slips at the block's start and the converged collective drives
+    let mut block_start = plastic.clone();
+    let mut converged_w = vec![0.0; nq * BLOCK];
+    let all: Vec<usize> = (0..nc).collect();
+    let mut amp = Vec::new();
+    let mut w = vec![0.0; nq];
+    let mut w_first = vec![0.0; nq];
+    let mut p_first = vec![0.0; nq];
+    // the first iteration's irreversible slips; each contact's distance to sliding then (m of
+    // drive; −1 if it slid or is open) and the contacts that slid, opened or were near sliding
+    let mut first = plastic.clone();
+    let mut distance = vec![0.0; nc];
+    let mut near: Vec<usize> = Vec::with_capacity(nc);
+    // the later iterations' irreversible slips of the contacts they step, in contact order
+    let mut trial = plastic.clone();
+    let mut stepped: Vec<usize> = Vec::with_capacity(nc);
+    for (n, &(x, _)) in points.iter().enumerate() {
         let k = n % BLOCK;
         if k == 0 {
             let end = (n + BLOCK).min(points.len());
             let span = &points[n..end];
-            block
-                .par_chunks_mut(BLOCK)
-                .enumerate()
-                .for_each(|(c, column)| {
-                    let law = &reduced.laws[c];
-                    for (b, &(x, y)) in column.iter_mut().zip(span) {
-                        *b = (law.drive_m(x, y), law.normal_force_n(&force_features(x, y)));
+            tiles.tiles_mut().for_each(|(first, tile)| {
+                for (j, law) in reduced.laws[first..].iter().take(TILE).enumerate() {
+                    let (g, r) = (law.compliance_m_per_n(), law.stick_ratio());
+                    for (k, &(x, y)) in span.iter().enumerate() {
+                        let normal_force_n = law.normal_force_n(&force_features(x, y));
+                        let (_, factor) = super::slide_factor(normal_force_n, g, r, stick_per_m);
+                        tile[k * TILE + j] = Row {
+                            drive_m: law.drive_m(x, y),
+                            normal_force_n,
+                            factor,
+                        };
                     }
-                });
+                }
+            });
+            block_start.copy_from_slice(&plastic);
         }
-        for (c, b) in base.iter_mut().enumerate() {
-            *b = block[c * BLOCK + k];
-        }
+        let tiles_now = &tiles;
         coupling.at(x, &mut amp);
+        // contact `c` stepped under the collective drives `w`: its irreversible slip, and its
+        // distance to sliding (−1 if it slid or is open); its part of `Σ ψ_m ψ_l` over the
+        // sliding contacts added to `slide`
+        let step = |c: usize, w: &[f64], slide: &mut [[[f64; MODES]; MODES]]| -> (f64, f64) {
+            let r = tiles_now.at(c, k);
+            let drive = r.drive_m + geometry.collective(c, w);
+            if r.normal_force_n <= 0.0 {
+                // open: its irreversible slip follows the drive, as sliding
+                if drive != plastic[c] {
+                    add_outer(&mut slide[geometry.interface[c]], &geometry.shapes[c]);
+                }
+                return (drive, -1.0);
+            }
+            let mut st = JenkinsState {
+                plastic_slip_m: plastic[c],
+            };
+            let elastic = st.advance(drive, r.factor, gamma);
+            if st.plastic_slip_m != plastic[c] {
+                add_outer(&mut slide[geometry.interface[c]], &geometry.shapes[c]);
+                (st.plastic_slip_m, -1.0)
+            } else if elastic.abs() >= gamma {
+                (st.plastic_slip_m, -1.0)
+            } else {
+                (st.plastic_slip_m, (gamma - elastic.abs()) * r.factor)
+            }
+        };
         let mut converged = false;
+        let mut last = 0;
         for iteration in 0..MODE_ITERATIONS {
-            // the collective drive per interface and mode
-            let w: Vec<f64> = (0..nq)
-                .map(|im| {
-                    let (i, m) = (im / MODES, im % MODES);
-                    (0..ni)
-                        .map(|j| amp[(i * ni + j) * MODES + m] * q[j * MODES + m])
-                        .sum()
-                })
-                .collect();
-            let mut p = vec![0.0; nq];
-            // Σ ψ_m ψ_l over each interface's sliding contacts
+            collective_drives(&amp, &q, ni, &mut w);
             let mut slide = vec![[[0.0; MODES]; MODES]; ni];
-            for c in 0..nc {
-                let law = &reduced.laws[c];
-                let (i, sh) = (interface[c], &shapes[c]);
-                let collective: f64 = (0..MODES).map(|m| sh[m] * w[i * MODES + m]).sum();
-                let mut st = states[c];
-                out[c] = st.step(
-                    base[c].0 + collective,
-                    base[c].1,
-                    law.compliance_m_per_n(),
-                    law.stick_ratio(),
-                    stick_per_m,
-                    gamma,
-                );
-                let sliding = st.plastic_slip_m != states[c].plastic_slip_m;
-                trial[c] = st;
-                for m in 0..MODES {
-                    p[i * MODES + m] += sh[m] * st.plastic_slip_m;
-                    if sliding {
-                        for l in 0..MODES {
-                            slide[i][m][l] += sh[m] * sh[l];
+            let p = if iteration == 0 {
+                near.clear();
+                p_first.iter_mut().for_each(|v| *v = 0.0);
+                for c in 0..nc {
+                    let (s, d) = step(c, &w, &mut slide);
+                    first[c] = s;
+                    distance[c] = d;
+                    if d < near_m + STICK_MARGIN * gamma * tiles_now.at(c, k).factor {
+                        near.push(c);
+                    }
+                    let (i, sh) = (geometry.interface[c], &geometry.shapes[c]);
+                    for m in 0..MODES {
+                        p_first[i * MODES + m] += sh[m] * s;
+                    }
+                }
+                geometry.normalise(&mut p_first);
+                w_first.copy_from_slice(&w);
+                p_first.clone()
+            } else {
+                // how far each interface's collective drive moved since the first iteration
+                let reach: Vec<f64> = (0..ni)
+                    .map(|i| {
+                        (0..MODES)
+                            .map(|m| (w[i * MODES + m] - w_first[i * MODES + m]).abs())
+                            .sum()
+                    })
+                    .collect();
+                let candidates = if step_all || reach.iter().any(|&r| r >= near_m) {
+                    &all
+                } else {
+                    &near
+                };
+                stepped.clear();
+                let mut change = vec![0.0; nq];
+                for &c in candidates {
+                    let (i, d) = (geometry.interface[c], distance[c]);
+                    if step_all
+                        || d < 0.0
+                        || d <= reach[i] + STICK_MARGIN * gamma * tiles_now.at(c, k).factor
+                    {
+                        let (s, _) = step(c, &w, &mut slide);
+                        trial[c] = s;
+                        stepped.push(c);
+                        let sh = &geometry.shapes[c];
+                        for m in 0..MODES {
+                            change[i * MODES + m] += sh[m] * (s - first[c]);
                         }
                     }
                 }
-            }
+                geometry.normalise(&mut change);
+                p_first.iter().zip(&change).map(|(a, b)| a + b).collect()
+            };
+            last = iteration;
             let mut r = nalgebra::DVector::<f64>::zeros(nq);
             for im in 0..nq {
-                let (i, m) = (im / MODES, im % MODES);
-                r[im] = p[im] / norm[i][m].max(f64::MIN_POSITIVE) - origin[im] - q[im];
+                r[im] = p[im] - origin[im] - q[im];
             }
             if r.iter().all(|v| v.abs() <= MODE_TOLERANCE_M) {
                 converged = true;
@@ -313,7 +470,7 @@ fn run_coupled(
             let mut a = nalgebra::DMatrix::<f64>::identity(nq, nq);
             for i in 0..ni {
                 for m in 0..MODES {
-                    let nm = norm[i][m].max(f64::MIN_POSITIVE);
+                    let nm = geometry.norm[i][m].max(f64::MIN_POSITIVE);
                     for j in 0..ni {
                         for l in 0..MODES {
                             a[(i * MODES + m, j * MODES + l)] -=
@@ -337,38 +494,66 @@ fn run_coupled(
             return Err(ReducedError::Calibration {
                 reason: format!(
                     "the interfaces' collective modes did not converge in {MODE_ITERATIONS} \
-                     iterations at sample {} (scaled loads {x:.4}, {y:.4})",
-                    n.saturating_sub(steps)
+                     iterations at sample {} (scaled loads {x:.4}, {:.4})",
+                    n.saturating_sub(steps),
+                    points[n].1
                 ),
             });
         }
-        std::mem::swap(&mut states, &mut trial);
-        // the block's samples go to the contacts' counters side by side at its end
-        for (c, o) in out.iter().enumerate() {
-            outputs[c * BLOCK + k] = ContactSample {
-                slip_m: o.0,
-                normal_force_n: base[c].1,
-                tangential_force_n: o.1,
-            };
+        if last == 0 {
+            plastic.copy_from_slice(&first);
+        } else {
+            // the contacts the last iteration did not step stayed stuck
+            for &c in &stepped {
+                plastic[c] = trial[c];
+            }
         }
+        converged_w[k * nq..(k + 1) * nq].copy_from_slice(&w);
+        // the block's samples go to the contacts' counters side by side at its end, stepped
+        // again from the block's start with the converged collective drives
         if k + 1 == BLOCK || n + 1 == points.len() {
             let from = steps.saturating_sub(n - k).min(k + 1);
-            outputs
-                .par_chunks(BLOCK)
-                .zip(counters.par_iter_mut())
+            let (tiles, converged_w, plastic) = (&tiles, &converged_w, &plastic);
+            counters
+                .par_chunks_mut(TILE)
+                .zip(block_start.par_chunks(TILE))
+                .zip(tiles.tiles())
                 .enumerate()
-                .try_for_each(|(c, (column, counter))| {
-                    for &sample in &column[from..=k] {
-                        counter
-                            .accumulator
-                            .push(sample, &mut counter.cycles)
-                            .map_err(|e| ReducedError::Calibration {
-                                reason: format!("contact {c}: {e}"),
-                            })?;
-                        counter.max_normal = counter.max_normal.max(sample.normal_force_n);
-                        if keep_series(c) {
-                            counter.series.push(sample);
+                .try_for_each(|(t, ((counters, starts), tile))| {
+                    for (j, (counter, &start)) in counters.iter_mut().zip(starts).enumerate() {
+                        let c = t * TILE + j;
+                        let mut st = JenkinsState {
+                            plastic_slip_m: start,
+                        };
+                        for (kk, w) in converged_w.chunks_exact(nq).take(k + 1).enumerate() {
+                            let r = tile[kk * TILE + j];
+                            let (slip, tangential) = st.step_factored(
+                                r.drive_m + geometry.collective(c, w),
+                                r.normal_force_n,
+                                stick_per_m * r.normal_force_n,
+                                r.factor,
+                                gamma,
+                            );
+                            if kk < from {
+                                continue;
+                            }
+                            let sample = ContactSample {
+                                slip_m: slip,
+                                normal_force_n: r.normal_force_n,
+                                tangential_force_n: tangential,
+                            };
+                            counter
+                                .accumulator
+                                .push(sample, &mut counter.cycles)
+                                .map_err(|e| ReducedError::Calibration {
+                                    reason: format!("contact {c}: {e}"),
+                                })?;
+                            counter.max_normal = counter.max_normal.max(r.normal_force_n);
+                            if keep_series(c) {
+                                counter.series.push(sample);
+                            }
                         }
+                        debug_assert_eq!(st.plastic_slip_m, plastic[c], "contact {c}");
                     }
                     Ok::<(), ReducedError>(())
                 })?;
@@ -392,6 +577,16 @@ fn run_coupled(
     Ok(results)
 }
 
+/// Adds `ψ ψᵀ` to `sum`.
+#[inline]
+fn add_outer(sum: &mut [[f64; MODES]; MODES], sh: &[f64; MODES]) {
+    for m in 0..MODES {
+        for l in 0..MODES {
+            sum[m][l] += sh[m] * sh[l];
+        }
+    }
+}
+
 /// One contact's slip-cycle counter and outputs in the coupled run.
 struct Counter {
     accumulator: ContactCycleAccumulator,
@@ -407,10 +602,11 @@ fn run_contacts(
     h: &Scaled,
     slip_gate_m: f64,
     keep_series: &(dyn Fn(usize) -> bool + Sync),
+    step_all: bool,
 ) -> Result<Vec<(ContactRecord, Vec<ContactSample>)>, ReducedError> {
     match &reduced.modes {
         Some(coupling) if coupling.interfaces() > 0 => {
-            run_coupled(reduced, coupling, h, slip_gate_m, keep_series)
+            run_coupled(reduced, coupling, h, slip_gate_m, keep_series, step_all)
         }
         _ => (0..reduced.laws.len())
             .into_par_iter()
@@ -456,7 +652,21 @@ pub fn contact_series(
     samples: &[LoadSample],
 ) -> Result<Vec<Vec<ContactSample>>, ReducedError> {
     let h = scaled(reduced, samples)?;
-    Ok(run_contacts(reduced, &h, 0.0, &|_| true)?
+    Ok(run_contacts(reduced, &h, 0.0, &|_| true, false)?
+        .into_iter()
+        .map(|r| r.1)
+        .collect())
+}
+
+/// [`contact_series`] with every contact stepped in every Newton iteration of the coupled run:
+/// the reference of its shortcut, which must give the same series to the bit.
+#[cfg(test)]
+pub(crate) fn contact_series_stepping_all(
+    reduced: &ReducedStrand,
+    samples: &[LoadSample],
+) -> Result<Vec<Vec<ContactSample>>, ReducedError> {
+    let h = scaled(reduced, samples)?;
+    Ok(run_contacts(reduced, &h, 0.0, &|_| true, true)?
         .into_iter()
         .map(|r| r.1)
         .collect())
@@ -483,7 +693,7 @@ pub fn run_reduced(
         }
         m
     };
-    let results = run_contacts(reduced, &h, slip_gate_m, &|c| monitored[c])?;
+    let results = run_contacts(reduced, &h, slip_gate_m, &|c| monitored[c], false)?;
     let mut monitors = MonitorSeries {
         time_s: samples.iter().map(|s| s.time_s).collect(),
         strain: samples.iter().map(|s| s.strain).collect(),
