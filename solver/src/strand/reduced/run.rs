@@ -651,11 +651,7 @@ pub fn contact_series(
     reduced: &ReducedStrand,
     samples: &[LoadSample],
 ) -> Result<Vec<Vec<ContactSample>>, ReducedError> {
-    let h = scaled(reduced, samples)?;
-    Ok(run_contacts(reduced, &h, 0.0, &|_| true, false)?
-        .into_iter()
-        .map(|r| r.1)
-        .collect())
+    series(reduced, samples, false)
 }
 
 /// [`contact_series`] with every contact stepped in every Newton iteration of the coupled run:
@@ -665,8 +661,16 @@ pub(crate) fn contact_series_stepping_all(
     reduced: &ReducedStrand,
     samples: &[LoadSample],
 ) -> Result<Vec<Vec<ContactSample>>, ReducedError> {
+    series(reduced, samples, true)
+}
+
+fn series(
+    reduced: &ReducedStrand,
+    samples: &[LoadSample],
+    step_all: bool,
+) -> Result<Vec<Vec<ContactSample>>, ReducedError> {
     let h = scaled(reduced, samples)?;
-    Ok(run_contacts(reduced, &h, 0.0, &|_| true, true)?
+    Ok(run_contacts(reduced, &h, 0.0, &|_| true, step_all)?
         .into_iter()
         .map(|r| r.1)
         .collect())
