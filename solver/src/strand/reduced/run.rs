@@ -249,13 +249,19 @@ impl ModeGeometry {
     fn project(&self, plastic: &[f64]) -> Vec<f64> {
         let mut p = vec![0.0; self.norm.len() * MODES];
         for (c, &s) in plastic.iter().enumerate() {
-            let (i, sh) = (self.interface[c], &self.shapes[c]);
-            for m in 0..MODES {
-                p[i * MODES + m] += sh[m] * s;
-            }
+            self.add(p.as_mut_slice(), c, s);
         }
         self.normalise(&mut p);
         p
+    }
+
+    /// Adds contact `c`'s irreversible slip (or its change) `s` to the projection sums `p`.
+    #[inline]
+    fn add(&self, p: &mut [f64], c: usize, s: f64) {
+        let (i, sh) = (self.interface[c], &self.shapes[c]);
+        for m in 0..MODES {
+            p[i * MODES + m] += sh[m] * s;
+        }
     }
 
     fn normalise(&self, p: &mut [f64]) {
@@ -415,10 +421,7 @@ fn run_coupled(
                     if d < near_m + STICK_MARGIN * gamma * tiles_now.at(c, k).factor {
                         near.push(c);
                     }
-                    let (i, sh) = (geometry.interface[c], &geometry.shapes[c]);
-                    for m in 0..MODES {
-                        p_first[i * MODES + m] += sh[m] * s;
-                    }
+                    geometry.add(&mut p_first, c, s);
                 }
                 geometry.normalise(&mut p_first);
                 w_first.copy_from_slice(&w);
@@ -448,10 +451,7 @@ fn run_coupled(
                         let (s, _) = step(c, &w, &mut slide);
                         trial[c] = s;
                         stepped.push(c);
-                        let sh = &geometry.shapes[c];
-                        for m in 0..MODES {
-                            change[i * MODES + m] += sh[m] * (s - first[c]);
-                        }
+                        geometry.add(&mut change, c, s - first[c]);
                     }
                 }
                 geometry.normalise(&mut change);
