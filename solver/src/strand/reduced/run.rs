@@ -1,9 +1,12 @@
 //! A load history through the reduced strand response ([`super`] module docs).
 //!
-//! The contacts are independent Jenkins elements, so they run in parallel (rayon), each through
-//! the whole history into its own streaming rainflow counter; the results do not depend on the
-//! thread count. The monitor channels get the same contact series, and the wire-element
-//! channels their fitted axial force.
+//! The contacts are Jenkins elements coupled through their interfaces' collective modes, so
+//! the run steps them sample by sample: at each sample, Newton's method on the modes'
+//! amplitudes, the later iterations stepping only the contacts that may change state. Their
+//! drives and normal forces are formed in tiles of contacts and blocks of samples, and their
+//! streaming rainflow counters at each block's end, in parallel (rayon); the results do not
+//! depend on the thread count. The monitor channels get the same contact series, and the
+//! wire-element channels their fitted axial force.
 
 use std::time::Instant;
 
