@@ -252,7 +252,7 @@ impl ModeGeometry {
     fn project(&self, plastic: &[f64]) -> Vec<f64> {
         let mut p = vec![0.0; self.norm.len() * MODES];
         for (c, &s) in plastic.iter().enumerate() {
-            self.add(p.as_mut_slice(), c, s);
+            self.add(&mut p, c, s);
         }
         self.normalise(&mut p);
         p
