@@ -499,19 +499,47 @@ fn a_reduced_run_writes_the_fe_files_calibrates_once_and_refuses_a_load_out_of_r
     assert_eq!(summary(&again)["calibration"]["source"], "cached");
 
     // the two runs compare file by file
-    let o = moorfret()
-        .args(["strand", "compare"])
-        .arg(profile())
-        .args(reg)
-        .arg(&fe)
-        .arg(&reduced)
-        .output()
-        .unwrap();
+    let compare = |extra: &[&str]| {
+        moorfret()
+            .args(["strand", "compare"])
+            .arg(profile())
+            .args(reg)
+            .arg(&fe)
+            .arg(&reduced)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let o = compare(&[]);
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(
         text.contains("per interface") && text.contains("per contact class"),
         "{text}"
+    );
+    // away from the ends (the benchmark is 0.2542 m long): fewer contacts, the same tables
+    let json = dir.path().join("away.json");
+    let o = compare(&["--end-zone-m", "0.05", "--json", json.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let kept = text
+        .lines()
+        .find_map(|l| l.strip_suffix(" contacts, those at least 0.05 m from the model's ends"))
+        .unwrap_or_else(|| panic!("{text}"));
+    let (kept, all) = kept.split_once(" of ").unwrap();
+    let (kept, all): (usize, usize) = (kept.parse().unwrap(), all.parse().unwrap());
+    assert!(0 < kept && kept < all, "{kept} of {all}");
+    assert!(text.contains("per contact class"), "{text}");
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(doc["end_zone_m"], 0.05);
+    // a zone that would leave no contact is refused, naming the option and the length
+    let o = compare(&["--end-zone-m", "0.2"]);
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("--end-zone-m 0.2") && e.contains("0.2542"),
+        "{e}"
     );
 
     // a calibration written to a file covers its range only (the load's curvature reaches

@@ -99,6 +99,11 @@ pub(crate) struct CompareArgs {
     /// Write the comparison as JSON to this file.
     #[arg(long)]
     json: Option<PathBuf>,
+    /// Leave out the contacts within this distance (m) of the model's ends, z = 0 and z = L
+    /// (with periodic ends, of the seam where the far ends are tied to the start ends), in
+    /// both runs: the figures away from the end zone.
+    #[arg(long, default_value_t = 0.0)]
+    end_zone_m: f64,
 }
 
 /// Execute a `strand` subcommand.
@@ -358,8 +363,8 @@ fn damage_inputs(
 
 fn compare(args: &CompareArgs) -> anyhow::Result<()> {
     let (_, strand, _) = load_strand(&args.model)?;
-    let a = read_run(&args.reference)?;
-    let b = read_run(&args.compared)?;
+    let mut a = read_run(&args.reference)?;
+    let mut b = read_run(&args.compared)?;
     if a.records.len() != b.records.len() {
         bail!(
             "{} has {} contacts, {} has {}: not the same strand model",
@@ -367,6 +372,30 @@ fn compare(args: &CompareArgs) -> anyhow::Result<()> {
             a.records.len(),
             args.compared.display(),
             b.records.len()
+        );
+    }
+    let length = strand.model_length_m;
+    if !(args.end_zone_m >= 0.0 && args.end_zone_m < 0.5 * length) {
+        bail!(
+            "--end-zone-m {}: must be ≥ 0 and below half the model length ({length} m)",
+            args.end_zone_m
+        );
+    }
+    if args.end_zone_m > 0.0 {
+        let zone = args.end_zone_m;
+        let keep: Vec<bool> = a
+            .records
+            .iter()
+            .map(|r| r.z_m.min(length - r.z_m) >= zone)
+            .collect();
+        for run in [&mut a, &mut b] {
+            let mut k = keep.iter();
+            run.records.retain(|_| k.next().copied().unwrap_or(false));
+        }
+        println!(
+            "{} of {} contacts, those at least {zone} m from the model's ends",
+            a.records.len(),
+            keep.len()
         );
     }
     if !(args.run_in_s >= 0.0 && args.run_in_s.is_finite()) {
@@ -435,6 +464,7 @@ fn compare(args: &CompareArgs) -> anyhow::Result<()> {
             "compared": args.compared.display().to_string(),
             "min_slip_range_m": args.min_slip_range_m,
             "run_in_s": args.run_in_s,
+            "end_zone_m": args.end_zone_m,
             "interfaces": interfaces,
             "classes": classes,
         });
