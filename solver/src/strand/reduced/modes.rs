@@ -84,6 +84,14 @@ fn pattern_weight(p: usize, c: usize, site: &ContactSite) -> f64 {
     }
 }
 
+/// The pattern `w` on interface `j` only.
+fn on_interface(
+    j: usize,
+    w: impl Fn(usize, &ContactSite) -> f64,
+) -> impl Fn(usize, &ContactSite) -> f64 {
+    move |c, site| if site.interface == j { w(c, site) } else { 0.0 }
+}
+
 /// The FE states at the load points of a mode measurement, reached by one FE run: along the
 /// FE initialisation's path to the first point, then from point to point, each point
 /// approached through a hair beyond it (where the state is checkpointed, to be solved back to
@@ -245,25 +253,15 @@ pub(crate) fn measure_point(probe: &Probe) -> Result<Vec<Vec<[f64; MODES]>>, Red
     let mut a = vec![vec![[0.0; MODES]; n]; n];
     for j in 0..n {
         // the uniform and cos θ patterns together: orthogonal over the ring
-        let d = probe.answer(&|c, site| {
-            if site.interface == j {
-                pattern_weight(0, c, site) + pattern_weight(1, c, site)
-            } else {
-                0.0
-            }
-        })?;
+        let d = probe.answer(&on_interface(j, |c, site| {
+            pattern_weight(0, c, site) + pattern_weight(1, c, site)
+        }))?;
         let (uniform, cos) = (
             probe.project(&d, &pattern(0)),
             probe.project(&d, &pattern(1)),
         );
         let sin_pattern = |_: usize, site: &ContactSite| site.theta_rad.sin();
-        let d = probe.answer(&|c, site| {
-            if site.interface == j {
-                sin_pattern(c, site)
-            } else {
-                0.0
-            }
-        })?;
+        let d = probe.answer(&on_interface(j, sin_pattern))?;
         let sin = probe.project(&d, &sin_pattern);
         for (i, row) in a.iter_mut().enumerate() {
             // uniform: the interface's own (across interfaces a few percent)
@@ -313,13 +311,9 @@ mod tests {
         .expect("the stroke solves");
         let probe = stroke.probe(&model, 0).expect("the probe solves");
         let on = |j: usize, p: usize| {
-            move |c: usize, site: &ContactSite| {
-                if site.interface == j {
-                    pattern_weight(p, c, site)
-                } else {
-                    0.0
-                }
-            }
+            on_interface(j, move |c: usize, site: &ContactSite| {
+                pattern_weight(p, c, site)
+            })
         };
         for j in 0..probe.interfaces {
             let uniform = probe.answer(&on(j, 0)).expect("solves");
@@ -390,13 +384,7 @@ mod paper_strand {
         let outer = strand.layers.len();
         let k = |layer: usize| 2.0 * std::f64::consts::PI / strand.layers[layer].lay_length_m;
         let on = |i: usize, f: Shape, k: f64| {
-            move |_: usize, s: &ContactSite| {
-                if s.interface == i {
-                    f(s.theta_rad, s.z_m, k)
-                } else {
-                    0.0
-                }
-            }
+            on_interface(i, move |_: usize, s: &ContactSite| f(s.theta_rad, s.z_m, k))
         };
         let patterns: [(&str, Shape); 4] = [
             ("cos θ", |t, _, _| t.cos()),
