@@ -356,14 +356,10 @@ mod paper_strand {
     /// A slip pattern over an interface as a function of (θ, z, k).
     type Shape = fn(f64, f64, f64) -> f64;
 
-    /// An outer wire sliding along its own helix is a free motion of the model (its ties close
-    /// the outer layer on itself): a pattern of irreversible slip that follows the outer
-    /// wires comes back whole and moves no other interface, while a bending pattern comes
-    /// back at 0.4-0.7. The FE state balances every outer wire: its contacts' tangential
-    /// forces sum to nearly zero (the reference wire, whose end is anchored, excepted).
-    #[test]
-    #[ignore = "six-layer paper strand, about two minutes in a release build"]
-    fn outer_wires_slide_freely_along_themselves() {
+    /// The paper strand's model (periodic ends, the campaigns' contact settings) and its FE
+    /// states at the scaled loads `points`, over the calibration range of
+    /// docs/reduced-strand.md.
+    fn paper_model(points: &[(f64, f64)]) -> (StrandModel, Stroke) {
         const PROFILES: &str = include_str!(concat!(
             env!("CARGO_MANIFEST_DIR"),
             "/../campaigns/data/strand_profiles.json"
@@ -376,11 +372,31 @@ mod paper_strand {
             .expect("paper_six_layer is valid");
         let params = StrandModelParameters::penalty_contact(2e8, 1e-5, EndKind::Periodic);
         let model = StrandModel::new(&strand, &params).expect("the model builds");
-        // the calibration range of docs/reduced-strand.md
         let range = LoadRange {
             strain: [0.0, 1.2e-3],
             curvature_per_m: [5.0e-4, 1.8755e-2],
         };
+        let stroke = Stroke::run(
+            &model,
+            &LoadScaling::of(&range),
+            points,
+            &HistoryOptions::default(),
+        )
+        .expect("the stroke solves");
+        (model, stroke)
+    }
+
+    /// An outer wire sliding along its own helix is a free motion of the model (its ties close
+    /// the outer layer on itself): a pattern of irreversible slip that follows the outer
+    /// wires comes back whole and moves no other interface, while a bending pattern comes
+    /// back at 0.4-0.7. The FE state balances every outer wire: its contacts' tangential
+    /// forces sum to nearly zero (the reference wire, whose end is anchored, excepted).
+    #[test]
+    #[ignore = "six-layer paper strand, about two minutes in a release build"]
+    fn outer_wires_slide_freely_along_themselves() {
+        let points = [(-0.5, 0.0), (0.5, 0.0)];
+        let (model, stroke) = paper_model(&points);
+        let strand = &model.strand;
         let outer = strand.layers.len();
         let k = |layer: usize| 2.0 * std::f64::consts::PI / strand.layers[layer].lay_length_m;
         let on = |i: usize, f: Shape, k: f64| {
@@ -392,14 +408,6 @@ mod paper_strand {
             ("cos(θ − kz)", |t, z, k| (t - k * z).cos()),
             ("cos θ cos kz", |t, z, k| t.cos() * (k * z).cos()),
         ];
-        let points = [(-0.5, 0.0), (0.5, 0.0)];
-        let stroke = Stroke::run(
-            &model,
-            &LoadScaling::of(&range),
-            &points,
-            &HistoryOptions::default(),
-        )
-        .expect("the stroke solves");
         let wires = model.strand.wires();
         for (p, point) in points.iter().enumerate() {
             let probe = stroke.probe(&model, p).expect("the probe solves");
@@ -448,6 +456,70 @@ mod paper_strand {
                 point.0
             );
             assert!(sums.len() + 1 == strand.layers[outer - 1].wires && worst < 0.02);
+        }
+    }
+
+    /// The contacts near the periodic seam (within 0.1 m of z = 0 ≡ L, a third of each
+    /// interface) answer a bending pattern as the rest do, and on interface 3 the answer stays
+    /// where the pattern is: bending modes split into a seam and an interior part would carry
+    /// the same amplification twice. A uniform pattern does spread along the strand, and the seam
+    /// answers its own less than the interior (docs/notes/2026-11-28-seam-and-wire-modes.md).
+    #[test]
+    #[ignore = "six-layer paper strand, about three minutes in a release build"]
+    fn the_seam_answers_bending_patterns_as_the_interior() {
+        let points = [(-0.5, 0.0), (0.5, 0.0)];
+        let (model, stroke) = paper_model(&points);
+        let length = model.strand.model_length_m;
+        let seam = move |s: &ContactSite| s.z_m.min(length - s.z_m) < 0.1;
+        let zone = |i: usize, in_seam: bool, f: fn(f64) -> f64| {
+            move |_: usize, s: &ContactSite| {
+                if s.interface == i && seam(s) == in_seam {
+                    f(s.theta_rad)
+                } else {
+                    0.0
+                }
+            }
+        };
+        for (p, point) in points.iter().enumerate() {
+            let probe = stroke.probe(&model, p).expect("the probe solves");
+            for i in [3, 5] {
+                // own and cross-zone answers: [imposed seam, imposed interior][on seam, interior]
+                let mut answers = [[[0.0; 2]; 2]; 2];
+                for (s, f) in [f64::cos as fn(f64) -> f64, |_| 1.0]
+                    .into_iter()
+                    .enumerate()
+                {
+                    for (z, in_seam) in [true, false].into_iter().enumerate() {
+                        let d = probe.answer(&zone(i, in_seam, f)).expect("solves");
+                        answers[s][z] = [
+                            probe.project(&d, &zone(i, true, f))[i],
+                            probe.project(&d, &zone(i, false, f))[i],
+                        ];
+                    }
+                }
+                eprintln!(
+                    "x = {:+.1}, interface {i}: cos θ seam → seam/interior {:.3}/{:+.3}, \
+                     interior → {:+.3}/{:.3}; uniform {:.3}/{:+.3}, {:+.3}/{:.3}",
+                    point.0,
+                    answers[0][0][0],
+                    answers[0][0][1],
+                    answers[0][1][0],
+                    answers[0][1][1],
+                    answers[1][0][0],
+                    answers[1][0][1],
+                    answers[1][1][0],
+                    answers[1][1][1]
+                );
+                let [[ss, si], [is, ii]] = answers[0];
+                assert!((ss - ii).abs() < 0.05 * ii, "cos θ: {ss} against {ii}");
+                // interface 5's outer wires carry an interior pattern to the seam (by −0.06
+                // to −0.12 measured)
+                if i == 3 {
+                    assert!(si.abs() < 0.1 * ii && is.abs() < 0.1 * ii, "{si}, {is}");
+                }
+                let [[us, _], [_, ui]] = answers[1];
+                assert!(us < ui - 0.05, "uniform: seam {us}, interior {ui}");
+            }
         }
     }
 }
