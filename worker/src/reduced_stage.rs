@@ -227,7 +227,7 @@ pub fn run_strand_reduced(
     let load = strand_load(inputs, series, stiffness)?;
     let strand = campaign_strand(inputs)?;
     let options = inputs.spec.strand.history_options();
-    let result = run_reduced(&reduced, &load.samples, options.slip_gate_m).map_err(|e| {
+    let result = run_reduced(&reduced, &load.samples, &options).map_err(|e| {
         // an extra seed is loaded through the calibration of the first seeds' load range
         if payload.global.extra_seed {
             permanent(

@@ -1130,7 +1130,7 @@ fn main() -> Result<(), Error> {
         std::fs::write(path, serde_json::to_string(&reduced)?)?;
     }
     for (load, fe, dir) in &references {
-        let r = run_reduced(&reduced, load, HistoryOptions::default().slip_gate_m)?;
+        let r = run_reduced(&reduced, load, &HistoryOptions::default())?;
         let dt = load.get(1).map_or(0.1, |s| s.time_s) - load[0].time_s;
         let from = (run_in_s / dt).round() as usize;
         println!("{dir}: largest slip range, accumulated slip, cycles ≥ 1 µm (reduced / FE − 1)");

@@ -970,7 +970,7 @@ impl ReducedRun<'_> {
         let floor = design_strain_floor(&reduced.range);
         source.samples_below_design_strain =
             self.samples.iter().filter(|s| s.strain < floor).count();
-        let result = run_reduced(&reduced, self.samples, self.options.slip_gate_m)
+        let result = run_reduced(&reduced, self.samples, self.options)
             .map_err(|e| anyhow!("{}: {e}", self.load.display()))?;
         std::fs::create_dir_all(self.out)
             .with_context(|| format!("creating {}", self.out.display()))?;
@@ -992,8 +992,8 @@ impl ReducedRun<'_> {
             samples: self.samples.len(),
             slack_samples: self.slack_samples,
             axial_stiffness: self.stiffness,
-            turning_point_tolerance: 0.0,
-            turning_point_scale: [0.0; 2],
+            turning_point_tolerance: self.options.turning_point_tolerance,
+            turning_point_scale: self.options.turning_point_scale,
             resumed_from_checkpoint: false,
             checkpoints_written: 0,
             history: &result.stats,

@@ -170,6 +170,34 @@ pub(crate) fn chord_positions(
     out
 }
 
+/// The loads at which an FE history run with this reduction solves every sample: each sample
+/// moved onto the straight segment between the kept points around it, at its chord position
+/// ([`reduce_history_on_scale`], [`chord_positions`]), the time unchanged. With a zero
+/// tolerance and no scale floor the samples are returned as they are (the FE run then keeps
+/// every sample off a chord by more than round-off).
+pub fn samples_on_path(
+    samples: &[LoadSample],
+    tolerance: f64,
+    scale_floor: [f64; 2],
+) -> Result<Vec<LoadSample>, HistoryError> {
+    if tolerance == 0.0 && scale_floor == [0.0; 2] {
+        return Ok(samples.to_vec());
+    }
+    let kept = reduce_history_on_scale(samples, tolerance, scale_floor)?;
+    let scales = history_scales(samples);
+    let mut path = samples.to_vec();
+    for w in kept.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let (pa, pb) = (samples[a], samples[b]);
+        for (i, t) in (a..=b).zip(chord_positions(samples, a, b, &scales)) {
+            path[i].strain = pa.strain + t * (pb.strain - pa.strain);
+            path[i].curvature_per_m =
+                pa.curvature_per_m + t * (pb.curvature_per_m - pa.curvature_per_m);
+        }
+    }
+    Ok(path)
+}
+
 /// The channel scales used by [`reduce_history`] and [`chord_positions`].
 pub(crate) fn history_scales(samples: &[LoadSample]) -> [f64; 2] {
     channel_scales(samples, [0.0; 2])
@@ -257,5 +285,39 @@ mod tests {
             reduce_history_on_scale(&h, 0.01, [0.0, 1e-2]).unwrap(),
             vec![0, 20]
         );
+    }
+
+    #[test]
+    fn samples_on_the_path_lie_on_the_chords_between_the_kept_points() {
+        // a wiggle of 0.1 % of the curvature range rides on two ramps: below a tolerance of
+        // 1 %, the samples move onto the straight chords between the turning points, the
+        // kept points stay where they are, the times too; a zero tolerance moves nothing
+        let h: Vec<LoadSample> = (0..=40)
+            .map(|i| {
+                let ramp = if i <= 20 { i } else { 40 - i } as f64 / 20.0;
+                LoadSample {
+                    time_s: 0.5 * i as f64,
+                    strain: 1e-3 + 2e-4 * ramp,
+                    curvature_per_m: 1e-2 * ramp + if i % 2 == 1 { 1e-5 } else { 0.0 },
+                }
+            })
+            .collect();
+        let kept = reduce_history(&h, 0.01).unwrap();
+        assert_eq!(kept, vec![0, 20, 40]);
+        let path = samples_on_path(&h, 0.01, [0.0; 2]).unwrap();
+        for (i, (p, s)) in path.iter().zip(&h).enumerate() {
+            assert_eq!(p.time_s, s.time_s);
+            if kept.contains(&i) {
+                assert_eq!(p, s);
+            }
+            // on the chord: the curvature is the strain's linear function on both ramps
+            let on_chord = 1e-2 * (p.strain - 1e-3) / 2e-4;
+            assert!(
+                (p.curvature_per_m - on_chord).abs() < 1e-12,
+                "sample {i}: {p:?}"
+            );
+            assert!((p.curvature_per_m - s.curvature_per_m).abs() <= 1e-5 + 1e-12);
+        }
+        assert_eq!(samples_on_path(&h, 0.0, [0.0; 2]).unwrap(), h);
     }
 }

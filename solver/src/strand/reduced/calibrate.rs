@@ -581,7 +581,7 @@ pub fn calibrate(
     let mut fe: Vec<ContactRecord> = Vec::new();
     let mut replay: Vec<ContactRecord> = Vec::new();
     for (chain, run) in p.design.iter().zip(runs) {
-        let r = super::run_reduced(&reduced, chain, p.history.slip_gate_m)?;
+        let r = super::run_reduced(&reduced, chain, &p.history)?;
         append_cycles(&mut fe, run.fe.contacts);
         append_cycles(&mut replay, r.contacts);
     }

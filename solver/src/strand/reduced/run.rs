@@ -17,7 +17,8 @@ use super::{
 };
 use crate::fretting::{ContactCycleAccumulator, ContactRecord, ContactSample, SlipCycle};
 use crate::strand::history::monitors::{MonitorQuantity, MonitorSeries, MonitorTarget};
-use crate::strand::history::{HistoryResult, HistoryStats, LoadSample};
+use crate::strand::history::reduce::samples_on_path;
+use crate::strand::history::{HistoryOptions, HistoryResult, HistoryStats, LoadSample};
 
 /// Checks every sample: finite, times increasing, inside the calibrated range.
 fn check_samples(reduced: &ReducedStrand, samples: &[LoadSample]) -> Result<(), ReducedError> {
@@ -626,7 +627,14 @@ struct Scaled {
     initial: Initialisation,
 }
 
-fn scaled(reduced: &ReducedStrand, samples: &[LoadSample]) -> Result<Scaled, ReducedError> {
+/// `samples` as the contacts run through them: checked, then, for a turning-point reduction
+/// (`tolerance`, `scale_floor` of [`samples_on_path`]), each moved onto the FE run's load path.
+fn scaled(
+    reduced: &ReducedStrand,
+    samples: &[LoadSample],
+    tolerance: f64,
+    scale_floor: [f64; 2],
+) -> Result<Scaled, ReducedError> {
     let Some(first) = samples.first() else {
         return Err(ReducedError::InvalidSetting {
             field: "samples",
@@ -635,7 +643,14 @@ fn scaled(reduced: &ReducedStrand, samples: &[LoadSample]) -> Result<Scaled, Red
         });
     };
     check_samples(reduced, samples)?;
-    let loads: Vec<(f64, f64)> = samples
+    let path = samples_on_path(samples, tolerance, scale_floor).map_err(|e| {
+        ReducedError::InvalidSetting {
+            field: "turning_point_tolerance",
+            value: tolerance,
+            reason: e.to_string(),
+        }
+    })?;
+    let loads: Vec<(f64, f64)> = path
         .iter()
         .map(|s| reduced.scaling.scaled(s.strain, s.curvature_per_m))
         .collect();
@@ -647,9 +662,9 @@ fn scaled(reduced: &ReducedStrand, samples: &[LoadSample]) -> Result<Scaled, Red
     })
 }
 
-/// Every contact's (slip, normal force, tangential force) at every sample of `samples`, in
-/// mesh contact order: the series behind [`run_reduced`]'s records, for studies that compare
-/// them sample by sample with an FE run.
+/// Every contact's (slip, normal force, tangential force) at every sample of `samples` as
+/// given, in mesh contact order: the series behind [`run_reduced`]'s records (with a zero
+/// turning-point tolerance), for studies that compare them sample by sample with an FE run.
 pub fn contact_series(
     reduced: &ReducedStrand,
     samples: &[LoadSample],
@@ -672,23 +687,32 @@ fn series(
     samples: &[LoadSample],
     step_all: bool,
 ) -> Result<Vec<Vec<ContactSample>>, ReducedError> {
-    let h = scaled(reduced, samples)?;
+    let h = scaled(reduced, samples, 0.0, [0.0; 2])?;
     Ok(run_contacts(reduced, &h, 0.0, &|_| true, step_all)?
         .into_iter()
         .map(|r| r.1)
         .collect())
 }
 
-/// Runs `samples` through `reduced` (module docs): the outputs of an FE history run, with
-/// every sample "kept" and the work counts of a run without sub-steps. `slip_gate_m` is the
-/// hysteresis gate of the slip rainflow counters, as [`crate::strand::history::HistoryOptions`].
+/// Runs `samples` through `reduced` (module docs): the outputs of an FE history run with
+/// `options`, with every sample "kept" and the work counts of a run without sub-steps. The
+/// contacts follow that FE run's load path: each sample on the straight segment between the
+/// turning points around it, where the FE run solves it (`turning_point_tolerance` and
+/// `turning_point_scale`; a zero tolerance takes every sample as it is). The slip rainflow
+/// counters use `slip_gate_m`; the other options are the FE solver's own.
 pub fn run_reduced(
     reduced: &ReducedStrand,
     samples: &[LoadSample],
-    slip_gate_m: f64,
+    options: &HistoryOptions,
 ) -> Result<HistoryResult, ReducedError> {
     let start = Instant::now();
-    let h = scaled(reduced, samples)?;
+    let slip_gate_m = options.slip_gate_m;
+    let h = scaled(
+        reduced,
+        samples,
+        options.turning_point_tolerance,
+        options.turning_point_scale,
+    )?;
     let monitored: Vec<bool> = {
         let mut m = vec![false; reduced.laws.len()];
         for ch in &reduced.channels {

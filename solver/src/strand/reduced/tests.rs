@@ -8,7 +8,7 @@ use super::compare::{compare_records, InterfaceComparison};
 use super::design::DesignParams;
 use super::*;
 use crate::strand::history::{
-    run_history, HistoryError, HistoryObserver, HistoryProgress, NoObserver,
+    run_history, HistoryError, HistoryObserver, HistoryOptions, HistoryProgress, NoObserver,
 };
 use crate::strand::model::{EndKind, StrandModel, StrandModelParameters};
 use crate::strand::profile::profile_from_json;
@@ -122,6 +122,15 @@ fn identical_contacts(
     }
 }
 
+/// Run options that take every sample as it is, with a slip gate of 0.01 µm.
+fn every_sample() -> HistoryOptions {
+    HistoryOptions {
+        slip_gate_m: 1e-8,
+        turning_point_tolerance: 0.0,
+        ..HistoryOptions::default()
+    }
+}
+
 /// Curvature cycles over the whole scaled range y = ±1 at the middle tension.
 fn curvature_cycles(cycles: usize) -> Vec<LoadSample> {
     (0..=100 * cycles)
@@ -140,17 +149,63 @@ fn modes_without_amplification_leave_every_contact_as_it_answers_alone() {
         let alone = run_reduced(
             &identical_contacts(5, 400.0, d_m, 2e-8, 0.2, None),
             &h,
-            1e-8,
+            &every_sample(),
         )
         .expect("runs");
         let coupled = run_reduced(
             &identical_contacts(5, 400.0, d_m, 2e-8, 0.2, Some([0.0; MODES])),
             &h,
-            1e-8,
+            &every_sample(),
         )
         .expect("runs");
         assert_eq!(alone.contacts, coupled.contacts, "drive {d_m}");
     }
+}
+
+/// The reduced run follows the load path of the FE run with the same options: a ripple of the
+/// curvature below the turning-point tolerance, which the FE run does not solve, makes no slip
+/// cycles, and the run equals one through the path's samples taken as they are; the monitors
+/// keep the recorded loads.
+#[test]
+fn the_reduced_run_follows_the_fe_runs_load_path() {
+    let reduced = identical_contacts(3, 400.0, 6e-5, 2e-8, 0.2, Some([0.5, 0.3, 0.3]));
+    // curvature cycles over the range, 1 000 samples each, with a ripple of ±3e-5 1/m: near
+    // the extremes it turns the curvature back by up to 6e-5 1/m (0.12 % of its range, below
+    // the reversal gate of the FE's turning points) and the stuck slip by up to 0.1 µm (above
+    // the slip gate)
+    let h: Vec<LoadSample> = (0..=3000)
+        .map(|i| LoadSample {
+            time_s: i as f64,
+            strain: 1e-3,
+            curvature_per_m: 0.005
+                + 0.025 * (2.0 * PI * i as f64 / 1000.0).sin()
+                + if i % 2 == 1 { 3e-5 } else { -3e-5 },
+        })
+        .collect();
+    let options = |tolerance: f64| HistoryOptions {
+        turning_point_tolerance: tolerance,
+        ..every_sample()
+    };
+    let rippled = run_reduced(&reduced, &h, &options(0.0)).expect("runs");
+    let on_path = run_reduced(&reduced, &h, &options(0.0025)).expect("runs");
+    let path = crate::strand::history::reduce::samples_on_path(&h, 0.0025, [0.0; 2])
+        .expect("a valid tolerance");
+    let through_path = run_reduced(&reduced, &path, &options(0.0)).expect("runs");
+    assert_eq!(on_path.contacts, through_path.contacts);
+    let cycles = |r: &crate::strand::history::HistoryResult| -> f64 {
+        r.contacts
+            .iter()
+            .flat_map(|c| &c.cycles)
+            .map(|c| c.slip.count)
+            .sum()
+    };
+    // per contact: the three curvature cycles and the half cycles of the start and the end
+    // on the path; hundreds of ripple cycles without it
+    let n = reduced.laws.len() as f64;
+    assert!(cycles(&on_path) <= 4.0 * n, "{}", cycles(&on_path));
+    assert!(cycles(&rippled) > 100.0 * n, "{}", cycles(&rippled));
+    let recorded: Vec<f64> = h.iter().map(|s| s.curvature_per_m).collect();
+    assert_eq!(on_path.monitors.curvature_per_m, recorded);
 }
 
 #[test]
@@ -263,9 +318,9 @@ fn a_load_outside_the_calibrated_range_is_refused_with_the_range() {
     // no contacts: the range check comes before any of them
     let reduced = identical_contacts(0, 400.0, 0.0, 0.0, 0.0, None);
     let mut h = irregular(20, 0.0);
-    assert!(run_reduced(&reduced, &h, 1e-8).is_ok());
+    assert!(run_reduced(&reduced, &h, &every_sample()).is_ok());
     h[7].curvature_per_m = 0.05;
-    match run_reduced(&reduced, &h, 1e-8) {
+    match run_reduced(&reduced, &h, &every_sample()) {
         Err(ReducedError::OutOfRange {
             index,
             field,
@@ -281,14 +336,16 @@ fn a_load_outside_the_calibrated_range_is_refused_with_the_range() {
     h[7].curvature_per_m = 0.0;
     h[3].strain = 2e-3;
     assert!(matches!(
-        run_reduced(&reduced, &h, 1e-8),
+        run_reduced(&reduced, &h, &every_sample()),
         Err(ReducedError::OutOfRange {
             index: 3,
             field: "strain",
             ..
         })
     ));
-    let message = run_reduced(&reduced, &h, 1e-8).unwrap_err().to_string();
+    let message = run_reduced(&reduced, &h, &every_sample())
+        .unwrap_err()
+        .to_string();
     assert!(message.contains("calibrated range"), "{message}");
 }
 
@@ -323,7 +380,7 @@ fn reduced_matches_fe_on_a_held_out_history_of_the_benchmark_strand() {
     let reduced = calibrate(&model, range, &options, &mut NoObserver).expect("calibrates");
     let reduced = reduced.validated().expect("a valid calibration");
     let fe = run_history(&model, &held_out, &options.history, &mut NoObserver).expect("FE run");
-    let red = run_reduced(&reduced, &held_out, options.history.slip_gate_m).expect("reduced run");
+    let red = run_reduced(&reduced, &held_out, &options.history).expect("reduced run");
     assert_eq!(red.contacts.len(), fe.contacts.len());
     let cmp = compare_records(&fe.contacts, &red.contacts, 1e-6, 0);
     eprintln!("{}", InterfaceComparison::HEADER);
