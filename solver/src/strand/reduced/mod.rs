@@ -51,10 +51,11 @@
 //!
 //! [`run_reduced`] turns a `(t, ε, κ)` history into the outputs of an FE history run
 //! ([`crate::strand::history::HistoryResult`]: one [`crate::fretting::ContactRecord`] per contact
-//! with every slip cycle and its forces, the monitor series), in seconds. A sample outside the
-//! calibrated range (beyond `RANGE_SLACK` of it) is refused with the range, never
-//! extrapolated. The first sample is reached along the FE initialisation's path: every contact
-//! starts unloaded tangentially in the straight strand at a small tension
+//! with every slip cycle and its forces, the monitor series), in seconds, along the load path
+//! that FE run solves (its turning points, [`crate::strand::history::reduce::samples_on_path`]).
+//! A sample outside the calibrated range (beyond `RANGE_SLACK` of it) is refused with the
+//! range, never extrapolated. The first sample is reached along the FE initialisation's path:
+//! every contact starts unloaded tangentially in the straight strand at a small tension
 //! ([`ReducedStrand::initial_strain_fraction`] of the first, not below the calibrated range),
 //! follows the drive to the first curvature at that tension, then to the first tension. The
 //! state this leaves (which contacts slid while the strand was bent at a small tension, with
