@@ -344,9 +344,10 @@ mod tests {
     }
 }
 
-/// Measurements on the six-layer paper strand (periodic ends) that the modes leave out
-/// (docs/notes/2026-11-28-periodic-seam.md); about two minutes in a release build:
-/// `cargo test --release -p moorfret-solver --lib outer_wires -- --ignored --nocapture`.
+/// Measurements on the six-layer paper strand (periodic ends) that the modes leave out or could
+/// split (docs/notes/2026-11-28-periodic-seam.md, docs/notes/2026-11-28-seam-and-wire-modes.md);
+/// about two minutes each in a release build: `cargo test --release -p moorfret-solver --lib
+/// paper_strand -- --ignored --nocapture`.
 #[cfg(test)]
 mod paper_strand {
     use super::*;
