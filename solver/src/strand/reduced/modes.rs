@@ -466,20 +466,20 @@ mod paper_strand {
     /// the same amplification twice. A uniform pattern does spread along the strand, and the seam
     /// answers its own less than the interior (docs/notes/2026-11-28-seam-and-wire-modes.md).
     #[test]
-    #[ignore = "six-layer paper strand, about three minutes in a release build"]
+    #[ignore = "six-layer paper strand, about two minutes in a release build"]
     fn the_seam_answers_bending_patterns_as_the_interior() {
         let points = [(-0.5, 0.0), (0.5, 0.0)];
         let (model, stroke) = paper_model(&points);
         let length = model.strand.model_length_m;
         let seam = move |s: &ContactSite| s.z_m.min(length - s.z_m) < 0.1;
         let zone = |i: usize, in_seam: bool, f: fn(f64) -> f64| {
-            move |_: usize, s: &ContactSite| {
-                if s.interface == i && seam(s) == in_seam {
+            on_interface(i, move |_: usize, s: &ContactSite| {
+                if seam(s) == in_seam {
                     f(s.theta_rad)
                 } else {
                     0.0
                 }
-            }
+            })
         };
         for (p, point) in points.iter().enumerate() {
             let probe = stroke.probe(&model, p).expect("the probe solves");
