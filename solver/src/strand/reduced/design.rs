@@ -9,12 +9,20 @@
 //! 1. curvature cycles about the range's centre at fixed tension, `y = ±A` for every amplitude
 //!    of [`DesignParams::amplitudes`] (largest first, [`DesignParams::cycles`] each): loops of
 //!    every size below the largest, as a rainflow-counted sea state has them;
-//! 2. tension cycles at fixed curvature, `x = x_j ± A` (clipped to the range);
+//! 2. tension cycles at fixed curvature, `x = x_j ± A` (clipped to the range) for every
+//!    amplitude of [`DesignParams::tension_amplitudes`] (the whole tension range is stroked by
+//!    the combined cycles and the corners);
 //! 3. combined cycles, tension and curvature in phase and in opposition, for the largest two
 //!    amplitudes (a hot spot's tension and curvature move together or against each other);
 //! 4. the corners of the range;
 //! 5. at a grid of curvatures, small probe cycles in curvature and tension
-//!    ([`DesignParams::probe_curvatures`]), which most contacts answer in stick.
+//!    ([`DesignParams::probe_curvatures`], [`DesignParams::probe_cycles`] each), which most
+//!    contacts answer in stick;
+//! 6. below the highest level, the same grid of curvatures at the tension midway to the next
+//!    level, last curvature first, with small tension cycles there
+//!    ([`DesignParams::between_level_cycles`]): the drive has a tension knot there
+//!    (`fit::TENSION_KNOTS`), and the stick answer to tension between the levels is not the
+//!    levels' answers interpolated.
 //!
 //! One more chain goes round the corners of the range, then makes the same probes at a
 //! near-slack tension ([`design_strain_floor`]), each reached by a short tension stroke down
@@ -35,12 +43,24 @@ pub struct DesignParams {
     pub amplitudes: Vec<f64>,
     /// Cycles per amplitude (≥ 1).
     pub cycles: usize,
+    /// Amplitudes of the tension cycles at fixed curvature, as fractions of the half range,
+    /// largest first, each in (0, 1]. The whole tension range is stroked by the corners and
+    /// the combined cycles.
+    pub tension_amplitudes: Vec<f64>,
     /// Curvatures (scaled, in (−1, 1)) of the probes: at every tension level and each of
     /// these curvatures, small curvature and tension cycles of amplitude
     /// [`DesignParams::probe_amplitude`], which most contacts answer in stick.
     pub probe_curvatures: Vec<f64>,
     /// Amplitude of the probes' cycles, as a fraction of the half range.
     pub probe_amplitude: f64,
+    /// Curvature and tension cycles of each probe at the tension levels (≥ 1; the
+    /// low-tension probes make [`DesignParams::cycles`]). Most contacts answer a probe in
+    /// stick, where a second cycle repeats the first.
+    pub probe_cycles: usize,
+    /// Tension cycles of the probes between the levels ([`between_levels`]), at every probe
+    /// curvature (0: none). They go straight on from one curvature to the next, without
+    /// returning to the middle tension first.
+    pub between_level_cycles: usize,
 }
 
 impl Default for DesignParams {
@@ -49,8 +69,11 @@ impl Default for DesignParams {
             tension_levels: 6,
             amplitudes: vec![1.0, 0.6, 0.35, 0.2, 0.1, 0.05, 0.02],
             cycles: 2,
+            tension_amplitudes: vec![0.6, 0.35, 0.2, 0.1, 0.05, 0.02],
             probe_curvatures: vec![-0.75, -0.5, -0.25, 0.25, 0.5, 0.75],
             probe_amplitude: 0.05,
+            probe_cycles: 2,
+            between_level_cycles: 1,
         }
     }
 }
@@ -88,6 +111,11 @@ pub(crate) fn tension_level(j: usize, levels: usize) -> f64 {
     -1.0 + (2 * j + 1) as f64 / levels as f64
 }
 
+/// Scaled tension midway between levels `j` and `j + 1` of `levels`.
+pub(crate) fn between_levels(j: usize, levels: usize) -> f64 {
+    -1.0 + (2 * j + 2) as f64 / levels as f64
+}
+
 /// A path's vertices in scaled coordinates: `(x, y, A)`, the stroke to `(x, y)` on a cycle of
 /// amplitude `A` (the first vertex is where the FE run starts).
 pub(crate) type Vertices = Vec<(f64, f64, f64)>;
@@ -103,6 +131,7 @@ pub(crate) fn design_chains(
 ) -> Vec<Vertices> {
     let levels = params.tension_levels.max(2);
     let cycles = params.cycles.max(1);
+    let probe_cycles = params.probe_cycles.max(1);
     let a = params.probe_amplitude;
     // every chain starts (and so initialises its FE run) at the smallest curvature: the FE
     // initialisation bends the strand at a tenth of the first tension, which at the range's
@@ -138,7 +167,7 @@ pub(crate) fn design_chains(
             }
         }
         v.push((xj, 0.0, 1.0));
-        for &a in &params.amplitudes {
+        for &a in &params.tension_amplitudes {
             for _ in 0..cycles {
                 v.push(((xj + a).min(1.0), 0.0, a));
                 v.push(((xj - a).max(-1.0), 0.0, a));
@@ -160,7 +189,19 @@ pub(crate) fn design_chains(
         // corners
         for &yc in &params.probe_curvatures {
             v.push((xj, yc, 1.0));
-            push_probe(&mut v, (xj, yc), a, cycles, [xj + a, xj - a]);
+            push_probe(&mut v, (xj, yc), a, probe_cycles, [xj + a, xj - a]);
+        }
+        // the tension probes midway to the next level, from the curvature the level's
+        // probes end at
+        if j + 1 < levels && params.between_level_cycles > 0 {
+            let xm = between_levels(j, levels);
+            for &yc in params.probe_curvatures.iter().rev() {
+                v.push((xm, yc, 1.0));
+                for _ in 0..params.between_level_cycles {
+                    v.push((xm + a, yc, a));
+                    v.push((xm - a, yc, a));
+                }
+            }
         }
         for vertex in &mut v {
             vertex.0 = vertex.0.max(x_stroke_floor);
@@ -329,6 +370,49 @@ mod tests {
                 "y = {y} below the strokes' floor is not at a probe"
             );
         }
+    }
+
+    #[test]
+    fn between_the_levels_the_design_probes_the_tension_at_every_probe_curvature() {
+        let params = DesignParams::default();
+        let levels = params.tension_levels;
+        let a = params.probe_amplitude;
+        let chains = design_chains(&params, -1.0, -1.0);
+        for (j, chain) in chains[1..].iter().enumerate() {
+            let at = |x: f64, y: f64| {
+                chain
+                    .iter()
+                    .filter(|v| (v.0 - x).abs() < 1e-12 && (v.1 - y).abs() < 1e-12)
+                    .count()
+            };
+            let xm = between_levels(j, levels);
+            for &yc in &params.probe_curvatures {
+                let (up, down) = (at(xm + a, yc), at(xm - a, yc));
+                if j + 1 < levels {
+                    assert_eq!((up, down), (1, 1), "level {j}, y = {yc}");
+                    // tension cycles only: no curvature cycle about the midpoint
+                    assert_eq!(at(xm, yc + a) + at(xm, yc - a), 0, "level {j}, y = {yc}");
+                } else {
+                    assert_eq!(up + down, 0, "the highest level has nothing above it");
+                }
+            }
+            // a midpoint lies halfway between its levels
+            if j + 1 < levels {
+                let mid = 0.5 * (tension_level(j, levels) + tension_level(j + 1, levels));
+                assert!((xm - mid).abs() < 1e-15);
+            }
+        }
+        // none without cycles
+        let none = DesignParams {
+            between_level_cycles: 0,
+            ..DesignParams::default()
+        };
+        let fewer: usize = design_chains(&none, -1.0, -1.0).iter().map(Vec::len).sum();
+        let all: usize = chains.iter().map(Vec::len).sum();
+        assert_eq!(
+            all - fewer,
+            (levels - 1) * params.probe_curvatures.len() * 3
+        );
     }
 
     #[test]

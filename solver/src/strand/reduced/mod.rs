@@ -12,8 +12,8 @@
 //! - structure: `s + g f_T + r s_e = d(ε, κ)`, with the drive
 //!   `d = Σ_k φ_k(x) (a_k + b_k y + c_k y² + e_k y³)` in the scaled loads `x = (ε − ε₀)/ε_h`,
 //!   `y = (κ − κ₀)/κ_h` ([`LoadScaling`]), `φ_k` the hat functions of the tension on the bottom
-//!   of the range and the design's six tension levels (the slip per unit curvature piecewise
-//!   linear in the tension, cubic in the curvature), `g ≥ 0` the
+//!   of the range, the design's six tension levels and the midpoints between them (the slip per
+//!   unit curvature piecewise linear in the tension, cubic in the curvature), `g ≥ 0` the
 //!   compliance through which the strand around the contact answers its tangential force, and
 //!   `r ≥ 0` a part of that answer in proportion to the contact's elastic slip `s_e` rather
 //!   than to its force: where the tension, and with it `f_N`, is small, a contact's force is
@@ -104,7 +104,7 @@ pub use run::{contact_series, run_reduced};
 /// Version of the stored calibration and of the fit that made it; a file of another version is
 /// refused. Part of the cache key of a calibration, so every change to the model, the design or
 /// the fit bumps it.
-pub(crate) const FORMAT_VERSION: u32 = 9;
+pub(crate) const FORMAT_VERSION: u32 = 10;
 
 /// Slack of the calibrated range, as a fraction of each channel's range: a sample this far
 /// outside is still accepted (round-off of the tension-to-strain conversion).
@@ -354,11 +354,37 @@ pub struct ContactLaw {
     /// Coefficients of `f_N` on `force_features` (N).
     pub normal: [f64; FORCE_FEATURES],
     /// Drive coefficients on `fit::drive_features`: hat function k of the tension times `yʲ`
-    /// at index `4 k + j` (m), `k` counted from the lowest knot.
+    /// at index `4 k + j` (m), `k` counted from the lowest knot. Stored as a sequence.
+    #[serde(with = "drive_sequence")]
     pub drive: [f64; fit::DRIVE_FEATURES],
     /// `[g, r]`: the compliance of the strand at the contact (m/N) and its stick ratio (the
     /// part of the strand's answer in proportion to the contact's elastic slip), both ≥ 0.
     pub compliance: [f64; 2],
+}
+
+/// The drive coefficients as a sequence of their count (serde's arrays stop at 32).
+mod drive_sequence {
+    use super::fit::DRIVE_FEATURES;
+    use serde::{de::Error, Deserialize, Deserializer, Serializer};
+
+    pub(super) fn serialize<S: Serializer>(
+        drive: &[f64; DRIVE_FEATURES],
+        serializer: S,
+    ) -> Result<S::Ok, S::Error> {
+        serializer.collect_seq(drive)
+    }
+
+    pub(super) fn deserialize<'de, D: Deserializer<'de>>(
+        deserializer: D,
+    ) -> Result<[f64; DRIVE_FEATURES], D::Error> {
+        let values = Vec::<f64>::deserialize(deserializer)?;
+        let count = values.len();
+        values.try_into().map_err(|_| {
+            D::Error::custom(format!(
+                "drive: {count} coefficients where the law has {DRIVE_FEATURES}"
+            ))
+        })
+    }
 }
 
 impl ContactLaw {

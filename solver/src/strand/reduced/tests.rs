@@ -369,6 +369,30 @@ fn a_calibration_of_another_format_is_refused_as_such() {
 }
 
 #[test]
+fn a_stored_calibration_keeps_every_drive_coefficient_and_refuses_a_short_drive() {
+    let mut reduced = identical_contacts(3, 40.0, 2e-6, 1e-8, 0.1, None);
+    for (k, d) in reduced.laws[1].drive.iter_mut().enumerate() {
+        *d = (k as f64 + 0.5) * 1.37e-7;
+    }
+    let text = serde_json::to_vec(&reduced).expect("serialises");
+    let back = ReducedStrand::from_json(&text).expect("reads back");
+    assert_eq!(back.laws, reduced.laws);
+    // a drive of the seven-knot format, stored under this format's number
+    let mut value: serde_json::Value = serde_json::from_slice(&text).expect("json");
+    value["laws"][1]["drive"] = serde_json::json!(vec![0.0; 28]);
+    let message = ReducedStrand::from_json(&serde_json::to_vec(&value).expect("json"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains(&format!(
+            "drive: 28 coefficients where the law has {}",
+            fit::DRIVE_FEATURES
+        )),
+        "{message}"
+    );
+}
+
+#[test]
 fn reduced_matches_fe_on_a_held_out_history_of_the_benchmark_strand() {
     let model = model();
     let held_out = irregular(240, 0.7);
@@ -407,6 +431,7 @@ fn short_design() -> CalibrationOptions {
     CalibrationOptions {
         design: DesignParams {
             amplitudes: vec![1.0, 0.3],
+            tension_amplitudes: vec![1.0, 0.3],
             cycles: 1,
             probe_curvatures: Vec::new(),
             ..DesignParams::default()
