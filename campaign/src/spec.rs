@@ -253,6 +253,8 @@ pub enum StrandEnds {
     /// Periodic constraints between the two ends (seed Sec. 2.3).
     #[default]
     Periodic,
+    /// Periodic constraints with the far ends following the start ends in rotation too.
+    PeriodicRotations,
     /// Penalty ties of the helical wire ends to the core end sections (seed Sec. 2.2).
     PenaltyTies,
 }
@@ -310,6 +312,7 @@ impl StrandEnds {
         use moorfret_solver::strand::model::EndKind;
         match self {
             Self::Periodic => EndKind::Periodic,
+            Self::PeriodicRotations => EndKind::PeriodicRotations,
             Self::PenaltyTies => EndKind::PenaltyTies,
         }
     }
@@ -648,6 +651,26 @@ mod tests {
                 other => panic!("{fatigue}: {other:?}"),
             }
         }
+    }
+
+    #[test]
+    fn the_strand_ends_read_as_the_solver_end_conditions_and_an_unknown_one_is_refused() {
+        use moorfret_solver::strand::model::EndKind;
+        let spec = demo_spec(serde_json::json!({}));
+        let with = |ends: &str| {
+            let mut v = serde_json::to_value(&spec).unwrap();
+            v["strand"]["ends"] = serde_json::json!(ends);
+            CampaignSpec::from_json_str(&v.to_string())
+        };
+        for (text, kind) in [
+            ("periodic", EndKind::Periodic),
+            ("periodic_rotations", EndKind::PeriodicRotations),
+            ("penalty_ties", EndKind::PenaltyTies),
+        ] {
+            assert_eq!(with(text).unwrap().strand.ends.end_kind(), kind, "{text}");
+        }
+        let err = with("periodic_rotation").unwrap_err().to_string();
+        assert!(err.contains("periodic_rotations"), "{err}");
     }
 
     #[test]

@@ -46,8 +46,12 @@ pub enum EndKind {
     /// Penalty ties to the core end sections (the 1+6+1 benchmark, seed Sec. 2.2).
     #[default]
     PenaltyTies,
-    /// Periodic multi-point constraints by elimination (seed Sec. 2.3, Eqs. 12-13).
+    /// Periodic multi-point constraints by elimination (seed Sec. 2.3, Eqs. 12-13): the far
+    /// ends follow the start ends in position and the section in rotation.
     Periodic,
+    /// As [`EndKind::Periodic`], with the far ends following the start ends in rotation too
+    /// (`super::periodic`): no seam where the far ends are tied.
+    PeriodicRotations,
 }
 
 /// Model-building parameters.
@@ -192,7 +196,8 @@ impl StrandModel {
         }
         let layout = match params.ends {
             EndKind::PenaltyTies => None,
-            EndKind::Periodic => Some(end_layout(strand, &mesh)?),
+            EndKind::Periodic => Some(end_layout(strand, &mesh, false)?),
+            EndKind::PeriodicRotations => Some(end_layout(strand, &mesh, true)?),
         };
         let prescription: Vec<[bool; NODE_DOFS]> = match &layout {
             Some(l) => l.prescription.clone(),

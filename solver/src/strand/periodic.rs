@@ -17,6 +17,15 @@
 //!   with T(φ) the rotation by φ about the strand axis, w_S the weights of the cubic
 //!   interpolation in angle through the four start ends nearest θ_P ([`angular_interpolation`]),
 //!   and e₀ the round-off of the reference configuration.
+//! - With [`EndKind::PeriodicRotations`](super::model::EndKind::PeriodicRotations), the far
+//!   end's rotation follows the start ends' instead of the section's: with the wire rotations
+//!   relative to their section, Λ_S = exp(φ̂_S) R(z_S),
+//!   Λ_P = exp(φ̂_P) R(z_P),   φ_P = Σ_S w_S A_S φ_S
+//!   (A_S below). For a single start end at P's angle this is the transported rotation exactly,
+//!   Λ_P = A_S Λ_S T(θ_P − θ_S)ᵀ. Eq. 13 holds every far end at the section's rotation while its
+//!   start end turns freely; on the six-layer paper strand that raises the largest slip ranges
+//!   of interfaces 2-5 within 50 mm of the seam by 19-44 % over the rest of the model, and the
+//!   rotation tie by 1-7 % (`docs/notes/2026-11-29-seam-rotation-ties.md`).
 //!
 //! Why start ends and not, as in the seed, the point R of the reference wire at the angle θ_P:
 //! the tie's reaction is the end force of P's wire (the wire tension), and a tie to an interior
@@ -39,7 +48,11 @@
 //! K_red = Tᵀ K T, r_red = Tᵀ r (T the map from the reduced unknowns to the extended ones) is
 //! the consistent tangent of the reduced problem, symmetric where the contact tangent is, and
 //! Newton keeps its quadratic convergence (the seed's partial linearisation is not needed). No
-//! interior outer-arc point is coupled (seed Sec. 2.3: it created artefacts).
+//! interior outer-arc point is coupled (seed Sec. 2.3: it created artefacts). The rotation tie
+//! is not affine: its spins are δθ_P = Σ_S H(φ_P) w_S A_S H(φ_S)⁻¹ δθ_S (H the tangent
+//! operator of the exponential map, [`tangent_operator`]), and Tᵀ K T leaves out the term of
+//! its second derivative times the far ends' moment residuals, which are small beside the
+//! wires' bending stiffness.
 //!
 //! Assembly runs on the extended pattern (every unknown but the core, the anchored ends and the
 //! end rotations, P translations included) and is reduced entry by entry with a plan computed
@@ -52,6 +65,7 @@ use super::loading::SectionMotion;
 use super::mesh::StrandMesh;
 use super::profile::Strand;
 use crate::beam::frame::{DofMap, FrameState, NodeId, NODE_DOFS};
+use crate::beam::rotation::{exp_so3, log_so3, tangent_operator, tangent_operator_inverse};
 use crate::linalg::{Equation, PatternError, SparsePattern, Storage};
 
 /// Which DOFs of every node are prescribed: the core, the anchored ends, the end rotations.
@@ -96,6 +110,17 @@ impl EndConstraint {
         motion.rotation(self.z_p_m) * turn(m.turn_rad) * motion.rotation(m.z_m).transpose()
     }
 
+    /// Rotation vector φ_P of P relative to its section that the rotation tie gives for the
+    /// current master rotations (module docs).
+    fn rotation_vector(&self, motion: &SectionMotion, rotations: &[Matrix3<f64>]) -> Vector3<f64> {
+        let mut phi = Vector3::zeros();
+        for (s, m) in self.masters.iter().enumerate() {
+            let relative = rotations[m.node] * motion.rotation(m.z_m).transpose();
+            phi += m.weight * (self.transfer(s, motion) * log_so3(&relative));
+        }
+        phi
+    }
+
     /// Position of P that satisfies the constraint for the current master positions.
     pub fn position(&self, motion: &SectionMotion, positions: &[Vector3<f64>]) -> Vector3<f64> {
         let mut x = motion.axis_point(self.z_p_m) + motion.rotation(self.z_p_m) * self.offset_m;
@@ -116,6 +141,9 @@ pub struct EndLayout {
     pub constraints: Vec<EndConstraint>,
     /// Prescribed DOFs per node (core included).
     pub prescription: Prescription,
+    /// Whether the eliminated ends' rotations follow their start ends' (module docs) rather
+    /// than their sections'.
+    pub tied_rotations: bool,
 }
 
 /// Angle tolerance for an end to count as lying at the outer arc (rad).
@@ -172,6 +200,7 @@ pub(crate) fn angular_interpolation(deltas: &[f64]) -> Vec<(usize, f64)> {
 pub(crate) fn end_layout(
     strand: &Strand,
     mesh: &StrandMesh,
+    tied_rotations: bool,
 ) -> Result<EndLayout, StrandModelError> {
     use std::f64::consts::{FRAC_PI_2, PI};
     let wires = strand.wires();
@@ -229,7 +258,14 @@ pub(crate) fn end_layout(
             let interpolated = masters.iter().fold(Vector3::zeros(), |acc, m| {
                 acc + m.weight * (turn(m.turn_rad) * relative(m.node))
             });
-            prescription[finish] = [false, false, false, true, true, true];
+            prescription[finish] = [
+                false,
+                false,
+                false,
+                !tied_rotations,
+                !tied_rotations,
+                !tied_rotations,
+            ];
             constraints.push(EndConstraint {
                 node: finish,
                 z_p_m: z_p,
@@ -254,6 +290,7 @@ pub(crate) fn end_layout(
         anchored,
         constraints,
         prescription,
+        tied_rotations,
     })
 }
 
@@ -277,20 +314,29 @@ pub struct PeriodicEnds {
     slot_bases: (Vec<usize>, usize),
 }
 
-/// First coefficient slot of every constraint (slot 0 is the identity), and the slot count.
+/// First coefficient slot of every constraint (slot 0 is the identity), and the slot count:
+/// a 3 × 3 block per master for the translations, and with tied rotations another one per
+/// master for the rotations after them.
 fn slot_bases(layout: &EndLayout) -> (Vec<usize>, usize) {
+    let blocks = if layout.tied_rotations { 2 } else { 1 };
     let mut bases = Vec::with_capacity(layout.constraints.len());
     let mut next = 1;
     for c in &layout.constraints {
         bases.push(next);
-        next += 9 * c.masters.len();
+        next += 9 * blocks * c.masters.len();
     }
     (bases, next)
 }
 
-/// Coefficient slot of master `s`, P component `m`, master component `c` from `base`.
-fn slot(base: usize, s: usize, m: usize, c: usize) -> usize {
-    base + 9 * s + 3 * m + c
+/// Coefficient slot of master `s`, P component `m`, master component `c` from `base`; P's
+/// rotation components `m` = 3 … 5 take the rotation blocks after the `masters` translation
+/// blocks, master components of the same kind.
+fn slot(base: usize, masters: usize, s: usize, m: usize, c: usize) -> usize {
+    if m < 3 {
+        base + 9 * s + 3 * m + c
+    } else {
+        base + 9 * (masters + s) + 3 * (m - 3) + c
+    }
 }
 
 impl PeriodicEnds {
@@ -305,8 +351,9 @@ impl PeriodicEnds {
         let n_ext = dofs.free_count();
         // dependent extended equations: (constraint, component)
         let mut dependent = vec![None; n_ext];
+        let tied = if layout.tied_rotations { 6 } else { 3 };
         for (d, c) in layout.constraints.iter().enumerate() {
-            for m in 0..3 {
+            for m in 0..tied {
                 if let Some(e) = dofs.equation(NodeId(c.node), m).index() {
                     dependent[e] = Some((d, m));
                 }
@@ -328,10 +375,13 @@ impl PeriodicEnds {
                 Some((d, m)) => {
                     let c = &layout.constraints[d];
                     let mut out = Vec::with_capacity(3 * c.masters.len());
+                    let kind = if m < 3 { 0 } else { 3 };
                     for (s, master) in c.masters.iter().enumerate() {
                         for comp in 0..3 {
-                            if let Some(me) = dofs.equation(NodeId(master.node), comp).index() {
-                                out.push((reduced_of[me], slot(bases[d], s, m, comp)));
+                            let equation = dofs.equation(NodeId(master.node), kind + comp);
+                            if let Some(me) = equation.index() {
+                                let at = slot(bases[d], c.masters.len(), s, m, comp);
+                                out.push((reduced_of[me], at));
                             }
                         }
                     }
@@ -399,18 +449,32 @@ impl PeriodicEnds {
         ))
     }
 
-    /// Coefficients of every slot under `motion` (slot 0 is 1).
-    pub fn coefficients(&self, motion: &SectionMotion, out: &mut Vec<f64>) {
+    /// Coefficients of every slot under `motion` and, for tied rotations, at the master
+    /// rotations of `state` (slot 0 is 1).
+    pub fn coefficients(&self, motion: &SectionMotion, state: &FrameState, out: &mut Vec<f64>) {
         let (bases, count) = &self.slot_bases;
         out.clear();
         out.resize(*count, 0.0);
         out[0] = 1.0;
         for (d, c) in self.layout.constraints.iter().enumerate() {
+            let n = c.masters.len();
+            let h_p = self
+                .layout
+                .tied_rotations
+                .then(|| tangent_operator(&c.rotation_vector(motion, &state.rotations)));
             for (s, master) in c.masters.iter().enumerate() {
-                let a = c.transfer(s, motion);
-                for m in 0..3 {
-                    for comp in 0..3 {
-                        out[slot(bases[d], s, m, comp)] = master.weight * a[(m, comp)];
+                let a = master.weight * c.transfer(s, motion);
+                let spins = h_p.map(|h_p| {
+                    let relative =
+                        state.rotations[master.node] * motion.rotation(master.z_m).transpose();
+                    h_p * a * tangent_operator_inverse(&log_so3(&relative))
+                });
+                for (first, block) in [(0, Some(a)), (3, spins)] {
+                    let Some(block) = block else { continue };
+                    for m in 0..3 {
+                        for comp in 0..3 {
+                            out[slot(bases[d], n, s, first + m, comp)] = block[(m, comp)];
+                        }
                     }
                 }
             }
@@ -462,12 +526,17 @@ impl PeriodicEnds {
         }
     }
 
-    /// Places the eliminated ends on their constraint and sets their rotations to the section's.
+    /// Places the eliminated ends on their constraint and sets their rotations to the section's
+    /// or, tied, to the one their start ends give.
     pub(crate) fn enforce(&self, motion: &SectionMotion, state: &mut FrameState) {
         for c in &self.layout.constraints {
             let x = c.position(motion, &state.positions);
             state.positions[c.node] = x;
-            state.rotations[c.node] = motion.rotation(c.z_p_m);
+            state.rotations[c.node] = if self.layout.tied_rotations {
+                exp_so3(&c.rotation_vector(motion, &state.rotations)) * motion.rotation(c.z_p_m)
+            } else {
+                motion.rotation(c.z_p_m)
+            };
         }
     }
 }

@@ -316,7 +316,11 @@ impl NonlinearProblem for StrandProblem<'_> {
             with_tangent.then_some((ext.values.as_mut_slice(), ext.surrogate.as_mut_slice())),
         );
         if scale.is_ok() {
-            periodic.coefficients(&self.path.at(load_factor), &mut ext.coefficients);
+            periodic.coefficients(
+                &self.path.at(load_factor),
+                &self.trial,
+                &mut ext.coefficients,
+            );
             periodic.reduce(
                 &ext.coefficients,
                 &ext.residual,

@@ -37,6 +37,8 @@ pub(crate) struct ModelArgs {
 pub(crate) enum Ends {
     /// Periodic constraints between the two ends (seed Sec. 2.3).
     Periodic,
+    /// Periodic constraints with the far ends following the start ends in rotation too.
+    PeriodicRotations,
     /// Penalty ties of the helical wire ends to the core end sections (seed Sec. 2.2).
     PenaltyTies,
 }
@@ -46,6 +48,7 @@ impl Ends {
     pub(crate) fn end_kind(self) -> EndKind {
         match self {
             Self::Periodic => EndKind::Periodic,
+            Self::PeriodicRotations => EndKind::PeriodicRotations,
             Self::PenaltyTies => EndKind::PenaltyTies,
         }
     }

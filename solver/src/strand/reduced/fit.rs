@@ -68,20 +68,19 @@ impl ForceSums {
 /// ([`super::design::DesignParams::between_level_cycles`]). With knots at the levels only, the
 /// drive is linear in the tension between them, and the stick answer to small tension cycles
 /// there came out up to 46 % small at interfaces 3-5.
-pub(crate) const TENSION_KNOTS: [f64; 12] = [
-    -1.0,
-    -1.0 + 1.0 / 6.0,
-    -1.0 + 2.0 / 6.0,
-    -1.0 + 3.0 / 6.0,
-    -1.0 + 4.0 / 6.0,
-    -1.0 + 5.0 / 6.0,
-    0.0,
-    -1.0 + 7.0 / 6.0,
-    -1.0 + 8.0 / 6.0,
-    -1.0 + 9.0 / 6.0,
-    -1.0 + 10.0 / 6.0,
-    -1.0 + 11.0 / 6.0,
-];
+pub(crate) const TENSION_KNOTS: [f64; 12] = tension_knots();
+
+/// `−1 + k/6` for `k = 0 … 11`: the bottom of the range, the six levels and the midpoints between
+/// them.
+const fn tension_knots() -> [f64; 12] {
+    let mut knots = [0.0; 12];
+    let mut k = 0;
+    while k < knots.len() {
+        knots[k] = -1.0 + k as f64 / 6.0;
+        k += 1;
+    }
+    knots
+}
 
 /// Curvature powers of the drive: `1, y, y², y³`.
 const CURVATURE_POWERS: usize = 4;
