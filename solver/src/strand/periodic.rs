@@ -54,8 +54,8 @@
 //! its second derivative times the far ends' moment residuals, which are small beside the
 //! wires' bending stiffness.
 //!
-//! Assembly runs on the extended pattern (every unknown but the core, the anchored ends and the
-//! end rotations, P translations included) and is reduced entry by entry with a plan computed
+//! Assembly runs on the extended pattern (every unknown but the core, the anchored ends and,
+//! under Eq. 13, the far ends' rotations; P translations included) and is reduced entry by entry with a plan computed
 //! once ([`PeriodicEnds::reduce`]). Units: m, rad.
 
 use nalgebra::{Matrix3, Vector3};
@@ -68,7 +68,8 @@ use crate::beam::frame::{DofMap, FrameState, NodeId, NODE_DOFS};
 use crate::beam::rotation::{exp_so3, log_so3, tangent_operator, tangent_operator_inverse};
 use crate::linalg::{Equation, PatternError, SparsePattern, Storage};
 
-/// Which DOFs of every node are prescribed: the core, the anchored ends, the end rotations.
+/// Which DOFs of every node are prescribed: the core, the anchored ends and, under Eq. 13, the
+/// far ends' rotations.
 pub(crate) type Prescription = Vec<[bool; NODE_DOFS]>;
 
 /// One start end S that an eliminated end interpolates (module docs).
