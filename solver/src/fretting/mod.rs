@@ -20,6 +20,7 @@ pub(crate) mod hertz;
 pub(crate) mod histogram;
 pub(crate) mod indicators;
 pub(crate) mod inputs;
+pub mod life;
 pub mod rainflow;
 pub(crate) mod record;
 pub mod reversals;
