@@ -29,9 +29,11 @@
 //!   safe side) and says so in its job result.
 
 use moorfret_solver::fatigue::{rope_nominal_area_m2, ApiComponent, DnvComponent, TnCurve};
+use moorfret_solver::fretting::life::{ContactStressLaw, WireSurface};
 use moorfret_solver::fretting::{
     detect_set_run_in, BinEdges, CrossedCylinders, DamageInputsConfig, ElasticMaterial,
-    ForceMeasure, FrettingParams, FrettingSnLaw, NamedTnCurve, RegimeCriterion, RunInParams,
+    ForceMeasure, FrettingLaw, FrettingParams, FrettingSnLaw, NamedTnCurve, RegimeCriterion,
+    RunInParams,
 };
 use moorfret_solver::mooring::spec::LineTypeSpec;
 use moorfret_solver::strand::history::monitors::{MonitorChannel, MonitorQuantity, MonitorSeries};
@@ -40,8 +42,11 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::CampaignError;
 
-/// Fretting measure names stored in `sea_state_class_damage_inputs`.
-pub const FRETTING_MEASURES: [&str; 2] = ["fretting_max", "fretting_mean"];
+/// Fretting measure names stored in `sea_state_class_damage_inputs`: the campaign's fretting
+/// law (most damaged contact of a class, mean over its contacts), then the rope S-N law per
+/// slip cycle beside it.
+pub const FRETTING_MEASURES: [&str; 4] =
+    ["fretting_max", "fretting_mean", "rope_tn_max", "rope_tn_mean"];
 
 /// Fretting and fatigue settings; every field has a default.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -55,8 +60,16 @@ pub struct FatigueSpec {
     pub regime: RegimeCriterion,
     /// Normal force of a cycle that sizes its Hertz contact.
     pub force_measure: ForceMeasure,
-    /// Fretting S-N law (default: DNV spiral-rope curve on the wire stress range).
+    /// Fretting S-N law of `rope_tn_per_slip_cycle` (default: DNV spiral-rope curve on the
+    /// wire stress range).
     pub sn_law: FrettingSnLaw,
+    /// The law of the fretting measures: `contact_stress` (default) or
+    /// `rope_tn_per_slip_cycle`.
+    #[serde(skip_serializing_if = "is_default_law")]
+    pub fretting_law: FrettingLaw,
+    /// Wire surface of the contact-stress law: `galvanised` (default), `bright`, `sea_water`.
+    #[serde(skip_serializing_if = "is_default_surface")]
+    pub wire_surface: WireSurface,
     /// T-N curves on the hot-spot tension; the defaults of the module doc when absent.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tn_curves: Option<Vec<NamedTnCurve>>,
@@ -67,6 +80,14 @@ pub struct FatigueSpec {
     /// How the run-in is detected.
     #[serde(skip_serializing_if = "RunInDetection::is_default")]
     pub run_in_detection: RunInDetection,
+}
+
+fn is_default_law(law: &FrettingLaw) -> bool {
+    *law == FrettingLaw::default()
+}
+
+fn is_default_surface(surface: &WireSurface) -> bool {
+    *surface == WireSurface::default()
 }
 
 /// Settings of the run-in detection (`moorfret_solver::fretting::runin`): window means of
@@ -171,6 +192,8 @@ impl Default for FatigueSpec {
             regime: fretting.regime,
             force_measure: fretting.force_measure,
             sn_law: fretting.sn_law,
+            fretting_law: FrettingLaw::default(),
+            wire_surface: WireSurface::default(),
             tn_curves: None,
             run_in_s: None,
             run_in_detection: RunInDetection::default(),
@@ -307,6 +330,11 @@ impl FatigueSpec {
             interfaces: interface_geometry(strand),
             metallic_area_m2: axial_stiffness_n / strand.young_modulus_pa,
             tn_curves: self.tn_curves.clone().unwrap_or_default(),
+            law: self.fretting_law,
+            contact_stress: ContactStressLaw {
+                surface: self.wire_surface,
+                ..ContactStressLaw::default()
+            },
         }
     }
 }

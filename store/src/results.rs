@@ -66,6 +66,16 @@ pub struct ClassDamageInput {
     pub slip_amplitude_max_m: f64,
     /// Cycles per hour over slip amplitude × normal force (`CycleHistogram` as JSON).
     pub histogram: Value,
+    /// Largest damage rate of a contact of the class under the rope S-N law per slip cycle
+    /// (1/s; `fretting_*` follow the campaign's fretting law).
+    #[serde(default)]
+    pub rope_tn_damage_rate_max_per_s: f64,
+    /// Mean of that rate over the class (1/s).
+    #[serde(default)]
+    pub rope_tn_damage_rate_mean_per_s: f64,
+    /// Largest gross-slip frictional power of a contact of the class (W).
+    #[serde(default)]
+    pub wear_power_max_w: f64,
 }
 
 /// Rows of one (sea state, seed, hot spot): T-N damage per curve, fretting inputs per class.
@@ -120,6 +130,9 @@ pub fn damage_rows(
                     "class_damage_inputs.histogram_json",
                     serde_json::to_value(&c.cycles_per_hour),
                 )?,
+                rope_tn_damage_rate_max_per_s: c.rope_tn_damage_rate_max_per_s,
+                rope_tn_damage_rate_mean_per_s: c.rope_tn_damage_rate_mean_per_s,
+                wear_power_max_w: c.wear_power_max_w,
             })
         })
         .collect::<Result<Vec<_>, StoreError>>()?;

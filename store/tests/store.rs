@@ -167,6 +167,9 @@ fn strand_results(value: f64) -> JobResults {
             peak_pressure_max_pa: 1.2e9,
             slip_amplitude_max_m: 3.0e-6,
             histogram: json!({ "cycles": [] }),
+            rope_tn_damage_rate_max_per_s: value * 2e-9,
+            rope_tn_damage_rate_mean_per_s: value * 1e-9,
+            wear_power_max_w: value * 1e-6,
         }],
         ..JobResults::default()
     }
@@ -997,6 +1000,9 @@ fn class_row(seed_index: i64, rate: f64) -> ClassDamageInput {
         peak_pressure_max_pa: 1.0e9,
         slip_amplitude_max_m: 1.0e-6,
         histogram: json!({}),
+        rope_tn_damage_rate_max_per_s: 2.0 * rate,
+        rope_tn_damage_rate_mean_per_s: rate,
+        wear_power_max_w: 0.0,
     }
 }
 

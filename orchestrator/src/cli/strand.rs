@@ -41,6 +41,9 @@ pub(crate) enum StrandCommand {
     /// Compare two history runs of the same strand model, interface by interface and class by
     /// class (e.g. `--fidelity reduced` against `fe`).
     Compare(CompareArgs),
+    /// Fretting damage of one history run per contact class under both fretting laws, and the
+    /// life to the first crack of its most damaged contact.
+    Fretting(FrettingArgs),
 }
 
 /// Arguments of `moorfret strand calibrate`.
@@ -106,11 +109,34 @@ pub(crate) struct CompareArgs {
     end_zone_m: f64,
 }
 
+/// Arguments of `moorfret strand fretting`.
+#[derive(Debug, Args)]
+pub(crate) struct FrettingArgs {
+    /// The strand model of the run (for the contact geometry).
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Output directory of a `run strand --load` run.
+    run: PathBuf,
+    /// Run-in left out of the statistics (s).
+    #[arg(long, default_value_t = 0.0)]
+    run_in_s: f64,
+    /// Wire surface of the contact-stress law: `bright`, `galvanised`, `sea_water`.
+    #[arg(long, default_value = "galvanised")]
+    wire_surface: String,
+    /// Period of one load cycle (s): also print lives in load cycles.
+    #[arg(long)]
+    cycle_period_s: Option<f64>,
+    /// The load history of the run (default: the `load` its summary names).
+    #[arg(long)]
+    load: Option<PathBuf>,
+}
+
 /// Execute a `strand` subcommand.
 pub(crate) fn execute(cmd: StrandCommand) -> anyhow::Result<()> {
     match cmd {
         StrandCommand::Calibrate(args) => calibrate(&args),
         StrandCommand::Compare(args) => compare(&args),
+        StrandCommand::Fretting(args) => fretting(&args),
     }
 }
 
@@ -341,12 +367,22 @@ fn damage_inputs(
     strand: &Strand,
     run_in_samples: usize,
 ) -> anyhow::Result<SeaStateInputs> {
+    damage_inputs_with(run, load, strand, run_in_samples, &FatigueSpec::default())
+}
+
+fn damage_inputs_with(
+    run: &RunOutput,
+    load: &SharedLoad,
+    strand: &Strand,
+    run_in_samples: usize,
+    spec: &FatigueSpec,
+) -> anyhow::Result<SeaStateInputs> {
     // the wire stress of the damage inputs is T / A with A = EA / E, i.e. E ε whatever EA is:
     // a strain history takes the straight-strand EA
     let ea_n = run
         .ea_n
         .unwrap_or_else(|| straight_strand_stiffness(strand).simple_n);
-    let config = FatigueSpec::default().fretting_config(strand, ea_n);
+    let config = spec.fretting_config(strand, ea_n);
     let tension: Vec<f64> = load
         .table
         .strain(run.ea_n)?
@@ -359,6 +395,89 @@ fn damage_inputs(
         run_in_samples,
     };
     Ok(sea_state_damage_inputs(&run.records, &history, &config)?)
+}
+
+fn fretting(args: &FrettingArgs) -> anyhow::Result<()> {
+    let (_, strand, _) = load_strand(&args.model)?;
+    let run = read_run(&args.run)?;
+    let load = shared_load(args.load.as_deref(), &run, &run)?;
+    if !(args.run_in_s >= 0.0 && args.run_in_s.is_finite()) {
+        bail!("--run-in-s {}: must be finite and ≥ 0", args.run_in_s);
+    }
+    if let Some(p) = args.cycle_period_s {
+        if !(p > 0.0 && p.is_finite()) {
+            bail!("--cycle-period-s {p}: must be finite and > 0");
+        }
+    }
+    let wire_surface = serde_json::from_value(serde_json::Value::String(args.wire_surface.clone()))
+        .map_err(|_| {
+            anyhow!(
+                "--wire-surface `{}`: one of bright, galvanised, sea_water",
+                args.wire_surface
+            )
+        })?;
+    let spec = FatigueSpec {
+        wire_surface,
+        ..FatigueSpec::default()
+    };
+    let run_in = (args.run_in_s / load.dt_s).round() as usize;
+    let inputs = damage_inputs_with(&run, &load, &strand, run_in, &spec)?;
+    let period = args.cycle_period_s;
+    println!(
+        "per contact class, damage rate (1/s) of the most damaged contact: contact stress \
+         ({}), rope S-N per slip cycle; cycles per hour by regime (contact-stress law)",
+        args.wire_surface
+    );
+    println!(
+        "{:<24} {:>12} {:>12} {:>10} {:>10} {:>10}{}",
+        "class",
+        "stress_max",
+        "rope_tn_max",
+        "stick/h",
+        "partial/h",
+        "gross/h",
+        if period.is_some() {
+            "   life_stress   life_rope_tn (load cycles)"
+        } else {
+            ""
+        }
+    );
+    let life = |rate: f64| match period {
+        Some(p) if rate > 0.0 => format!("{:>14.3e}", 1.0 / (rate * p)),
+        Some(_) => format!("{:>14}", "inf"),
+        None => String::new(),
+    };
+    let mut worst = (0.0_f64, 0.0_f64);
+    for c in &inputs.classes {
+        let r = &c.regime_cycles_per_hour;
+        println!(
+            "{:<24} {:>12.3e} {:>12.3e} {:>10.1} {:>10.1} {:>10.1}{}{}",
+            format!("{}/{}", c.class.interface, c.class.position.as_str()),
+            c.contact_stress_damage_rate_max_per_s,
+            c.rope_tn_damage_rate_max_per_s,
+            r.stick,
+            r.partial_slip,
+            r.gross_slip,
+            life(c.contact_stress_damage_rate_max_per_s),
+            life(c.rope_tn_damage_rate_max_per_s),
+        );
+        worst.0 = worst.0.max(c.contact_stress_damage_rate_max_per_s);
+        worst.1 = worst.1.max(c.rope_tn_damage_rate_max_per_s);
+    }
+    println!(
+        "most damaged contact: {:.3e} 1/s (contact stress), {:.3e} 1/s (rope S-N per slip cycle){}",
+        worst.0,
+        worst.1,
+        match period {
+            Some(_) => format!(
+                "; first crack after{} and{} load cycles",
+                life(worst.0),
+                life(worst.1)
+            ),
+            None => String::new(),
+        }
+    );
+    Ok(())
 }
 
 fn compare(args: &CompareArgs) -> anyhow::Result<()> {

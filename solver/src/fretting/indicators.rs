@@ -193,6 +193,8 @@ pub struct WireStress {
 /// Indicators of one slip cycle.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct CycleIndicators {
+    /// The cycle's normal force that sizes the contact (per the force measure) (N).
+    pub normal_force_n: f64,
     /// Hertz contact at the cycle's normal force.
     pub contact: HertzContact,
     /// Slip amplitude δₐ = range/2 (m).
@@ -279,6 +281,7 @@ pub fn evaluate_cycle(
         0.0
     };
     Ok(CycleIndicators {
+        normal_force_n: normal,
         contact,
         slip_amplitude_m: delta,
         gross_slip_amplitude_m: delta_star,

@@ -38,6 +38,7 @@ use super::error::FrettingError;
 use super::hertz::{CrossedCylinders, HertzModel};
 use super::histogram::{BinEdges, CycleHistogram};
 use super::indicators::{evaluate_cycle, FrettingParams, FrettingRegime, WireStress};
+use super::life::{cycle_life, ContactStressLaw, CycleLoad};
 use super::rainflow::RainflowOptions;
 use super::record::{ContactClass, ContactRecord};
 use crate::fatigue::{sea_state_tension_damage, FatigueError, TnCurve};
@@ -81,6 +82,30 @@ pub struct NamedTnCurve {
     pub curve: TnCurve,
 }
 
+/// Which law charges a fretting cycle with damage (`fretting_max` / `fretting_mean`); the
+/// other one is computed beside it (`rope_tn_*` columns, or the contact-stress ones).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrettingLaw {
+    /// Life to crack initiation of each crossing from its contact stress field
+    /// ([`super::life`]).
+    #[default]
+    ContactStress,
+    /// The rope-level S-N law of [`FrettingParams::sn_law`] charged per slip cycle (by default
+    /// the DNV spiral-rope curve on the wire's nominal stress range): kept for comparison.
+    RopeTnPerSlipCycle,
+}
+
+impl FrettingLaw {
+    /// Stable name, as in campaign files.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::ContactStress => "contact_stress",
+            Self::RopeTnPerSlipCycle => "rope_tn_per_slip_cycle",
+        }
+    }
+}
+
 /// Settings of the damage inputs (part of a campaign's fretting and fatigue settings).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -97,6 +122,12 @@ pub struct DamageInputsConfig {
     pub metallic_area_m2: f64,
     /// T-N curves evaluated on the hot-spot tension.
     pub tn_curves: Vec<NamedTnCurve>,
+    /// The law whose damage is `fretting_damage_rate_*`.
+    #[serde(default)]
+    pub law: FrettingLaw,
+    /// Constants of the contact-stress law.
+    #[serde(default)]
+    pub contact_stress: ContactStressLaw,
 }
 
 /// The hot-spot load history of one realisation.
@@ -162,6 +193,23 @@ pub struct ClassInputs {
     pub peak_pressure_max_pa: f64,
     /// Largest slip amplitude of a cycle (m).
     pub slip_amplitude_max_m: f64,
+    /// Largest damage rate of a contact of the class under the rope S-N law per slip cycle
+    /// (1/s), whichever law `fretting_damage_rate_*` follows.
+    #[serde(default)]
+    pub rope_tn_damage_rate_max_per_s: f64,
+    /// Mean of that rate over the contacts of the class (1/s).
+    #[serde(default)]
+    pub rope_tn_damage_rate_mean_per_s: f64,
+    /// Largest damage rate of a contact of the class under the contact-stress law (1/s).
+    #[serde(default)]
+    pub contact_stress_damage_rate_max_per_s: f64,
+    /// Mean of that rate over the contacts of the class (1/s).
+    #[serde(default)]
+    pub contact_stress_damage_rate_mean_per_s: f64,
+    /// Largest frictional (wear) power of a contact of the class in gross slip, Σ 4μPδₐ over
+    /// its gross-slip cycles per second (W).
+    #[serde(default)]
+    pub wear_power_max_w: f64,
 }
 
 /// T-N damage of the hot-spot tension under one curve.
@@ -229,7 +277,8 @@ impl RangeExtrema {
 
 struct ClassAccumulator {
     inputs: ClassInputs,
-    damage_sum: f64,
+    rope_sum: f64,
+    stress_sum: f64,
 }
 
 /// Damage inputs of one (sea state, seed, hot spot); see the module docs.
@@ -239,6 +288,7 @@ pub fn sea_state_damage_inputs(
     config: &DamageInputsConfig,
 ) -> Result<SeaStateInputs, DamageInputsError> {
     config.fretting.validate()?;
+    config.contact_stress.validate()?;
     let area = config.metallic_area_m2;
     if !(area.is_finite() && area > 0.0) {
         return Err(invalid("metallic_area_m2", format!("{area} must be > 0")));
@@ -299,12 +349,18 @@ pub fn sea_state_damage_inputs(
                     ruiz_f2_max: 0.0,
                     peak_pressure_max_pa: 0.0,
                     slip_amplitude_max_m: 0.0,
+                    rope_tn_damage_rate_max_per_s: 0.0,
+                    rope_tn_damage_rate_mean_per_s: 0.0,
+                    contact_stress_damage_rate_max_per_s: 0.0,
+                    contact_stress_damage_rate_mean_per_s: 0.0,
+                    wear_power_max_w: 0.0,
                 },
-                damage_sum: 0.0,
+                rope_sum: 0.0,
+                stress_sum: 0.0,
             });
         let out = &mut class.inputs;
         out.contacts += 1;
-        let mut damage = 0.0;
+        let (mut rope_damage, mut stress_damage, mut wear) = (0.0, 0.0, 0.0);
         for (c, cycle) in record.cycles.iter().enumerate() {
             let (lo, hi) = (cycle.slip.start_index, cycle.slip.end_index);
             if lo < history.run_in_samples {
@@ -325,23 +381,61 @@ pub fn sea_state_damage_inputs(
                 axial_range_pa: (t_max - t_min) / area,
             };
             let ind = evaluate_cycle(model, &config.fretting, cycle, &stress)?;
-            damage += ind.damage;
+            rope_damage += ind.damage;
+            let t = &cycle.tangential_force_n;
+            let life = cycle_life(
+                model,
+                config.fretting.friction_coefficient,
+                &config.contact_stress,
+                &CycleLoad {
+                    normal_force_n: ind.normal_force_n,
+                    tangential_amplitude_n: 0.5 * (t.max - t.min),
+                    slip_amplitude_m: ind.slip_amplitude_m,
+                    bulk_max_pa: stress.axial_max_pa,
+                    bulk_min_pa: stress.axial_max_pa - stress.axial_range_pa,
+                },
+            )?;
+            stress_damage += cycle.slip.count / life.cycles_to_initiation;
+            wear += cycle.slip.count * life.wear_energy_j;
             out.cycles_per_hour.add_cycle(cycle);
-            out.regime_cycles_per_hour.add(ind.regime, cycle.slip.count);
+            let regime = match config.law {
+                FrettingLaw::ContactStress => life.regime,
+                FrettingLaw::RopeTnPerSlipCycle => ind.regime,
+            };
+            out.regime_cycles_per_hour.add(regime, cycle.slip.count);
             out.ruiz_f1_max = out.ruiz_f1_max.max(ind.ruiz_f1);
             out.ruiz_f2_max = out.ruiz_f2_max.max(ind.ruiz_f2);
             out.peak_pressure_max_pa = out.peak_pressure_max_pa.max(ind.contact.peak_pressure_pa);
             out.slip_amplitude_max_m = out.slip_amplitude_max_m.max(ind.slip_amplitude_m);
         }
-        let rate = damage / duration;
-        out.fretting_damage_rate_max_per_s = out.fretting_damage_rate_max_per_s.max(rate);
-        class.damage_sum += rate;
+        let (rope, stress) = (rope_damage / duration, stress_damage / duration);
+        out.rope_tn_damage_rate_max_per_s = out.rope_tn_damage_rate_max_per_s.max(rope);
+        out.contact_stress_damage_rate_max_per_s =
+            out.contact_stress_damage_rate_max_per_s.max(stress);
+        out.wear_power_max_w = out.wear_power_max_w.max(wear / duration);
+        class.rope_sum += rope;
+        class.stress_sum += stress;
     }
     let classes = classes
         .into_values()
         .map(|acc| {
             let mut inputs = acc.inputs;
-            inputs.fretting_damage_rate_mean_per_s = acc.damage_sum / inputs.contacts as f64;
+            let n = inputs.contacts as f64;
+            inputs.rope_tn_damage_rate_mean_per_s = acc.rope_sum / n;
+            inputs.contact_stress_damage_rate_mean_per_s = acc.stress_sum / n;
+            (
+                inputs.fretting_damage_rate_max_per_s,
+                inputs.fretting_damage_rate_mean_per_s,
+            ) = match config.law {
+                FrettingLaw::ContactStress => (
+                    inputs.contact_stress_damage_rate_max_per_s,
+                    inputs.contact_stress_damage_rate_mean_per_s,
+                ),
+                FrettingLaw::RopeTnPerSlipCycle => (
+                    inputs.rope_tn_damage_rate_max_per_s,
+                    inputs.rope_tn_damage_rate_mean_per_s,
+                ),
+            };
             inputs.cycles_per_hour = inputs.cycles_per_hour.scaled(per_hour);
             inputs.regime_cycles_per_hour = inputs.regime_cycles_per_hour.scaled(per_hour);
             inputs

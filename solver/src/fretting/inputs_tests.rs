@@ -51,6 +51,8 @@ fn config() -> DamageInputsConfig {
                 },
             },
         ],
+        law: FrettingLaw::RopeTnPerSlipCycle,
+        contact_stress: ContactStressLaw::default(),
     }
 }
 

@@ -9,6 +9,7 @@
 //! - `hertz`: Hertz contact of crossed cylinders (ellipse semi-axes, peak pressure);
 //! - `indicators`: fretting regime (Mindlin), Ruiz products, fretting S-N damage;
 //! - `inputs`: per-sea-state damage inputs per contact class and T-N curve;
+//! - [`life`]: fretting-fatigue life of a crossing from its contact stress field;
 //! - `record`: the per-contact record the strand stage produces, and contact classes;
 //! - [`runin`]: where the mean slip stops drifting (run-in to exclude from the statistics).
 //!
@@ -36,7 +37,8 @@ pub use indicators::{
     RegimeCriterion, WireStress,
 };
 pub use inputs::{
-    sea_state_damage_inputs, ClassInputs, DamageInputsConfig, DamageInputsError, NamedTnCurve,
+    sea_state_damage_inputs, ClassInputs, DamageInputsConfig, DamageInputsError, FrettingLaw,
+    NamedTnCurve,
     RegimeCounts, SeaStateInputs, TensionHistory, TensionInputs,
 };
 pub use rainflow::{count_cycles, Cycle, RainflowCounter, RainflowOptions};

@@ -15,7 +15,8 @@ pub(super) const CLASS_COLUMNS: &str =
      effective_duration_s, contacts, fretting_damage_rate_max_per_s, \
      fretting_damage_rate_mean_per_s, stick_cycles_per_hour, partial_slip_cycles_per_hour, \
      gross_slip_cycles_per_hour, ruiz_f1_max, ruiz_f2_max, peak_pressure_max_pa, \
-     slip_amplitude_max_m, histogram_json";
+     slip_amplitude_max_m, histogram_json, rope_tn_damage_rate_max_per_s, \
+     rope_tn_damage_rate_mean_per_s, wear_power_max_w";
 
 /// Inserts the class rows of a completing job inside its transaction.
 pub(super) async fn insert_class_damage_inputs(
@@ -26,7 +27,7 @@ pub(super) async fn insert_class_damage_inputs(
     const OP: &str = "complete job";
     let sql = format!(
         "INSERT INTO class_damage_inputs (job_id, {CLASS_COLUMNS}) VALUES \
-         ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17)"
+         ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, $12, $13, $14, $15, $16, $17, $18, $19, $20)"
     );
     for r in rows {
         sqlx::query(&sql)
@@ -50,6 +51,9 @@ pub(super) async fn insert_class_damage_inputs(
                 "class_damage_inputs.histogram_json",
                 &r.histogram,
             )?)
+            .bind(r.rope_tn_damage_rate_max_per_s)
+            .bind(r.rope_tn_damage_rate_mean_per_s)
+            .bind(r.wear_power_max_w)
             .execute(&mut **tx)
             .await
             .map_err(StoreError::db(OP))?;
@@ -63,12 +67,14 @@ pub(super) const COPY_CLASS_DAMAGE_INPUTS: &str =
      layer_interface, angular_position, seed_index, effective_duration_s, contacts, \
      fretting_damage_rate_max_per_s, fretting_damage_rate_mean_per_s, stick_cycles_per_hour, \
      partial_slip_cycles_per_hour, gross_slip_cycles_per_hour, ruiz_f1_max, ruiz_f2_max, \
-     peak_pressure_max_pa, slip_amplitude_max_m, histogram_json) \
+     peak_pressure_max_pa, slip_amplitude_max_m, histogram_json, \
+     rope_tn_damage_rate_max_per_s, rope_tn_damage_rate_mean_per_s, wear_power_max_w) \
      SELECT $1, hot_spot_index, layer_interface, angular_position, seed_index, \
      effective_duration_s, contacts, fretting_damage_rate_max_per_s, \
      fretting_damage_rate_mean_per_s, stick_cycles_per_hour, partial_slip_cycles_per_hour, \
      gross_slip_cycles_per_hour, ruiz_f1_max, ruiz_f2_max, peak_pressure_max_pa, \
-     slip_amplitude_max_m, histogram_json FROM class_damage_inputs WHERE job_id = $2";
+     slip_amplitude_max_m, histogram_json, rope_tn_damage_rate_max_per_s, \
+     rope_tn_damage_rate_mean_per_s, wear_power_max_w FROM class_damage_inputs WHERE job_id = $2";
 
 pub(super) fn get<'r, T>(
     row: &'r <Db as sqlx::Database>::Row,
@@ -104,6 +110,9 @@ pub(super) fn class_from_row(
         peak_pressure_max_pa: get(row, "peak_pressure_max_pa", op)?,
         slip_amplitude_max_m: get(row, "slip_amplitude_max_m", op)?,
         histogram: parse_json("class_damage_inputs.histogram_json", &histogram)?,
+        rope_tn_damage_rate_max_per_s: get(row, "rope_tn_damage_rate_max_per_s", op)?,
+        rope_tn_damage_rate_mean_per_s: get(row, "rope_tn_damage_rate_mean_per_s", op)?,
+        wear_power_max_w: get(row, "wear_power_max_w", op)?,
     })
 }
 

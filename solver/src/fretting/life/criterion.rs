@@ -3,15 +3,20 @@
 //! For a cycle with normal force P, tangential force amplitude Q and the wire's bulk stress
 //! between σ_B,min and σ_B,max:
 //!
-//! 1. Contact patch: the Hertz ellipse of the two crossed wires ([`HertzModel`]), replaced by
-//!    the circle of equal area, radius a = √(ab), with the same peak pressure p₀ (the error of
-//!    that step is measured in the tests and stated in `docs/fretting-fatigue.md`).
-//! 2. Regime (Cattaneo-Mindlin): stick radius c/a = (1 − Q/μP)^{1/3}; gross slip when Q
+//! 1. Contact patch: the Hertz ellipse of the two crossed wires ([`HertzModel`]), semi-axes
+//!    a ≥ b, the slip taken along the major axis (the bisector of the acute angle between the
+//!    wires; each wire's axis lies half the crossing angle off it). The ellipse's own stress
+//!    field is used ([`EllipseHotSpot`]): the circle of equal area understates the stress at
+//!    the hot spot of the strand's slender patches by about 40 % (tests,
+//!    `docs/fretting-fatigue.md`).
+//! 2. Regime (Cattaneo-Mindlin; for the ellipse Mindlin & Deresiewicz 1953, a similar stick
+//!    ellipse): stick ratio c/a = (1 − Q/μP)^{1/3}; gross slip when Q
 //!    reaches μP, stick when c/a ≥ [`STICK_RATIO_FOR_STICK`].
 //! 3. Stress at the two extremes of the cycle, at the hot spot: the point at the critical
 //!    distance's half, L/2, below the trailing edge of the contact (theory of critical
 //!    distances, point method; Taylor 2007): Hamilton's normal part plus or minus the
-//!    tangential part of the stick ratio c/a ([`super::field`]), plus the wire's bulk stress
+//!    tangential part of the stick ratio c/a ([`super::field`]) (Hamilton's closed forms are the
+//!    circle's, which the tabulated ellipse field reproduces), plus the wire's bulk stress
 //!    along the slip direction (an assumption: in a crossing, the slip direction makes an angle
 //!    with each wire's axis; taking them aligned is the severe case), its maximum at the
 //!    extreme where the trailing edge is in tension.
@@ -27,7 +32,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::field::{hertz_normal_stress, partial_slip_tangential_stress, Stress};
+use super::field::{EllipseHotSpot, Stress};
 use super::material::{StrainLife, WireSurface};
 use crate::fretting::error::{non_negative, positive, FrettingError};
 use crate::fretting::hertz::HertzModel;
@@ -121,7 +126,7 @@ pub struct CycleLife {
     pub regime: FrettingRegime,
     /// Stick ratio c/a (0 in gross slip).
     pub stick_ratio: f64,
-    /// Equivalent contact radius √(ab) (m).
+    /// Semi-axis a of the contact ellipse along the slip (m).
     pub contact_radius_m: f64,
     /// Peak pressure p₀ (Pa).
     pub peak_pressure_pa: f64,
@@ -185,14 +190,15 @@ pub fn cycle_life(
         };
         (regime, s)
     };
-    let a = contact.equivalent_radius_m();
+    let a = contact.semi_major_m;
     let p0 = contact.peak_pressure_pa;
-    let depth = 0.5 * m.critical_distance_m;
-    let normal = hertz_normal_stress(p0, a, m.poisson_ratio, -a, 0.0, depth);
-    // The traction μp − μp₀(c/a)√(1 − r²/c²) carries Q = μP(1 − (c/a)³) by construction.
+    let eta = 0.5 * m.critical_distance_m / a;
+    let shape = EllipseHotSpot::shared(model.axis_ratio, m.poisson_ratio);
+    let normal = shape.normal(eta).scaled(p0);
+    // The traction μp − μp₀(c/a)√(1 − ρ²) over the stick ellipse carries
+    // Q = μP(1 − (c/a)³) by construction.
     let tangential = if ratio > 0.0 {
-        partial_slip_tangential_stress(a, stick_ratio, m.poisson_ratio, -a, 0.0, depth)
-            .scaled(mu * p0)
+        shape.tangential(eta, stick_ratio).scaled(mu * p0)
     } else {
         Stress::default()
     };

@@ -435,3 +435,143 @@ pub fn partial_slip_tangential_stress(a: f64, stick_ratio: f64, nu: f64, x: f64,
     let stick = hamilton_tangential_stress(stick_ratio * a, nu, x, y, z);
     full.combine(1.0, stick, -stick_ratio)
 }
+
+/// The stresses at the hot spots of one elliptical Hertz contact shape, per unit peak pressure,
+/// tabulated once per shape: the contact is the ellipse of semi-axes a (along the slip, x) and
+/// b = k a, the hot spot lies at depth η a below the trailing end of the slip axis, (−a, 0, ηa).
+///
+/// - normal part N(η): the Hertz pressure integrated by [`traction_stress`];
+/// - tangential part T(ξ, ζ): the unit Hertz-shaped traction in +x on the ellipse of semi-axes
+///   (1, k), at (−ξ, 0, ζ), ξ ≥ 1. The partial-slip field (stick ellipse of the same shape,
+///   scaled by s = c/a: Mindlin & Deresiewicz 1953) is T(1, η) − s T(1/s, η/s).
+///
+/// Bilinear in (ln η) and in (u = 1/ξ clustered towards 1, ln ζ); the tests bound the
+/// interpolation error against the direct integration.
+#[derive(Debug, Clone)]
+pub struct EllipseHotSpot {
+    axis_ratio: f64,
+    nu: f64,
+    ln_depth: Vec<f64>,
+    normal: Vec<Stress>,
+    u: Vec<f64>,
+    tangential: Vec<Stress>,
+}
+
+impl EllipseHotSpot {
+    /// Smallest and largest tabulated depth over semi-axis.
+    pub const DEPTH_RANGE: (f64, f64) = (1e-3, 30.0);
+    const DEPTHS: usize = 46;
+    const U_POINTS: usize = 25;
+    const LEVEL: u32 = 2;
+
+    /// Tabulates the shape of axis ratio `axis_ratio` = b/a ∈ (0, 1] (slip along a) for
+    /// Poisson's ratio `nu`; a ratio above 1 means slip along the minor axis.
+    pub fn new(axis_ratio: f64, nu: f64) -> Self {
+        let (lo, hi) = Self::DEPTH_RANGE;
+        let ln_depth: Vec<f64> = (0..Self::DEPTHS)
+            .map(|i| lo.ln() + (hi / lo).ln() * i as f64 / (Self::DEPTHS - 1) as f64)
+            .collect();
+        // u = 1 − (1 − t)²: dense near u = 1, where the stick ellipse's edge nears the point.
+        let u: Vec<f64> = (0..Self::U_POINTS)
+            .map(|j| {
+                let t = j as f64 / (Self::U_POINTS - 1) as f64;
+                1.0 - (1.0 - t) * (1.0 - t)
+            })
+            .collect();
+        let k = axis_ratio;
+        let normal = ln_depth
+            .iter()
+            .map(|&le| traction_stress(Kernel::Normal, nu, 1.0, 1.0, k, [-1.0, 0.0, le.exp()], Self::LEVEL))
+            .collect();
+        let mut tangential = Vec::with_capacity(u.len() * ln_depth.len());
+        for &uj in &u {
+            for &le in &ln_depth {
+                tangential.push(if uj <= 0.0 {
+                    Stress::default()
+                } else {
+                    traction_stress(
+                        Kernel::Tangential,
+                        nu,
+                        1.0,
+                        1.0,
+                        k,
+                        [-1.0 / uj, 0.0, le.exp()],
+                        Self::LEVEL,
+                    )
+                });
+            }
+        }
+        Self {
+            axis_ratio,
+            nu,
+            ln_depth,
+            normal,
+            u,
+            tangential,
+        }
+    }
+
+    /// The shared table of a shape (built on first use, then kept for the process).
+    pub fn shared(axis_ratio: f64, nu: f64) -> std::sync::Arc<EllipseHotSpot> {
+        use std::sync::{Arc, Mutex};
+        static TABLES: OnceLock<Mutex<Vec<Arc<EllipseHotSpot>>>> = OnceLock::new();
+        let tables = TABLES.get_or_init(|| Mutex::new(Vec::new()));
+        let mut guard = match tables.lock() {
+            Ok(g) => g,
+            Err(poisoned) => poisoned.into_inner(),
+        };
+        if let Some(t) = guard
+            .iter()
+            .find(|t| t.axis_ratio == axis_ratio && t.nu == nu)
+        {
+            return Arc::clone(t);
+        }
+        let table = Arc::new(EllipseHotSpot::new(axis_ratio, nu));
+        guard.push(Arc::clone(&table));
+        table
+    }
+
+    /// Axis ratio b/a of the shape.
+    pub fn axis_ratio(&self) -> f64 {
+        self.axis_ratio
+    }
+
+    /// Normal part per unit p₀ at depth `eta`·a below the trailing end.
+    pub fn normal(&self, eta: f64) -> Stress {
+        let (i, f) = bracket(&self.ln_depth, Self::clamp_depth(eta).ln());
+        self.normal[i].combine(1.0 - f, self.normal[i + 1], f)
+    }
+
+    /// Tangential part per unit μp₀ at depth `eta`·a below the trailing end, stick ratio s.
+    pub fn tangential(&self, eta: f64, stick_ratio: f64) -> Stress {
+        let full = self.unit_traction(1.0, eta);
+        if stick_ratio <= 0.0 {
+            return full;
+        }
+        let s = stick_ratio.min(1.0);
+        full.combine(1.0, self.unit_traction(s, eta / s), -s)
+    }
+
+    /// T(1/u, ζ).
+    fn unit_traction(&self, u: f64, zeta: f64) -> Stress {
+        let n = self.ln_depth.len();
+        let (i, fi) = bracket(&self.u, u.clamp(0.0, 1.0));
+        let (j, fj) = bracket(&self.ln_depth, Self::clamp_depth(zeta).ln());
+        let v = |ii: usize, jj: usize| self.tangential[ii * n + jj];
+        let lower = v(i, j).combine(1.0 - fj, v(i, j + 1), fj);
+        let upper = v(i + 1, j).combine(1.0 - fj, v(i + 1, j + 1), fj);
+        lower.combine(1.0 - fi, upper, fi)
+    }
+
+    fn clamp_depth(x: f64) -> f64 {
+        x.clamp(Self::DEPTH_RANGE.0, Self::DEPTH_RANGE.1)
+    }
+}
+
+/// Index i and fraction f with grid[i] + f (grid[i+1] − grid[i]) = x, for a sorted grid.
+fn bracket(grid: &[f64], x: f64) -> (usize, f64) {
+    let last = grid.len() - 2;
+    let i = grid.partition_point(|&g| g <= x).saturating_sub(1).min(last);
+    let f = ((x - grid[i]) / (grid[i + 1] - grid[i])).clamp(0.0, 1.0);
+    (i, f)
+}

@@ -3,7 +3,7 @@ use std::f64::consts::PI;
 use super::criterion::{cycle_life, ContactStressLaw, CycleLoad, STICK_RATIO_FOR_STICK};
 use super::field::{
     hamilton_tangential_stress, hertz_normal_stress, partial_slip_tangential_stress, traction_stress,
-    Kernel, Stress,
+    EllipseHotSpot, Kernel, Stress,
 };
 use super::material::{StrainLife, WireSurface};
 use crate::fretting::hertz::{CrossedCylinders, ElasticMaterial, HertzModel};
@@ -312,4 +312,41 @@ fn uniaxial_stress_reduces_swt_to_its_definition() {
     .unwrap();
     let swt = 600e6 * 100e6 / m.youngs_modulus_pa;
     assert!(rel(life.swt_pa, swt, swt) < 1e-3, "{} vs {swt}", life.swt_pa);
+}
+
+#[test]
+fn ellipse_table_of_a_circle_reproduces_hamilton_at_the_trailing_edge() {
+    let table = EllipseHotSpot::new(1.0, NU);
+    for eta in [0.004, 0.03, 0.11, 0.6] {
+        let n = hertz_normal_stress(1.0, 1.0, NU, -1.0, 0.0, eta);
+        assert_close(&n, &table.normal(eta), 0.01, &format!("normal, eta {eta}"));
+        for s in [0.0, 0.35, 0.8] {
+            let t = partial_slip_tangential_stress(1.0, s, NU, -1.0, 0.0, eta);
+            let got = table.tangential(eta, s);
+            // Scale: the sliding field's largest component (the partial-slip field vanishes
+            // as s → 1).
+            let scale = largest_component(&hamilton_tangential_stress(1.0, NU, -1.0, 0.0, eta));
+            for (c, g) in [(t.xx, got.xx), (t.yy, got.yy), (t.zz, got.zz), (t.xz, got.xz)] {
+                assert!(rel(g, c, scale) < 0.015, "eta {eta}, s {s}: {g} vs {c}");
+            }
+        }
+    }
+}
+
+#[test]
+fn ellipse_table_interpolates_the_integrated_field() {
+    let k = 0.234;
+    let table = EllipseHotSpot::new(k, NU);
+    for (eta, s) in [(0.0123, 0.37), (0.051, 0.812), (0.0031, 0.155), (0.27, 0.64)] {
+        let direct_n = traction_stress(Kernel::Normal, NU, 1.0, 1.0, k, [-1.0, 0.0, eta], 2);
+        assert_close(&direct_n, &table.normal(eta), 0.01, &format!("normal {eta}"));
+        let full = traction_stress(Kernel::Tangential, NU, 1.0, 1.0, k, [-1.0, 0.0, eta], 2);
+        let stick = traction_stress(Kernel::Tangential, NU, s, s, s * k, [-1.0, 0.0, eta], 2);
+        let direct = full.combine(1.0, stick, -1.0);
+        let got = table.tangential(eta, s);
+        let scale = largest_component(&full);
+        for (c, g) in [(direct.xx, got.xx), (direct.zz, got.zz), (direct.xz, got.xz)] {
+            assert!(rel(g, c, scale) < 0.015, "eta {eta}, s {s}: {g} vs {c}");
+        }
+    }
 }
