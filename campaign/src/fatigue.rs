@@ -29,7 +29,7 @@
 //!   safe side) and says so in its job result.
 
 use moorfret_solver::fatigue::{rope_nominal_area_m2, ApiComponent, DnvComponent, TnCurve};
-use moorfret_solver::fretting::life::{ContactStressLaw, WireSurface};
+use moorfret_solver::fretting::life::{ContactStressLaw, StrainLife, WireSurface};
 use moorfret_solver::fretting::{
     detect_set_run_in, BinEdges, CrossedCylinders, DamageInputsConfig, ElasticMaterial,
     ForceMeasure, FrettingLaw, FrettingParams, FrettingSnLaw, NamedTnCurve, RegimeCriterion,
@@ -70,6 +70,9 @@ pub struct FatigueSpec {
     /// Wire surface of the contact-stress law: `galvanised` (default), `bright`, `sea_water`.
     #[serde(skip_serializing_if = "is_default_surface")]
     pub wire_surface: WireSurface,
+    /// Critical distance L of the contact-stress law (m), in place of the surface's default.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub critical_distance_m: Option<f64>,
     /// T-N curves on the hot-spot tension; the defaults of the module doc when absent.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tn_curves: Option<Vec<NamedTnCurve>>,
@@ -194,6 +197,7 @@ impl Default for FatigueSpec {
             sn_law: fretting.sn_law,
             fretting_law: FrettingLaw::default(),
             wire_surface: WireSurface::default(),
+            critical_distance_m: None,
             tn_curves: None,
             run_in_s: None,
             run_in_detection: RunInDetection::default(),
@@ -232,6 +236,13 @@ impl FatigueSpec {
         params.validate().map_err(|e| {
             let value = format!("{:?} / {:?}", self.regime, self.sn_law);
             invalid("fatigue.regime / fatigue.sn_law", value, e.to_string())
+        })?;
+        self.contact_stress_law().validate().map_err(|e| {
+            invalid(
+                "fatigue.critical_distance_m",
+                format!("{:?}", self.critical_distance_m),
+                e.to_string(),
+            )
         })?;
         let d = &self.run_in_detection;
         if !(d.window_s.is_finite() && d.window_s >= load_interval_s) {
@@ -292,6 +303,18 @@ impl FatigueSpec {
         Ok(())
     }
 
+    /// The contact-stress law of these settings.
+    pub fn contact_stress_law(&self) -> ContactStressLaw {
+        ContactStressLaw {
+            surface: self.wire_surface,
+            constants: self.critical_distance_m.map(|l| StrainLife {
+                critical_distance_m: l,
+                ..self.wire_surface.constants()
+            }),
+            ..ContactStressLaw::default()
+        }
+    }
+
     /// The fixed run-in in strand load samples, if `run_in_s` is given.
     pub fn fixed_run_in_samples(&self, load_interval_s: f64) -> Option<usize> {
         self.run_in_s
@@ -331,10 +354,7 @@ impl FatigueSpec {
             metallic_area_m2: axial_stiffness_n / strand.young_modulus_pa,
             tn_curves: self.tn_curves.clone().unwrap_or_default(),
             law: self.fretting_law,
-            contact_stress: ContactStressLaw {
-                surface: self.wire_surface,
-                ..ContactStressLaw::default()
-            },
+            contact_stress: self.contact_stress_law(),
         }
     }
 }

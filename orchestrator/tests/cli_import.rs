@@ -1,4 +1,4 @@
-//! `moorfret import moordyn`: the README's commands run as written, from a copy of
+//! `moorfret import moordyn`: the commands of docs/global-stage.md run as written, from a copy of
 //! `campaigns/examples/moordyn/`. The paper's line imported from a MoorDyn v2 deck, under a
 //! prescribed motion in calm water, gives the fairlead and hot-spot tensions of the same case
 //! written by hand, and its hot-spot series chains into the strand stage. A deck moorfret cannot
@@ -30,7 +30,7 @@ fn workdir() -> tempfile::TempDir {
     dir
 }
 
-/// `moorfret ARGS` (a README command line without its program name) in `dir`.
+/// `moorfret ARGS` (a documented command line without its program name) in `dir`.
 fn run_in(dir: &Path, command: &str) -> Output {
     let out = moorfret()
         .current_dir(dir)
@@ -61,7 +61,7 @@ fn largest_relative_difference(a: &Path, b: &Path, c: usize) -> f64 {
 fn the_papers_line_from_a_moordyn_deck_matches_the_case_written_by_hand() {
     let dir = workdir();
     let d = dir.path();
-    // The README's commands, exactly.
+    // The commands of docs/global-stage.md, exactly.
     let import = run_in(
         d,
         "import moordyn campaigns/examples/moordyn/paper_line.dat --motion \

@@ -129,6 +129,9 @@ pub(crate) struct FrettingArgs {
     /// The load history of the run (default: the `load` its summary names).
     #[arg(long)]
     load: Option<PathBuf>,
+    /// Critical distance L of the contact-stress law (m), in place of the default.
+    #[arg(long)]
+    critical_distance_m: Option<f64>,
 }
 
 /// Execute a `strand` subcommand.
@@ -418,8 +421,12 @@ fn fretting(args: &FrettingArgs) -> anyhow::Result<()> {
         })?;
     let spec = FatigueSpec {
         wire_surface,
+        critical_distance_m: args.critical_distance_m,
         ..FatigueSpec::default()
     };
+    spec.contact_stress_law()
+        .validate()
+        .map_err(|e| anyhow!("--critical-distance-m: {e}"))?;
     let run_in = (args.run_in_s / load.dt_s).round() as usize;
     let inputs = damage_inputs_with(&run, &load, &strand, run_in, &spec)?;
     let period = args.cycle_period_s;
@@ -429,8 +436,9 @@ fn fretting(args: &FrettingArgs) -> anyhow::Result<()> {
         args.wire_surface
     );
     println!(
-        "{:<24} {:>12} {:>12} {:>10} {:>10} {:>10}{}",
+        "{:<24} {:>8} {:>12} {:>12} {:>10} {:>10} {:>10}{}",
         "class",
+        "p0_GPa",
         "stress_max",
         "rope_tn_max",
         "stick/h",
@@ -451,8 +459,9 @@ fn fretting(args: &FrettingArgs) -> anyhow::Result<()> {
     for c in &inputs.classes {
         let r = &c.regime_cycles_per_hour;
         println!(
-            "{:<24} {:>12.3e} {:>12.3e} {:>10.1} {:>10.1} {:>10.1}{}{}",
+            "{:<24} {:>8.2} {:>12.3e} {:>12.3e} {:>10.1} {:>10.1} {:>10.1}{}{}",
             format!("{}/{}", c.class.interface, c.class.position.as_str()),
+            c.peak_pressure_max_pa * 1e-9,
             c.contact_stress_damage_rate_max_per_s,
             c.rope_tn_damage_rate_max_per_s,
             r.stick,
