@@ -45,8 +45,12 @@ use crate::error::CampaignError;
 /// Fretting measure names stored in `sea_state_class_damage_inputs`: the campaign's fretting
 /// law (most damaged contact of a class, mean over its contacts), then the rope S-N law per
 /// slip cycle beside it.
-pub const FRETTING_MEASURES: [&str; 4] =
-    ["fretting_max", "fretting_mean", "rope_tn_max", "rope_tn_mean"];
+pub const FRETTING_MEASURES: [&str; 4] = [
+    "fretting_max",
+    "fretting_mean",
+    "rope_tn_max",
+    "rope_tn_mean",
+];
 
 /// Fretting and fatigue settings; every field has a default.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

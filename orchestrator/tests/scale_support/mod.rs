@@ -39,11 +39,11 @@ pub async fn postgres_reachable(url: &str) -> bool {
             true
         }
         Ok(Err(err)) => {
-            eprintln!("SKIPPED (PostgreSQL): no server at {url}: {err}");
+            skip_postgres(&format!("no server at {url}: {err}"));
             false
         }
         Err(_) => {
-            eprintln!("SKIPPED (PostgreSQL): connecting to {url} timed out");
+            skip_postgres(&format!("connecting to {url} timed out"));
             false
         }
     }
@@ -168,3 +168,12 @@ pub mod netns;
 pub mod pg_database;
 pub mod process_worker;
 pub mod slurm;
+
+/// Says why the PostgreSQL half of a test is skipped; fails instead where the environment
+/// requires the services (`MOORFRET_REQUIRE_SERVICES`, set by `.ci/run`).
+fn skip_postgres(reason: &str) {
+    if std::env::var_os("MOORFRET_REQUIRE_SERVICES").is_some() {
+        panic!("PostgreSQL is required here (MOORFRET_REQUIRE_SERVICES is set): {reason}");
+    }
+    eprintln!("SKIPPED (PostgreSQL): {reason}");
+}

@@ -38,8 +38,7 @@ pub use indicators::{
 };
 pub use inputs::{
     sea_state_damage_inputs, ClassInputs, DamageInputsConfig, DamageInputsError, FrettingLaw,
-    NamedTnCurve,
-    RegimeCounts, SeaStateInputs, TensionHistory, TensionInputs,
+    NamedTnCurve, RegimeCounts, SeaStateInputs, TensionHistory, TensionInputs,
 };
 pub use rainflow::{count_cycles, Cycle, RainflowCounter, RainflowOptions};
 pub use record::{AngularPosition, ContactClass, ContactRecord};

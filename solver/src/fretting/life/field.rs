@@ -100,7 +100,8 @@ pub fn hertz_normal_stress(p0: f64, a: f64, nu: f64, x: f64, y: f64, z: f64) -> 
     let z = z.max(0.0);
     if r2 < 1e-20 * a * a {
         let z2 = z * z;
-        let radial = (1.0 + nu) * (z * (a / z.max(1e-300 * a)).atan() - a) + a.powi(3) / (2.0 * (a * a + z2));
+        let radial = (1.0 + nu) * (z * (a / z.max(1e-300 * a)).atan() - a)
+            + a.powi(3) / (2.0 * (a * a + z2));
         return Stress {
             xx: k * radial,
             yy: k * radial,
@@ -117,7 +118,8 @@ pub fn hertz_normal_stress(p0: f64, a: f64, nu: f64, x: f64, y: f64, z: f64) -> 
     let g = m * m - n * n + z * m - a * n;
     let h = 2.0 * m * n + a * m + z * n;
     let (x2, y2) = (x * x, y * y);
-    let common = (1.0 - nu) * n * z * z - (1.0 - 2.0 * nu) / 3.0 * (n * s + 2.0 * big_a * n + a2 * a)
+    let common = (1.0 - nu) * n * z * z
+        - (1.0 - 2.0 * nu) / 3.0 * (n * s + 2.0 * big_a * n + a2 * a)
         - nu * m * z * a;
     // a z M / S vanishes with z; S > 0 off the contact edge circle.
     let mzs = if s > 0.0 { m * z * a / s } else { 0.0 };
@@ -131,7 +133,8 @@ pub fn hertz_normal_stress(p0: f64, a: f64, nu: f64, x: f64, y: f64, z: f64) -> 
     let r4 = r2 * r2;
     let xy = k
         * (x * y * (1.0 - 2.0 * nu) / r4
-            * (-n * r2 + 2.0 / 3.0 * n * (s + 2.0 * big_a) - z * (z * n + a * m) + 2.0 / 3.0 * a2 * a)
+            * (-n * r2 + 2.0 / 3.0 * n * (s + 2.0 * big_a) - z * (z * n + a * m)
+                + 2.0 / 3.0 * a2 * a)
             + x * y * z / r4 * (-a * m * r2 / s.max(1e-300) - z * n + a * m));
     let gh = g * g + h * h;
     let shear = |c: f64| {
@@ -193,13 +196,20 @@ pub fn cerruti_kernel(nu: f64, x: f64, y: f64, z: f64) -> Stress {
     let t = 1.0 - 2.0 * nu;
     let (x2, y2) = (x * x, y * y);
     Stress {
-        xx: c * (-3.0 * x * x2 / rho5
-            + t * (x / rho3 - 3.0 * x / (rho * rz2) + x * x2 / (rho3 * rz2) + 2.0 * x * x2 / (rho2 * rz3))),
-        yy: c * (-3.0 * x * y2 / rho5
-            + t * (x / rho3 - x / (rho * rz2) + x * y2 / (rho3 * rz2) + 2.0 * x * y2 / (rho2 * rz3))),
+        xx: c
+            * (-3.0 * x * x2 / rho5
+                + t * (x / rho3 - 3.0 * x / (rho * rz2)
+                    + x * x2 / (rho3 * rz2)
+                    + 2.0 * x * x2 / (rho2 * rz3))),
+        yy: c
+            * (-3.0 * x * y2 / rho5
+                + t * (x / rho3 - x / (rho * rz2)
+                    + x * y2 / (rho3 * rz2)
+                    + 2.0 * x * y2 / (rho2 * rz3))),
         zz: -3.0 * c * x * z * z / rho5,
-        xy: c * (-3.0 * x2 * y / rho5
-            + t * (-y / (rho * rz2) + x2 * y / (rho3 * rz2) + 2.0 * x2 * y / (rho2 * rz3))),
+        xy: c
+            * (-3.0 * x2 * y / rho5
+                + t * (-y / (rho * rz2) + x2 * y / (rho3 * rz2) + 2.0 * x2 * y / (rho2 * rz3))),
         xz: -3.0 * c * x2 * z / rho5,
         yz: -3.0 * c * x * y * z / rho5,
     }
@@ -217,8 +227,12 @@ pub enum Kernel {
 /// Double-exponential (tanh-sinh) nodes and weights on (−1, 1): (1 − x, 1 + x, w), with the
 /// distances to the ends kept exact so that end singularities are resolved.
 fn tanh_sinh(level: u32) -> &'static [(f64, f64, f64)] {
-    static RULES: [OnceLock<Vec<(f64, f64, f64)>>; 4] =
-        [OnceLock::new(), OnceLock::new(), OnceLock::new(), OnceLock::new()];
+    static RULES: [OnceLock<Vec<(f64, f64, f64)>>; 4] = [
+        OnceLock::new(),
+        OnceLock::new(),
+        OnceLock::new(),
+        OnceLock::new(),
+    ];
     let level = level.min(3) as usize;
     RULES[level].get_or_init(|| {
         let h = 1.0 / f64::from(1u32 << (level + 2));
@@ -286,7 +300,11 @@ pub fn traction_stress(
             let mut ray = Stress::default();
             for &(rm, rp, wr) in rule {
                 // ρ measured from both ends exactly
-                let rho = if rm < rp { r1 + rhalf * rm } else { r2 - rhalf * rp };
+                let rho = if rm < rp {
+                    r1 + rhalf * rm
+                } else {
+                    r2 - rhalf * rp
+                };
                 let (px, py) = (x0 + rho * c, y0 + rho * s);
                 let f2 = 1.0 - (px / ra).powi(2) - (py / rb).powi(2);
                 if f2 <= 0.0 {
@@ -318,7 +336,11 @@ fn ray_ellipse(x0: f64, y0: f64, c: f64, s: f64, ra: f64, rb: f64) -> Option<(f6
     let sq = disc.sqrt();
     // numerically stable roots
     let q = -0.5 * (qb + qb.signum() * sq);
-    let (mut t1, mut t2) = if q != 0.0 { (q / qa, qc / q) } else { (0.0, 0.0) };
+    let (mut t1, mut t2) = if q != 0.0 {
+        (q / qa, qc / q)
+    } else {
+        (0.0, 0.0)
+    };
     if t1 > t2 {
         std::mem::swap(&mut t1, &mut t2);
     }
@@ -388,7 +410,8 @@ pub fn hamilton_tangential_stress(a: f64, nu: f64, x: f64, y: f64, z: f64) -> St
                 - 7.0 * r2 / 4.0)
         + 4.0 * x * z / (3.0 * r4) * fx * t;
     let yy = -3.0 * nu * x * phi / 4.0
-        + x * m / r4 * (hy * (nu * (s - 2.0 * big_a + r2) + z2) + y2 * z2 * inv_s + 3.0 * nu * r2 / 4.0)
+        + x * m / r4
+            * (hy * (nu * (s - 2.0 * big_a + r2) + z2) + y2 * z2 * inv_s + 3.0 * nu * r2 / 4.0)
         + x * z * n / r4
             * (hy * (-s * t / 6.0 - big_a * t / 3.0 - z2 / 2.0 - 1.5) + y2 * inv_s
                 - 3.0 * nu * r2 / 4.0
@@ -427,7 +450,14 @@ pub fn hamilton_tangential_stress(a: f64, nu: f64, x: f64, y: f64, z: f64) -> St
 /// Tangential stress per unit μp₀ of a Cattaneo-Mindlin traction with stick ratio s = c/a
 /// (s = 0: sliding) at (x, y, z): T(x/a) − s T(x/c), T the sliding field of
 /// [`hamilton_tangential_stress`].
-pub fn partial_slip_tangential_stress(a: f64, stick_ratio: f64, nu: f64, x: f64, y: f64, z: f64) -> Stress {
+pub fn partial_slip_tangential_stress(
+    a: f64,
+    stick_ratio: f64,
+    nu: f64,
+    x: f64,
+    y: f64,
+    z: f64,
+) -> Stress {
     let full = hamilton_tangential_stress(a, nu, x, y, z);
     if stick_ratio <= 0.0 {
         return full;
@@ -481,7 +511,17 @@ impl EllipseHotSpot {
         let k = axis_ratio;
         let normal = ln_depth
             .iter()
-            .map(|&le| traction_stress(Kernel::Normal, nu, 1.0, 1.0, k, [-1.0, 0.0, le.exp()], Self::LEVEL))
+            .map(|&le| {
+                traction_stress(
+                    Kernel::Normal,
+                    nu,
+                    1.0,
+                    1.0,
+                    k,
+                    [-1.0, 0.0, le.exp()],
+                    Self::LEVEL,
+                )
+            })
             .collect();
         let mut tangential = Vec::with_capacity(u.len() * ln_depth.len());
         for &uj in &u {
@@ -571,7 +611,10 @@ impl EllipseHotSpot {
 /// Index i and fraction f with grid[i] + f (grid[i+1] − grid[i]) = x, for a sorted grid.
 fn bracket(grid: &[f64], x: f64) -> (usize, f64) {
     let last = grid.len() - 2;
-    let i = grid.partition_point(|&g| g <= x).saturating_sub(1).min(last);
+    let i = grid
+        .partition_point(|&g| g <= x)
+        .saturating_sub(1)
+        .min(last);
     let f = ((x - grid[i]) / (grid[i + 1] - grid[i])).clamp(0.0, 1.0);
     (i, f)
 }

@@ -2,8 +2,8 @@ use std::f64::consts::PI;
 
 use super::criterion::{cycle_life, ContactStressLaw, CycleLoad, STICK_RATIO_FOR_STICK};
 use super::field::{
-    hamilton_tangential_stress, hertz_normal_stress, partial_slip_tangential_stress, traction_stress,
-    EllipseHotSpot, Kernel, Stress,
+    hamilton_tangential_stress, hertz_normal_stress, partial_slip_tangential_stress,
+    traction_stress, EllipseHotSpot, Kernel, Stress,
 };
 use super::material::{StrainLife, WireSurface};
 use crate::fretting::hertz::{CrossedCylinders, ElasticMaterial, HertzModel};
@@ -45,9 +45,11 @@ fn hamilton_normal_stresses_match_boussinesq_integrated_over_the_hertz_pressure(
         let closed = hertz_normal_stress(1.0, 1.0, NU, p[0], p[1], p[2]);
         let numeric = traction_stress(Kernel::Normal, NU, 1.0, 1.0, 1.0, p, 3);
         // Scale: the largest component at the point (shear components can vanish).
-        let scale = [closed.xx, closed.yy, closed.zz, closed.xy, closed.xz, closed.yz]
-            .iter()
-            .fold(0.0_f64, |m, v| m.max(v.abs()));
+        let scale = [
+            closed.xx, closed.yy, closed.zz, closed.xy, closed.xz, closed.yz,
+        ]
+        .iter()
+        .fold(0.0_f64, |m, v| m.max(v.abs()));
         for (name, c, n) in [
             ("xx", closed.xx, numeric.xx),
             ("yy", closed.yy, numeric.yy),
@@ -136,7 +138,11 @@ fn cattaneo_stick_radius_is_half_the_contact_at_seven_eighths_of_the_limit() {
         .unwrap()
     };
     let half = life(7.0 / 8.0 * mu * p);
-    assert!((half.stick_ratio - 0.5).abs() < 1e-12, "{}", half.stick_ratio);
+    assert!(
+        (half.stick_ratio - 0.5).abs() < 1e-12,
+        "{}",
+        half.stick_ratio
+    );
     assert_eq!(half.regime, FrettingRegime::PartialSlip);
     assert_eq!(life(mu * p).regime, FrettingRegime::GrossSlip);
     assert_eq!(life(2.0 * mu * p).stick_ratio, 0.0);
@@ -202,7 +208,12 @@ fn partial_slip_field_is_the_superposition_of_two_sliding_fields() {
     let closed = partial_slip_tangential_stress(1.0, s, NU, p[0], p[1], p[2]);
     let full = traction_stress(Kernel::Tangential, NU, 1.0, 1.0, 1.0, p, 3);
     let stick = traction_stress(Kernel::Tangential, NU, s, s, s, p, 3);
-    assert_close(&closed, &full.combine(1.0, stick, -1.0), 0.01, "trailing edge");
+    assert_close(
+        &closed,
+        &full.combine(1.0, stick, -1.0),
+        0.01,
+        "trailing edge",
+    );
     // No tangential load: no field; almost sliding: the sliding field.
     let none = partial_slip_tangential_stress(1.0, 1.0, NU, p[0], p[1], p[2]);
     assert!(largest_component(&none) < 1e-12, "{none:?}");
@@ -217,7 +228,12 @@ fn quadrature_converges_from_level_two_to_three() {
         let l2 = traction_stress(Kernel::Tangential, NU, 1.0, 1.0, 1.0, p, 2);
         let l3 = traction_stress(Kernel::Tangential, NU, 1.0, 1.0, 1.0, p, 3);
         let scale = l3.xx.abs().max(l3.xz.abs());
-        assert!(rel(l2.xx, l3.xx, scale) < 2e-3, "{p:?}: {} vs {}", l2.xx, l3.xx);
+        assert!(
+            rel(l2.xx, l3.xx, scale) < 2e-3,
+            "{p:?}: {} vs {}",
+            l2.xx,
+            l3.xx
+        );
         assert!(rel(l2.xz, l3.xz, scale) < 2e-3, "{p:?}");
     }
 }
@@ -311,7 +327,11 @@ fn uniaxial_stress_reduces_swt_to_its_definition() {
     )
     .unwrap();
     let swt = 600e6 * 100e6 / m.youngs_modulus_pa;
-    assert!(rel(life.swt_pa, swt, swt) < 1e-3, "{} vs {swt}", life.swt_pa);
+    assert!(
+        rel(life.swt_pa, swt, swt) < 1e-3,
+        "{} vs {swt}",
+        life.swt_pa
+    );
 }
 
 #[test]
@@ -326,7 +346,12 @@ fn ellipse_table_of_a_circle_reproduces_hamilton_at_the_trailing_edge() {
             // Scale: the sliding field's largest component (the partial-slip field vanishes
             // as s → 1).
             let scale = largest_component(&hamilton_tangential_stress(1.0, NU, -1.0, 0.0, eta));
-            for (c, g) in [(t.xx, got.xx), (t.yy, got.yy), (t.zz, got.zz), (t.xz, got.xz)] {
+            for (c, g) in [
+                (t.xx, got.xx),
+                (t.yy, got.yy),
+                (t.zz, got.zz),
+                (t.xz, got.xz),
+            ] {
                 assert!(rel(g, c, scale) < 0.015, "eta {eta}, s {s}: {g} vs {c}");
             }
         }
@@ -337,15 +362,29 @@ fn ellipse_table_of_a_circle_reproduces_hamilton_at_the_trailing_edge() {
 fn ellipse_table_interpolates_the_integrated_field() {
     let k = 0.234;
     let table = EllipseHotSpot::new(k, NU);
-    for (eta, s) in [(0.0123, 0.37), (0.051, 0.812), (0.0031, 0.155), (0.27, 0.64)] {
+    for (eta, s) in [
+        (0.0123, 0.37),
+        (0.051, 0.812),
+        (0.0031, 0.155),
+        (0.27, 0.64),
+    ] {
         let direct_n = traction_stress(Kernel::Normal, NU, 1.0, 1.0, k, [-1.0, 0.0, eta], 2);
-        assert_close(&direct_n, &table.normal(eta), 0.01, &format!("normal {eta}"));
+        assert_close(
+            &direct_n,
+            &table.normal(eta),
+            0.01,
+            &format!("normal {eta}"),
+        );
         let full = traction_stress(Kernel::Tangential, NU, 1.0, 1.0, k, [-1.0, 0.0, eta], 2);
         let stick = traction_stress(Kernel::Tangential, NU, s, s, s * k, [-1.0, 0.0, eta], 2);
         let direct = full.combine(1.0, stick, -1.0);
         let got = table.tangential(eta, s);
         let scale = largest_component(&full);
-        for (c, g) in [(direct.xx, got.xx), (direct.zz, got.zz), (direct.xz, got.xz)] {
+        for (c, g) in [
+            (direct.xx, got.xx),
+            (direct.zz, got.zz),
+            (direct.xz, got.xz),
+        ] {
             assert!(rel(g, c, scale) < 0.015, "eta {eta}, s {s}: {g} vs {c}");
         }
     }
