@@ -37,8 +37,8 @@ async fn views_aggregate_the_class_rows(postgres: bool) {
     let rows = store.sea_state_class_damage(id).await.unwrap();
     assert_eq!(
         rows.len(),
-        2 * 2 * 2,
-        "2 sea states × 2 classes × 2 measures"
+        2 * 2 * 4,
+        "2 sea states × 2 classes × 4 measures"
     );
     for (s, mean) in [(0, 1e-6), (1, 4e-6)] {
         let r = rows
@@ -73,6 +73,12 @@ async fn views_aggregate_the_class_rows(postgres: bool) {
         .unwrap();
     assert!(rel(critical.annual_damage, fixture::ANNUAL_REFERENCE) < 1e-9);
     assert!(rel(critical.occurrence_covered, 0.43758) < 1e-12);
+    // The rope S-N law per slip cycle beside it: the fixture's rows carry twice the rate.
+    let rope = life
+        .iter()
+        .find(|r| r.layer_interface == 2 && r.measure == "rope_tn_max")
+        .unwrap();
+    assert!(rel(rope.annual_damage, 2.0 * fixture::ANNUAL_REFERENCE) < 1e-9);
     assert_eq!(critical.sea_states, 2);
     let tn = store.lifetime_damage(id).await.unwrap();
     assert_eq!(tn.len(), 1);
@@ -161,7 +167,8 @@ async fn query_command_prints_json_csv_and_tables() {
     assert!(
         csv.starts_with("hot_spot_index,layer_interface,angular_position,measure,annual_damage,")
     );
-    assert_eq!(csv.lines().count(), 1 + 5);
+    // header, 2 classes × 4 fretting measures, 1 T-N curve
+    assert_eq!(csv.lines().count(), 1 + 2 * 4 + 1);
     let (ok, table, _) = run(&["sea-states", "--campaign", "fixture"]);
     assert!(ok);
     assert_eq!(table.lines().count(), 3);

@@ -47,6 +47,39 @@ pub struct HotSpotSeries {
     pub hot_spots: Vec<(Vec<f64>, Vec<f64>)>,
 }
 
+/// One contact class under both fretting laws, with its cycles per regime over the year.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ClassLives {
+    /// Hot spot index.
+    pub hot_spot_index: i64,
+    /// Layer interface.
+    pub layer_interface: i64,
+    /// Angular position.
+    pub angular_position: AngularPosition,
+    /// Annual damage of the most damaged contact, campaign law (`fretting_max`).
+    pub annual_damage: f64,
+    /// Annual damage of the most damaged contact, rope S-N per slip cycle (`rope_tn_max`).
+    pub rope_tn_annual_damage: f64,
+    /// Cycles per hour of the year, summed over the class: stick, partial slip, gross slip.
+    pub regime_cycles_per_hour: [f64; 3],
+}
+
+impl ClassLives {
+    /// The regime holding most cycles.
+    pub fn dominant_regime(&self) -> &'static str {
+        let [s, p, g] = self.regime_cycles_per_hour;
+        if g >= p && g >= s && g > 0.0 {
+            "gross slip"
+        } else if p >= s && p > 0.0 {
+            "partial slip"
+        } else if s > 0.0 {
+            "stick"
+        } else {
+            "none"
+        }
+    }
+}
+
 /// Everything on the page.
 #[derive(Debug, Clone)]
 pub struct ReportData {
@@ -66,6 +99,8 @@ pub struct ReportData {
     pub series: Option<HotSpotSeries>,
     /// Lifetime table (`query lifetime`).
     pub lifetime: Table,
+    /// Per contact class: both fretting laws and the regimes, most damaged class first.
+    pub class_lives: Vec<ClassLives>,
     /// Damage inputs of the critical class (`query damage-inputs`), largest share first.
     pub damage_inputs: Table,
     /// Seed-to-seed spread of the critical class (`query seeds`, `fretting_max`), largest
@@ -162,6 +197,42 @@ fn critical_class(rows: &[LifetimeClassDamage]) -> Option<CriticalClass> {
         })
 }
 
+fn class_lives(
+    lifetime: &[LifetimeClassDamage],
+    per_sea_state: &[moorfret_store::SeaStateClassDamage],
+) -> Vec<ClassLives> {
+    type Key = (i64, i64, AngularPosition);
+    let mut classes: BTreeMap<Key, ClassLives> = BTreeMap::new();
+    for r in lifetime {
+        let key = (r.hot_spot_index, r.layer_interface, r.angular_position);
+        let entry = classes.entry(key).or_insert(ClassLives {
+            hot_spot_index: key.0,
+            layer_interface: key.1,
+            angular_position: key.2,
+            annual_damage: 0.0,
+            rope_tn_annual_damage: 0.0,
+            regime_cycles_per_hour: [0.0; 3],
+        });
+        match r.measure.as_str() {
+            "fretting_max" => entry.annual_damage = r.annual_damage,
+            "rope_tn_max" => entry.rope_tn_annual_damage = r.annual_damage,
+            _ => {}
+        }
+    }
+    for r in per_sea_state.iter().filter(|r| r.measure == "fretting_max") {
+        let key = (r.hot_spot_index, r.layer_interface, r.angular_position);
+        if let Some(entry) = classes.get_mut(&key) {
+            let w = r.occurrence_fraction;
+            entry.regime_cycles_per_hour[0] += w * r.stick_cycles_per_hour;
+            entry.regime_cycles_per_hour[1] += w * r.partial_slip_cycles_per_hour;
+            entry.regime_cycles_per_hour[2] += w * r.gross_slip_cycles_per_hour;
+        }
+    }
+    let mut out: Vec<ClassLives> = classes.into_values().collect();
+    out.sort_by(|a, b| b.annual_damage.total_cmp(&a.annual_damage));
+    out
+}
+
 /// Reads the report data of campaign `name`.
 pub async fn gather(
     store: &Store,
@@ -170,7 +241,9 @@ pub async fn gather(
 ) -> anyhow::Result<ReportData> {
     let campaign = query::campaign_id(store, name).await?;
     let sea_states = store.sea_state_status(campaign).await?;
-    let critical = critical_class(&store.lifetime_class_damage(campaign).await?);
+    let lifetime_classes = store.lifetime_class_damage(campaign).await?;
+    let critical = critical_class(&lifetime_classes);
+    let class_lives = class_lives(&lifetime_classes, &store.sea_state_class_damage(campaign).await?);
     let mut fretting_share = BTreeMap::new();
     let mut tn_share = None;
     if let Some(c) = &critical {
@@ -289,6 +362,7 @@ pub async fn gather(
         histograms,
         series,
         lifetime: query::run(store, name, query::QueryKind::Lifetime, "").await?,
+        class_lives,
         damage_inputs,
         seeds,
         fidelity,

@@ -109,6 +109,49 @@ fn run_in_section(data: &ReportData) -> anyhow::Result<String> {
 
 /// The strand fidelity of the results: how many sea states ran which model, the calibrations,
 /// and the reduced-versus-FE comparison where both ran.
+fn class_lives_section(data: &ReportData) -> String {
+    if data.class_lives.is_empty() {
+        return String::new();
+    }
+    let mut body = String::from(
+        "<h3>Life of the most damaged contact per class, both fretting laws</h3>\n\
+         <table><tr><th>hot spot</th><th>interface</th><th>position</th>\
+         <th>life, campaign law (years)</th><th>life, rope S-N per slip cycle (years)</th>\
+         <th>ratio</th><th>regime of most cycles</th><th>stick / partial / gross slip \
+         cycles per hour</th></tr>\n",
+    );
+    let life = |d: f64| {
+        if d > 0.0 {
+            format!("{:.3e}", 1.0 / d)
+        } else {
+            "∞".to_owned()
+        }
+    };
+    for c in &data.class_lives {
+        let ratio = if c.annual_damage > 0.0 && c.rope_tn_annual_damage > 0.0 {
+            format!("{:.3}", c.rope_tn_annual_damage / c.annual_damage)
+        } else {
+            "–".to_owned()
+        };
+        let [s, p, g] = c.regime_cycles_per_hour;
+        body += &format!(
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
+             <td>{:.3e} / {:.3e} / {:.3e}</td></tr>\n",
+            c.hot_spot_index,
+            c.layer_interface,
+            c.angular_position.as_str(),
+            life(c.annual_damage),
+            life(c.rope_tn_annual_damage),
+            ratio,
+            c.dominant_regime(),
+            s,
+            p,
+            g
+        );
+    }
+    body + "</table>\n"
+}
+
 fn fidelity_section(data: &ReportData) -> String {
     let mut body = String::from("<h2>Strand fidelity</h2>\n");
     let count = |f: &str| data.fidelity.values().filter(|v| v.as_str() == f).count();
@@ -290,11 +333,13 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
         body += "</div>\n";
     }
     body += "<h2>Lifetime damage per year and life in years</h2>\n";
+    body += &class_lives_section(data);
     body += "<p>Annual damage: Σ over sea states of occurrence × seed-mean damage rate × one \
              year, not renormalised by the covered occurrence; life = 1 / annual damage \
-             (Miner, failure at D = 1). Fretting measures apply the DNV spiral-rope S-N curve to \
-             the wire stress range of each slip cycle: an assumption of this tool, not a \
-             validated fretting law. Seed band: D ± 2 SE, SE² = Σ (occurrence × year)² × \
+             (Miner, failure at D = 1). `fretting_*`: the campaign's fretting law (by default \
+             the life to crack initiation of each crossing from its contact stress field); \
+             `rope_tn_*`: the DNV spiral-rope S-N curve charged per slip cycle on the wire's \
+             stress range, kept for comparison. Seed band: D ± 2 SE, SE² = Σ (occurrence × year)² × \
              s² / n over the sea states with n ≥ 2 seeds (s their seed-to-seed standard \
              deviation of the damage rate); sea states with one seed add no spread and are \
              counted apart; effective_dof is the Welch–Satterthwaite count behind SE.</p>\n";
