@@ -3,6 +3,7 @@
 //! what maps). What does not map is printed as warnings naming the deck row; a deck moorfret
 //! cannot represent is refused with its row.
 
+use crate::cli::output::outln;
 use std::path::{Component, Path, PathBuf};
 
 use anyhow::{bail, Context};
@@ -34,10 +35,10 @@ pub(crate) struct MoordynArgs {
     #[arg(long)]
     pub(crate) floater: Option<PathBuf>,
     /// Recorded duration (s); by default the end of the motion table.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub(crate) duration_s: Option<f64>,
     /// Time step and output interval (s).
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.1)]
     pub(crate) time_step_s: f64,
     /// Hot spot `LINE:ARC_M` (MoorDyn id of the line at the fairlead, arc length from the
     /// fairlead); repeatable.
@@ -138,7 +139,7 @@ pub(crate) fn execute(cmd: ImportCommand) -> anyhow::Result<()> {
     std::fs::write(&args.out, json + "\n")
         .with_context(|| format!("writing {}", args.out.display()))?;
     let m = &imported.case.mooring;
-    println!(
+    outln!(
         "wrote {}: {} line(s) of {} segment(s), {:.1} m each, calm water, {} s at {} s steps ({} warning(s))",
         args.out.display(),
         m.lines.len(),
@@ -147,6 +148,6 @@ pub(crate) fn execute(cmd: ImportCommand) -> anyhow::Result<()> {
         duration_s,
         args.time_step_s,
         imported.notes.len()
-    );
+    )?;
     Ok(())
 }
