@@ -1272,3 +1272,94 @@ fn auto_campaign_settles_its_unselected_fe_jobs_and_runs_extra_seeds_reduced() {
         store.close().await;
     });
 }
+
+/// A driver stopped by `signal` (`campaign resume` of 12 sleeping jobs on 2 workers, driver
+/// in a process group of its own so that only it gets the signal) stops its workers: no job
+/// runs or completes after it is gone, every lease is back, and a later `resume` completes
+/// every job once. With `--detach-workers` the workers run the campaign to its end alone.
+fn stopped_driver(signal: &str, detach: bool) {
+    use std::os::unix::process::CommandExt;
+    let dir = tempfile::tempdir().unwrap();
+    let payloads: Vec<_> = (0..12)
+        .map(|_| TestPayload::Sleep { duration_ms: 400 })
+        .collect();
+    let (db, id) = store_with(dir.path(), "stop", &payloads);
+    let resume = |extra: &[&str]| {
+        let mut args = vec![
+            "campaign",
+            "resume",
+            "stop",
+            "--db",
+            &db,
+            "--workers",
+            "2",
+            "--lease-ms",
+            LEASE_MS,
+        ];
+        args.extend_from_slice(extra);
+        moorfret(&args)
+    };
+    let extra: &[&str] = if detach { &["--detach-workers"] } else { &[] };
+    let driver = resume(extra).process_group(0).spawn().unwrap();
+    wait_until(&db, "a job done", |s| s.contains(&JobState::Done), id, None);
+    assert!(Command::new("kill")
+        .args([&format!("-{signal}"), &driver.id().to_string()])
+        .status()
+        .unwrap()
+        .success());
+    let out = driver.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains(&format!("stopped by SIG{signal}")),
+        "{stderr}"
+    );
+    if detach {
+        assert!(stderr.contains("--detach-workers"), "{stderr}");
+        wait_until(
+            &db,
+            "the detached workers finish the campaign",
+            |s| s.iter().all(|&x| x == JobState::Done),
+            id,
+            None,
+        );
+        assert_each_done_once(&db, id);
+        return;
+    }
+    assert!(stderr.contains("campaign resume stop"), "{stderr}");
+    let after_stop = job_states(&db, id);
+    assert!(
+        !after_stop.contains(&JobState::Running),
+        "a lease is still held: {after_stop:?}"
+    );
+    let done = |s: &[JobState]| s.iter().filter(|&&x| x == JobState::Done).count();
+    assert!(done(&after_stop) < 12, "{after_stop:?}");
+    // nobody runs the campaign on: the remaining jobs stay ready
+    std::thread::sleep(Duration::from_millis(1500));
+    assert_eq!(job_states(&db, id), after_stop);
+    let out = resume(&[]).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_each_done_once(&db, id);
+}
+
+#[test]
+fn a_driver_stopped_by_sigterm_stops_its_workers_and_loses_nothing() {
+    let _serial = serial();
+    stopped_driver("TERM", false);
+}
+
+#[test]
+fn a_driver_stopped_by_sigint_stops_its_workers_and_loses_nothing() {
+    let _serial = serial();
+    stopped_driver("INT", false);
+}
+
+#[test]
+fn detached_workers_run_the_campaign_to_its_end_after_the_driver_stops() {
+    let _serial = serial();
+    stopped_driver("TERM", true);
+}
