@@ -65,15 +65,22 @@ pub async fn run(
     kind: QueryKind,
     measure: &str,
 ) -> anyhow::Result<Table> {
+    // Refused for every kind, also those that list every measure: a mistyped measure is
+    // never ignored ("" stands for the default, `fretting_max`).
+    let measure = if measure.is_empty() {
+        FRETTING_MEASURES[0]
+    } else {
+        measure
+    };
+    if !FRETTING_MEASURES.contains(&measure) {
+        anyhow::bail!(
+            "--measure `{measure}` is not a fretting measure (one of {})",
+            FRETTING_MEASURES.join(", ")
+        );
+    }
     let campaign = campaign_id(store, name).await?;
     match kind {
         QueryKind::DamageInputs => {
-            if !FRETTING_MEASURES.contains(&measure) {
-                anyhow::bail!(
-                    "--measure `{measure}` is not a fretting measure (one of {})",
-                    FRETTING_MEASURES.join(", ")
-                );
-            }
             let rows: Vec<_> = store
                 .sea_state_class_damage(campaign)
                 .await?
@@ -109,20 +116,7 @@ pub async fn run(
         }
         QueryKind::SeaStates => sea_states(store, campaign).await,
         QueryKind::Lifetime => lifetime(store, campaign).await,
-        QueryKind::Seeds => {
-            let measure = if measure.is_empty() {
-                FRETTING_MEASURES[0]
-            } else {
-                measure
-            };
-            if !FRETTING_MEASURES.contains(&measure) {
-                anyhow::bail!(
-                    "--measure `{measure}` is not a fretting measure (one of {})",
-                    FRETTING_MEASURES.join(", ")
-                );
-            }
-            seeds(store, campaign, measure).await
-        }
+        QueryKind::Seeds => seeds(store, campaign, measure).await,
         QueryKind::Fidelity => fidelity(store, campaign).await,
         QueryKind::Contacts => Table::from_rows(
             &[
