@@ -543,6 +543,32 @@ fn demo_sea_state_runs_through_both_real_stages() {
     ] {
         assert!(measures.contains(&m), "{m} missing from {measures:?}");
     }
+    // the wave cut-off keeps almost all of the Tp 11 s spectrum (99.2 %), and says so
+    let states = query("sea-states");
+    let kept = states[0]["wave_energy_kept"].as_f64().unwrap();
+    assert!(kept > 0.98 && kept <= 1.0, "{kept}");
+    // a finished campaign has nothing left to cancel and keeps its state
+    let out = moorfret(&["campaign", "cancel", "demo", "--db", &db])
+        .stdout(Stdio::piped())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        String::from_utf8_lossy(&out.stdout).contains("nothing left to cancel"),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    let out = moorfret(&["campaign", "status", "demo", "--db", &db, "--json"])
+        .stdout(Stdio::piped())
+        .output()
+        .unwrap();
+    let after: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(after["state"], status["state"], "{after}");
+    assert_ne!(after["state"], "cancelled", "{after}");
 }
 
 /// Lease of the workers of the strand crash test, ms: the strand solver keeps both cores

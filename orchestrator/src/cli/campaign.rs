@@ -174,7 +174,7 @@ async fn launch(
         );
     }
     for l in &resolved.planned_limits {
-        if l.energy_kept < 0.999 {
+        if l.energy_kept < 0.95 {
             tracing::info!(
                 "sea state Hs {} m, Tp {} s: the wave cut-off {:.2} rad/s keeps {:.1} % of its \
                  spectral energy",

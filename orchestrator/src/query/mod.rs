@@ -3,8 +3,9 @@
 //!
 //! - `damage-inputs`: `sea_state_class_damage_inputs`, one row per sea state × hot spot ×
 //!   contact class for one fretting measure (`fretting_max` by default, or `fretting_mean`);
-//! - `sea-states`: the sea states with their job counts and per-hot-spot damage rates of every
-//!   other measure (T-N curves) from `sea_state_damage_inputs`;
+//! - `sea-states`: the sea states with their job counts, the fraction of their spectral energy
+//!   the wave cut-off keeps (`wave_energy_kept`, from the stored inputs), and per-hot-spot
+//!   damage rates of every other measure (T-N curves) from `sea_state_damage_inputs`;
 //! - `lifetime`: `lifetime_damage` (per hot spot and measure) and `lifetime_class_damage` (per
 //!   hot spot, contact class and fretting measure), annual damage with the covered occurrence
 //!   and its seed band (`moorfret_store::SeedBand`: standard error, D ± 2 SE, effective degrees
@@ -156,6 +157,27 @@ async fn sea_states(store: &Store, campaign: CampaignId) -> anyhow::Result<Table
         ],
         &states,
     )?;
+    // The fraction of each sea state's spectral energy the global stage's wave cut-off keeps,
+    // from the campaign's stored inputs (empty for a campaign stored without them).
+    let inputs = store
+        .campaigns()
+        .await?
+        .into_iter()
+        .find(|c| c.id == campaign)
+        .and_then(|c| {
+            serde_json::from_value::<moorfret_campaign::CampaignInputs>(c.spec["inputs"].clone())
+                .ok()
+        });
+    let kept = states
+        .iter()
+        .map(|s| {
+            inputs
+                .as_ref()
+                .and_then(|i| moorfret_campaign::sea_limits::check(i, s.hs_m, s.tp_s).ok())
+                .map_or(Value::Null, |l| Value::from(l.energy_kept))
+        })
+        .collect();
+    table.push_column("wave_energy_kept".into(), kept);
     for (hot_spot, measure) in &extra {
         let column = format!("{measure}_rate_per_s_hs{hot_spot}");
         let values = states
