@@ -149,14 +149,22 @@ mod tests {
     use moorfret_solver::waves::PeakEnhancement;
 
     #[test]
-    fn the_kept_fraction_follows_the_spectrum_around_the_cut_off() {
-        let s = |tp: f64| Jonswap::new(1.0, tp, PeakEnhancement::Given(1.3)).unwrap();
-        // far below the cut-off: everything; far above: nothing
-        assert!(kept_fraction(&s(16.5), 1.98) > 0.999);
-        assert!(kept_fraction(&s(0.5), 1.98) < 1e-9);
-        // Pierson-Moskowitz-like: F(ω) ≈ exp(-5/4 (ωp/ω)⁴)
-        let k3 = kept_fraction(&s(3.0), 1.98);
-        assert!((0.15..0.35).contains(&k3), "{k3}");
+    fn the_kept_fraction_is_the_spectrum_s_cumulative_law() {
+        // γ = 1 is the Pierson-Moskowitz spectrum, whose cumulative law is exact:
+        // F(ω) = exp(-5/4 (ωp/ω)⁴)
+        let pm = |tp: f64| Jonswap::new(1.0, tp, PeakEnhancement::Given(1.0)).unwrap();
+        for tp in [0.5, 3.0, 4.0, 11.0, 16.5] {
+            let wp = 2.0 * std::f64::consts::PI / tp;
+            let exact = (-1.25 * (wp / 1.98_f64).powi(4)).exp();
+            let got = kept_fraction(&pm(tp), 1.98);
+            assert!((got - exact).abs() < 1e-6, "Tp {tp}: {got} against {exact}");
+        }
+        // the paper's γ = 1.3 at Tp 3 s keeps about a fifth
+        let k3 = kept_fraction(
+            &Jonswap::new(1.0, 3.0, PeakEnhancement::Given(1.3)).unwrap(),
+            1.98,
+        );
+        assert!((0.15..0.25).contains(&k3), "{k3}");
     }
 
     #[test]
