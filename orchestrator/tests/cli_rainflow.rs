@@ -151,3 +151,17 @@ fn the_time_column_of_a_hot_spot_series_is_skipped_by_default() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("every column is a time column"));
 }
+
+/// A negative `--gate` parses and is refused by range, naming the option.
+#[test]
+fn a_negative_gate_is_refused_by_its_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = write(dir.path(), "a.csv", ASTM_CSV);
+    let out = moorfret(&["rainflow", &file, "--gate", "-1"]);
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("--gate must be finite and >= 0 (got -1)"),
+        "{stderr}"
+    );
+}

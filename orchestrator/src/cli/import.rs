@@ -87,6 +87,15 @@ fn relative_path(target: &Path, base: &Path) -> anyhow::Result<PathBuf> {
 /// Runs the command.
 pub(crate) fn execute(cmd: ImportCommand) -> anyhow::Result<()> {
     let ImportCommand::Moordyn(args) = cmd;
+    // the options by their names, before the deck is read or anything written
+    for (option, value) in [
+        ("--duration-s", args.duration_s),
+        ("--time-step-s", Some(args.time_step_s)),
+    ] {
+        if let Some(v) = value.filter(|v| !(v.is_finite() && *v > 0.0)) {
+            bail!("{option} must be a positive number of seconds (got {v})");
+        }
+    }
     let text = std::fs::read_to_string(&args.deck)
         .with_context(|| format!("reading {}", args.deck.display()))?;
     let out_dir = match args.out.parent() {

@@ -147,6 +147,9 @@ pub(crate) fn write_cycles(
 
 /// Runs `moorfret rainflow`, writing to `out`.
 pub(crate) fn run(args: &RainflowArgs, out: &mut dyn Write) -> anyhow::Result<()> {
+    if !(args.gate.is_finite() && args.gate >= 0.0) {
+        bail!("--gate must be finite and >= 0 (got {})", args.gate);
+    }
     let values = read_column(&args.file, args.column.as_deref())?;
     let options = RainflowOptions {
         hysteresis_gate: args.gate,
