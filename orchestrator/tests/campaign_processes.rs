@@ -1389,3 +1389,78 @@ fn detached_workers_run_the_campaign_to_its_end_after_the_driver_stops() {
     let _serial = serial();
     stopped_driver("TERM", true);
 }
+
+/// The demo campaign (two short sea states, real stages) driven by `campaign launch`, stopped by
+/// SIGTERM once its first job is done: no lease is left, nothing runs on, and `campaign resume`
+/// completes it with the results of an uninterrupted launch, to the bit in every `query` table.
+#[test]
+fn a_stopped_demo_campaign_resumes_to_the_uninterrupted_results() {
+    use std::os::unix::process::CommandExt;
+    let _serial = serial();
+    let scatter = "lower\tupper\t11\t12\ttotal\n2\t2,5\t1,354\t0,5\t1,854\n";
+    // 30 s recorded: long enough for the stop to find work left
+    let longer = |spec: &mut serde_json::Value| {
+        spec["simulation"]["duration_s"] = serde_json::json!(30.0);
+    };
+    let reference = tempfile::tempdir().unwrap();
+    let (reference_db, _) = launch_to_end(reference.path(), "demo", scatter, longer);
+    let dir = tempfile::tempdir().unwrap();
+    let file = short_demo(dir.path(), scatter, longer);
+    let db = dir
+        .path()
+        .join("stop.sqlite")
+        .to_string_lossy()
+        .into_owned();
+    let file = file.to_string_lossy().into_owned();
+    let driver = moorfret(&["campaign", "launch", &file, "--db", &db, "--workers", "2"])
+        .process_group(0)
+        .spawn()
+        .unwrap();
+    // the campaign appears once it is planned
+    let started = Instant::now();
+    let id = loop {
+        assert!(started.elapsed() < Duration::from_secs(60), "never planned");
+        let found = rt().block_on(async {
+            let store = Store::open_existing(&db, StoreOptions::default())
+                .await
+                .ok()?;
+            let id = store.campaign_by_name("demo").await.ok().flatten();
+            store.close().await;
+            id
+        });
+        match found {
+            Some(id) => break id,
+            None => std::thread::sleep(Duration::from_millis(20)),
+        }
+    };
+    wait_until(&db, "a job done", |s| s.contains(&JobState::Done), id, None);
+    assert!(Command::new("kill")
+        .args(["-TERM", &driver.id().to_string()])
+        .status()
+        .unwrap()
+        .success());
+    let out = driver.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("stopped by SIGTERM"), "{stderr}");
+    let stopped = job_states(&db, id);
+    assert!(!stopped.contains(&JobState::Running), "{stopped:?}");
+    std::thread::sleep(Duration::from_millis(1000));
+    assert_eq!(job_states(&db, id), stopped, "work went on after the stop");
+    let out = moorfret(&["campaign", "resume", "demo", "--db", &db, "--workers", "2"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_each_done_once(&db, id);
+    for kind in ["lifetime", "damage-inputs", "sea-states"] {
+        assert_eq!(
+            query_output(&db, "demo", kind, &["--format", "csv"]),
+            query_output(&reference_db, "demo", kind, &["--format", "csv"]),
+            "query {kind}"
+        );
+    }
+}
