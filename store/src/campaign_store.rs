@@ -1,9 +1,12 @@
 //! [`Store`]: the campaign store and job queue, over SQLite or PostgreSQL.
 //!
 //! The backend is chosen by the location: `postgres://…` / `postgresql://…` selects PostgreSQL,
-//! anything else (`sqlite://path`, `sqlite:path` or a plain path) an SQLite file, created with
-//! its parent directories if missing. Opening checks the schema version first: a database
-//! written by a newer moorfret is refused untouched; an older one is migrated.
+//! anything else (`sqlite://path`, `sqlite:path` or a plain path) an SQLite file. Only
+//! [`Store::open`] creates a store (with its parent directories), and only where nothing is;
+//! [`Store::open_existing`] and [`Store::open_if_present`] create nothing, and every opening
+//! refuses an existing file that is not a moorfret store (empty, another program's database)
+//! before writing to it. Opening checks the schema version first: a database written by a
+//! newer moorfret is refused untouched; an older one is migrated.
 //!
 //! Job protocol (DESIGN §3.2): [`Store::claim`] leases the highest-priority ready job in one
 //! atomic statement; the worker renews the lease with [`Store::heartbeat`] and ends it with
