@@ -230,6 +230,15 @@ impl FatigueSpec {
         ] {
             BinEdges::new(edges.clone())
                 .map_err(|e| invalid(field, format!("{edges:?}"), e.to_string()))?;
+            // amplitudes and forces are magnitudes: a negative edge makes a bin no cycle
+            // can fall in
+            if let Some(e) = edges.iter().find(|e| **e < 0.0) {
+                return Err(invalid(
+                    field,
+                    format!("{edges:?}"),
+                    format!("has the negative edge {e}: the edges bound magnitudes, from 0 up"),
+                ));
+            }
         }
         let params = FrettingParams {
             regime: self.regime,

@@ -21,6 +21,7 @@ pub mod fatigue;
 pub mod fidelity;
 pub mod payload;
 pub mod resolve;
+pub mod sea_limits;
 pub mod seeds;
 pub mod spec;
 pub mod stiffness;

@@ -22,8 +22,10 @@ use sha2::{Digest, Sha256};
 use crate::error::CampaignError;
 use crate::fatigue::interface_geometry;
 use crate::payload::{CampaignInputs, FloaterContent, SOLVER_VERSION};
-use crate::spec::CampaignSpec;
+use crate::sea_limits::{self, CellLimits};
+use crate::spec::{CampaignSpec, OutsideModel};
 use crate::stiffness::AxialStiffnessRule;
+use moorfret_solver::text::Num;
 
 /// A referenced file as read.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
@@ -47,6 +49,25 @@ pub struct ResolvedCampaign {
     pub scatter: ScatterTable,
     /// Printed totals of the scatter diagram that differ from their cells.
     pub scatter_mismatches: Vec<TotalMismatch>,
+    /// Cells the wave model cannot carry, left out of the plan (zeroed in `scatter`) under
+    /// `scatter.cells_outside_model = "leave_out"`.
+    pub left_out: Vec<LeftOutCell>,
+    /// What the wave model makes of every planned sea state, in table order (the energy kept
+    /// below the cut-off among it).
+    pub planned_limits: Vec<CellLimits>,
+}
+
+/// A scatter cell left out of the plan.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LeftOutCell {
+    /// Row of the Hs bin (from 0).
+    pub row: usize,
+    /// Period column (from 0).
+    pub column: usize,
+    /// The cell's value as printed.
+    pub value: f64,
+    /// Why.
+    pub limits: CellLimits,
 }
 
 fn read_file(
@@ -158,8 +179,15 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
 
     let (case_path, text, file) = read_file(base, "global.case_path", &spec.global.case_path)?;
     files.push(file);
-    let mut base_case = CaseSpec::from_json_str(&text)
-        .map_err(|e| file_error("global.case_path", &case_path, e))?;
+    let mut base_case = CaseSpec::from_json_str(&text).map_err(|e| {
+        // the field path at fault, which the case's own reader does not give
+        match crate::spec::from_json_with_path::<CaseSpec>(&text) {
+            Err(with_path) if with_path.starts_with("field `") => {
+                file_error("global.case_path", &case_path, with_path)
+            }
+            _ => file_error("global.case_path", &case_path, e),
+        }
+    })?;
     let relative_to_campaign = |p: &str| -> String {
         Path::new(&spec.global.case_path)
             .parent()
@@ -237,8 +265,11 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
         files,
         scatter,
         scatter_mismatches,
+        left_out: Vec::new(),
+        planned_limits: Vec::new(),
     };
-    // The base case with the first planned sea state must be a valid case.
+    // The base case with the first planned sea state must be a valid case (a fault of the
+    // case itself is named there), then every cell is checked.
     let first = resolved
         .scatter
         .cells()
@@ -251,7 +282,100 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
         .case_for(first.0, first.1, 1)
         .validate()
         .map_err(|e| file_error("global.case_path", &case_path, e))?;
+    let mut resolved = resolved;
+    resolved.left_out = check_cells(&mut resolved, &scatter_path)?;
     Ok(resolved)
+}
+
+/// Checks every non-zero cell before anything is stored: each must make a valid case, and one
+/// the wave model can carry ([`crate::sea_limits`]), else it is refused or, with
+/// `scatter.cells_outside_model = "leave_out"`, zeroed in the table and returned. Then the
+/// output and load intervals must resolve the shortest planned peak period.
+fn check_cells(
+    resolved: &mut ResolvedCampaign,
+    scatter_path: &Path,
+) -> Result<Vec<LeftOutCell>, CampaignError> {
+    let inputs = &resolved.inputs;
+    let mut faults = Vec::new();
+    let mut left_out = Vec::new();
+    let mut planned = Vec::new();
+    let mut shortest_tp: Option<f64> = None;
+    let table = &resolved.scatter;
+    for (row, &(lower, upper)) in table.hs_bins_m.iter().enumerate() {
+        for (column, &tp_s) in table.tp_s.iter().enumerate() {
+            let value = table.values[row][column];
+            if value <= 0.0 {
+                continue;
+            }
+            let hs_m = 0.5 * (lower + upper);
+            let cell = format!(
+                "cell Hs {lower}-{upper} m, Tp {tp_s} s (row {}, period column {})",
+                row + 1,
+                column + 1
+            );
+            let limits = sea_limits::check(inputs, hs_m, tp_s)
+                .map_err(|e| file_error("scatter.path", scatter_path, format!("{cell}: {e}")))?;
+            if limits.faults.is_empty() {
+                shortest_tp = Some(shortest_tp.map_or(tp_s, |t: f64| t.min(tp_s)));
+                planned.push(limits);
+            } else {
+                faults.push(format!("{cell}: {}", limits.faults.join("; ")));
+                left_out.push(LeftOutCell {
+                    row,
+                    column,
+                    value,
+                    limits,
+                });
+            }
+        }
+    }
+    if !faults.is_empty() && inputs.spec.scatter.cells_outside_model == OutsideModel::Refuse {
+        return Err(file_error(
+            "scatter.path",
+            scatter_path,
+            format!(
+                "{} sea state(s) the wave model cannot carry (set \
+                 scatter.cells_outside_model to \"leave_out\" to plan without them): {}",
+                faults.len(),
+                faults.join(" | ")
+            ),
+        ));
+    }
+    let Some(shortest_tp) = shortest_tp else {
+        return Err(file_error(
+            "scatter.path",
+            scatter_path,
+            format!(
+                "no sea state the wave model can carry: {}",
+                faults.join(" | ")
+            ),
+        ));
+    };
+    let sim = &inputs.spec.simulation;
+    let needed = shortest_tp / sea_limits::MIN_SAMPLES_PER_PEAK_PERIOD;
+    for (field, value) in [
+        ("simulation.output_interval_s", sim.output_interval_s),
+        ("strand.load_interval_s", inputs.spec.strand.load_interval_s),
+    ] {
+        if value > needed * (1.0 + 1e-9) {
+            return Err(CampaignError::Invalid {
+                field: field.into(),
+                value: Num(value).to_string(),
+                reason: format!(
+                    "cannot resolve the waves of the shortest planned peak period, Tp {} s: \
+                     at most {} s ({} samples per period) is needed",
+                    Num(shortest_tp),
+                    Num(needed),
+                    Num(sea_limits::MIN_SAMPLES_PER_PEAK_PERIOD)
+                ),
+            });
+        }
+    }
+    for c in &left_out {
+        resolved.scatter.values[c.row][c.column] = 0.0;
+    }
+    resolved.planned_limits = planned;
+    Ok(left_out)
 }
 
 /// Line type of the segment holding arc length `arc_length_m` (from the fairlead), if any.
@@ -262,6 +386,27 @@ pub fn hot_spot_line_type(case: &CaseSpec, arc_length_m: f64) -> Option<&LineTyp
             return case.mooring.line_types.get(&seg.line_type);
         }
         start += seg.length_m;
+    }
+    None
+}
+
+/// The (chain, rope) segment names when `arc_length_m` is the end a chain segment shares with
+/// a rope segment.
+fn junction_with_rope(case: &CaseSpec, arc_length_m: f64) -> Option<(String, String)> {
+    let segments = &case.mooring.segments;
+    let is_rope = |k: usize| {
+        case.mooring
+            .line_types
+            .get(&segments[k].line_type)
+            .is_some_and(|t| t.is_rope())
+    };
+    let mut end = 0.0;
+    for k in 0..segments.len() {
+        end += segments[k].length_m;
+        if k + 1 < segments.len() && arc_length_m == end && is_rope(k) != is_rope(k + 1) {
+            let (chain, rope) = if is_rope(k) { (k + 1, k) } else { (k, k + 1) };
+            return Some((segments[chain].name.clone(), segments[rope].name.clone()));
+        }
     }
     None
 }
@@ -324,14 +469,23 @@ fn hot_spot_stiffness(spec: &CampaignSpec, case: &CaseSpec) -> Result<Vec<f64>, 
         // The strand model and the rope T-N curves describe a wire rope: a hot spot on a
         // chain (no bending stiffness) would get a rope's fretting and T-N damage.
         if !line_type.is_rope() {
-            return Err(CampaignError::Invalid {
-                field: format!("hot_spots[{i}].arc_length_m"),
-                value: h.arc_length_m.to_string(),
-                reason: format!(
+            let reason = match junction_with_rope(case, h.arc_length_m) {
+                Some((chain, rope)) => format!(
+                    "lies at the junction of chain segment `{chain}` and rope segment `{rope}`, \
+                     where the chain's properties hold; a hot spot must lie inside the \
+                     spiral-strand rope (ropes: {}, their ends at a chain excluded)",
+                    rope_spans(case)
+                ),
+                None => format!(
                     "lies on a chain segment of the global case (ropes: {}); a hot spot must be \
                      on the spiral-strand rope",
                     rope_spans(case)
                 ),
+            };
+            return Err(CampaignError::Invalid {
+                field: format!("hot_spots[{i}].arc_length_m"),
+                value: h.arc_length_m.to_string(),
+                reason,
             });
         }
         out.push(line_type.axial_stiffness_n);

@@ -59,6 +59,23 @@ pub struct CampaignSpec {
     pub jobs: JobSettings,
 }
 
+/// Reads `text` as a `T`; an error names the field path at fault (`simulation.duration_s:
+/// invalid type: …`) besides the line and column.
+pub fn from_json_with_path<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, String> {
+    let mut de = serde_json::Deserializer::from_str(text);
+    let value: T = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        if path.is_empty() || path == "." {
+            inner.to_string()
+        } else {
+            format!("field `{path}`: {inner}")
+        }
+    })?;
+    de.end().map_err(|e| e.to_string())?;
+    Ok(value)
+}
+
 /// Scatter diagram file and reading.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -68,6 +85,28 @@ pub struct ScatterSpec {
     pub path: String,
     /// How the cells are read.
     pub reading: ScatterReading,
+    /// What becomes of cells the wave model cannot carry ([`crate::sea_limits`]): refused
+    /// (the default) or left out of the plan.
+    #[serde(default, skip_serializing_if = "OutsideModel::is_refuse")]
+    pub cells_outside_model: OutsideModel,
+}
+
+/// What becomes of scatter cells the wave model cannot carry.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum OutsideModel {
+    /// The campaign is refused, naming every such cell.
+    #[default]
+    Refuse,
+    /// The cells are left out of the plan (named at launch): their occurrence is neither
+    /// planned nor covered.
+    LeaveOut,
+}
+
+impl OutsideModel {
+    fn is_refuse(&self) -> bool {
+        *self == OutsideModel::Refuse
+    }
 }
 
 /// How scatter-diagram cells become occurrence fractions of the year.
@@ -125,6 +164,10 @@ pub struct SimulationSpec {
     /// Threads of one global job (lines in parallel).
     #[serde(default = "one_thread")]
     pub global_threads: usize,
+    /// Least fraction of a sea state's spectral energy the wave cut-off must keep
+    /// ([`crate::sea_limits`]; 0.5 when absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_wave_energy_kept: Option<f64>,
 }
 
 fn one_thread() -> usize {
@@ -395,9 +438,7 @@ impl CampaignSpec {
     /// Parses a campaign file's text; unknown fields and wrong types are errors that give the
     /// line, column and field.
     pub fn from_json_str(text: &str) -> Result<Self, CampaignError> {
-        serde_json::from_str(text).map_err(|e| CampaignError::Json {
-            message: e.to_string(),
-        })
+        from_json_with_path(text).map_err(|message| CampaignError::Json { message })
     }
 
     /// Checks every value that does not need the referenced files.
@@ -429,15 +470,39 @@ impl CampaignSpec {
         positive("simulation.duration_s", s.duration_s)?;
         positive("simulation.time_step_s", s.time_step_s)?;
         positive("simulation.output_interval_s", s.output_interval_s)?;
-        if s.output_interval_s < s.time_step_s * (1.0 - 1e-9) {
+        if s.time_step_s > s.output_interval_s * (1.0 + 1e-9) {
             return Err(invalid(
-                "simulation.output_interval_s",
-                s.output_interval_s,
-                "must be >= simulation.time_step_s",
+                "simulation.time_step_s",
+                Num(s.time_step_s),
+                &format!(
+                    "must not exceed simulation.output_interval_s ({} s): every output sample \
+                     needs a step",
+                    Num(s.output_interval_s)
+                ),
             ));
         }
         if let Some(ramp) = s.wave_ramp_s {
             non_negative("simulation.wave_ramp_s", ramp)?;
+            if ramp > s.transient_s {
+                return Err(invalid(
+                    "simulation.wave_ramp_s",
+                    Num(ramp),
+                    &format!(
+                        "must not exceed simulation.transient_s ({} s): the waves would still \
+                         be ramping up in the recorded part",
+                        Num(s.transient_s)
+                    ),
+                ));
+            }
+        }
+        if let Some(kept) = s.min_wave_energy_kept {
+            if !(kept.is_finite() && (0.0..=1.0).contains(&kept)) {
+                return Err(invalid(
+                    "simulation.min_wave_energy_kept",
+                    Num(kept),
+                    "must be in [0, 1]",
+                ));
+            }
         }
         match &s.gamma {
             GammaSpec::Value(g) if !(g.is_finite() && (1.0..=7.0).contains(g)) => {
@@ -458,8 +523,14 @@ impl CampaignSpec {
         }
         let steps = (s.transient_s + s.duration_s) / s.time_step_s;
         if steps > MAX_GLOBAL_STEPS {
-            let (field, value) = if s.duration_s > MAX_GLOBAL_STEPS * 0.1 {
-                ("simulation.duration_s", s.duration_s)
+            // Blame what is out of the ordinary: the longer time span when the two are too
+            // long even at a coarse step of 0.1 s, or else the step.
+            let (field, value) = if (s.transient_s + s.duration_s) / 0.1 > MAX_GLOBAL_STEPS {
+                if s.transient_s > s.duration_s {
+                    ("simulation.transient_s", s.transient_s)
+                } else {
+                    ("simulation.duration_s", s.duration_s)
+                }
             } else {
                 ("simulation.time_step_s", s.time_step_s)
             };

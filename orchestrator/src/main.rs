@@ -18,6 +18,13 @@ fn main() -> ExitCode {
     match cli::execute(args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
+            let output = err
+                .chain()
+                .find_map(|e| e.downcast_ref::<cli::output::StdoutError>());
+            if output.is_some_and(cli::output::StdoutError::is_closed_pipe) {
+                // the reader went away (`| head -1`): nothing is wrong
+                return ExitCode::SUCCESS;
+            }
             eprintln!("error: {}", moorfret_worker::failure::error_text(&err));
             ExitCode::from(1)
         }

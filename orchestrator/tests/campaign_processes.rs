@@ -543,6 +543,32 @@ fn demo_sea_state_runs_through_both_real_stages() {
     ] {
         assert!(measures.contains(&m), "{m} missing from {measures:?}");
     }
+    // the wave cut-off keeps almost all of the Tp 11 s spectrum (99.2 %), and says so
+    let states = query("sea-states");
+    let kept = states[0]["wave_energy_kept"].as_f64().unwrap();
+    assert!(kept > 0.98 && kept <= 1.0, "{kept}");
+    // a finished campaign has nothing left to cancel and keeps its state
+    let out = moorfret(&["campaign", "cancel", "demo", "--db", &db])
+        .stdout(Stdio::piped())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        String::from_utf8_lossy(&out.stdout).contains("nothing left to cancel"),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    let out = moorfret(&["campaign", "status", "demo", "--db", &db, "--json"])
+        .stdout(Stdio::piped())
+        .output()
+        .unwrap();
+    let after: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(after["state"], status["state"], "{after}");
+    assert_ne!(after["state"], "cancelled", "{after}");
 }
 
 /// Lease of the workers of the strand crash test, ms: the strand solver keeps both cores
@@ -1271,4 +1297,170 @@ fn auto_campaign_settles_its_unselected_fe_jobs_and_runs_extra_seeds_reduced() {
         }
         store.close().await;
     });
+}
+
+/// A driver stopped by `signal` (`campaign resume` of 12 sleeping jobs on 2 workers, driver
+/// in a process group of its own so that only it gets the signal) stops its workers: no job
+/// runs or completes after it is gone, every lease is back, and a later `resume` completes
+/// every job once. With `--detach-workers` the workers run the campaign to its end alone.
+fn stopped_driver(signal: &str, detach: bool) {
+    use std::os::unix::process::CommandExt;
+    let dir = tempfile::tempdir().unwrap();
+    let payloads: Vec<_> = (0..12)
+        .map(|_| TestPayload::Sleep { duration_ms: 400 })
+        .collect();
+    let (db, id) = store_with(dir.path(), "stop", &payloads);
+    let resume = |extra: &[&str]| {
+        let mut args = vec![
+            "campaign",
+            "resume",
+            "stop",
+            "--db",
+            &db,
+            "--workers",
+            "2",
+            "--lease-ms",
+            LEASE_MS,
+        ];
+        args.extend_from_slice(extra);
+        moorfret(&args)
+    };
+    let extra: &[&str] = if detach { &["--detach-workers"] } else { &[] };
+    let driver = resume(extra).process_group(0).spawn().unwrap();
+    wait_until(&db, "a job done", |s| s.contains(&JobState::Done), id, None);
+    assert!(Command::new("kill")
+        .args([&format!("-{signal}"), &driver.id().to_string()])
+        .status()
+        .unwrap()
+        .success());
+    let out = driver.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains(&format!("stopped by SIG{signal}")),
+        "{stderr}"
+    );
+    if detach {
+        assert!(stderr.contains("--detach-workers"), "{stderr}");
+        wait_until(
+            &db,
+            "the detached workers finish the campaign",
+            |s| s.iter().all(|&x| x == JobState::Done),
+            id,
+            None,
+        );
+        assert_each_done_once(&db, id);
+        return;
+    }
+    assert!(stderr.contains("campaign resume stop"), "{stderr}");
+    let after_stop = job_states(&db, id);
+    assert!(
+        !after_stop.contains(&JobState::Running),
+        "a lease is still held: {after_stop:?}"
+    );
+    let done = |s: &[JobState]| s.iter().filter(|&&x| x == JobState::Done).count();
+    assert!(done(&after_stop) < 12, "{after_stop:?}");
+    // nobody runs the campaign on: the remaining jobs stay ready
+    std::thread::sleep(Duration::from_millis(1500));
+    assert_eq!(job_states(&db, id), after_stop);
+    let out = resume(&[]).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_each_done_once(&db, id);
+}
+
+#[test]
+fn a_driver_stopped_by_sigterm_stops_its_workers_and_loses_nothing() {
+    let _serial = serial();
+    stopped_driver("TERM", false);
+}
+
+#[test]
+fn a_driver_stopped_by_sigint_stops_its_workers_and_loses_nothing() {
+    let _serial = serial();
+    stopped_driver("INT", false);
+}
+
+#[test]
+fn detached_workers_run_the_campaign_to_its_end_after_the_driver_stops() {
+    let _serial = serial();
+    stopped_driver("TERM", true);
+}
+
+/// The demo campaign (two short sea states, real stages) driven by `campaign launch`, stopped by
+/// SIGTERM once its first job is done: no lease is left, nothing runs on, and `campaign resume`
+/// completes it with the results of an uninterrupted launch, to the bit in every `query` table.
+#[test]
+fn a_stopped_demo_campaign_resumes_to_the_uninterrupted_results() {
+    use std::os::unix::process::CommandExt;
+    let _serial = serial();
+    let scatter = "lower\tupper\t11\t12\ttotal\n2\t2,5\t1,354\t0,5\t1,854\n";
+    // 30 s recorded: long enough for the stop to find work left
+    let longer = |spec: &mut serde_json::Value| {
+        spec["simulation"]["duration_s"] = serde_json::json!(30.0);
+    };
+    let reference = tempfile::tempdir().unwrap();
+    let (reference_db, _) = launch_to_end(reference.path(), "demo", scatter, longer);
+    let dir = tempfile::tempdir().unwrap();
+    let file = short_demo(dir.path(), scatter, longer);
+    let db = dir
+        .path()
+        .join("stop.sqlite")
+        .to_string_lossy()
+        .into_owned();
+    let file = file.to_string_lossy().into_owned();
+    let driver = moorfret(&["campaign", "launch", &file, "--db", &db, "--workers", "2"])
+        .process_group(0)
+        .spawn()
+        .unwrap();
+    // the campaign appears once it is planned
+    let started = Instant::now();
+    let id = loop {
+        assert!(started.elapsed() < Duration::from_secs(60), "never planned");
+        let found = rt().block_on(async {
+            let store = Store::open_existing(&db, StoreOptions::default())
+                .await
+                .ok()?;
+            let id = store.campaign_by_name("demo").await.ok().flatten();
+            store.close().await;
+            id
+        });
+        match found {
+            Some(id) => break id,
+            None => std::thread::sleep(Duration::from_millis(20)),
+        }
+    };
+    wait_until(&db, "a job done", |s| s.contains(&JobState::Done), id, None);
+    assert!(Command::new("kill")
+        .args(["-TERM", &driver.id().to_string()])
+        .status()
+        .unwrap()
+        .success());
+    let out = driver.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("stopped by SIGTERM"), "{stderr}");
+    let stopped = job_states(&db, id);
+    assert!(!stopped.contains(&JobState::Running), "{stopped:?}");
+    std::thread::sleep(Duration::from_millis(1000));
+    assert_eq!(job_states(&db, id), stopped, "work went on after the stop");
+    let out = moorfret(&["campaign", "resume", "demo", "--db", &db, "--workers", "2"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_each_done_once(&db, id);
+    for kind in ["lifetime", "damage-inputs", "sea-states"] {
+        assert_eq!(
+            query_output(&db, "demo", kind, &["--format", "csv"]),
+            query_output(&reference_db, "demo", kind, &["--format", "csv"]),
+            "query {kind}"
+        );
+    }
 }

@@ -173,3 +173,55 @@ fn thread_counts_out_of_range_are_usage_errors() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// A fault in a value given on the command line names the option, not the case file, and a
+/// negative value parses, to be refused by range with the option's name.
+#[test]
+fn a_bad_option_value_is_blamed_on_the_option() {
+    let dir = tempfile::tempdir().unwrap();
+    for (option, value, field) in [
+        ("--duration-s", "0", "timing.duration_s"),
+        ("--duration-s", "-1", "timing.duration_s"),
+        ("--transient-s", "-5", "timing.transient_s"),
+        ("--tp-s", "0", "sea_state.tp_s"),
+        ("--hs-m", "-2", "sea_state.hs_m"),
+    ] {
+        let out = moorfret()
+            .args(["run", "global"])
+            .arg(case_path())
+            .arg("--out")
+            .arg(dir.path().join("out"))
+            .args([option, value])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{option} {value}: {stderr}");
+        assert!(
+            stderr.contains(&format!("command-line option {option} {value}:")),
+            "{option} {value}: {stderr}"
+        );
+        assert!(stderr.contains(field), "{stderr}");
+        assert!(!stderr.contains("in case file"), "{stderr}");
+    }
+}
+
+/// A JSON type error in a case file names the field path.
+#[test]
+fn a_case_file_type_error_names_the_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut case: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(case_path()).unwrap()).unwrap();
+    case["timing"]["duration_s"] = serde_json::json!("30");
+    let file = dir.path().join("case.json");
+    std::fs::write(&file, serde_json::to_string_pretty(&case).unwrap()).unwrap();
+    let out = moorfret()
+        .args(["run", "global"])
+        .arg(&file)
+        .arg("--out")
+        .arg(dir.path().join("out"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(stderr.contains("field `timing.duration_s`"), "{stderr}");
+}

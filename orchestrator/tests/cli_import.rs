@@ -163,3 +163,31 @@ fn an_unsupported_deck_is_refused_naming_its_row() {
     );
     assert!(!d.join("x.json").exists(), "nothing written");
 }
+
+/// A negative or zero `--duration-s` / `--time-step-s` parses and is refused naming the option,
+/// not as a fault of the deck.
+#[test]
+fn import_options_out_of_range_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    for (option, value) in [("--duration-s", "-1"), ("--time-step-s", "0")] {
+        let out = moorfret()
+            .args(["import", "moordyn"])
+            .arg(campaign_file("examples/moordyn/paper_line.dat"))
+            .arg("--motion")
+            .arg(campaign_file("examples/moordyn/surge.csv"))
+            .arg("--out")
+            .arg(dir.path().join("line.json"))
+            .args([option, value])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert!(
+            stderr.contains(&format!(
+                "{option} must be a positive number of seconds (got {value})"
+            )),
+            "{stderr}"
+        );
+        assert!(!dir.path().join("line.json").exists());
+    }
+}

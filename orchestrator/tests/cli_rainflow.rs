@@ -131,3 +131,37 @@ fn empty_file_is_reported() {
     let header_only = write(dir.path(), "header.csv", "tension_n\n");
     fails_with(&["rainflow", &header_only], &["no data rows"]);
 }
+
+/// Without `--column`, a time column is skipped: moorfret's own `hotspots.csv` is counted on
+/// its tension, not on its time (one half cycle over the whole record).
+#[test]
+fn the_time_column_of_a_hot_spot_series_is_skipped_by_default() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = write(
+        dir.path(),
+        "hotspots.csv",
+        "time_s,tension_n,curvature_per_m\n0,-2,0\n1,1,0\n2,-3,0\n3,5,0\n4,-1,0\n5,3,0\n6,-4,0\n7,4,0\n8,-2,0\n",
+    );
+    let default = moorfret(&["rainflow", &file]);
+    assert!(default.status.success(), "{default:?}");
+    let named = moorfret(&["rainflow", &file, "--column", "tension_n"]);
+    assert_eq!(default.stdout, named.stdout);
+    let only_time = write(dir.path(), "t.csv", "t\n0\n1\n2\n");
+    let out = moorfret(&["rainflow", &only_time]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("every column is a time column"));
+}
+
+/// A negative `--gate` parses and is refused by range, naming the option.
+#[test]
+fn a_negative_gate_is_refused_by_its_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = write(dir.path(), "a.csv", ASTM_CSV);
+    let out = moorfret(&["rainflow", &file, "--gate", "-1"]);
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("--gate must be finite and >= 0 (got -1)"),
+        "{stderr}"
+    );
+}

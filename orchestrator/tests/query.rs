@@ -172,6 +172,24 @@ async fn query_command_prints_json_csv_and_tables() {
     let (ok, table, _) = run(&["sea-states", "--campaign", "fixture"]);
     assert!(ok);
     assert_eq!(table.lines().count(), 3);
+    // a mistyped measure is refused by every query, naming the known ones
+    for kind in [
+        "lifetime",
+        "sea-states",
+        "damage-inputs",
+        "seeds",
+        "contacts",
+        "fidelity",
+    ] {
+        let (ok, _, err) = run(&[kind, "--campaign", "fixture", "--measure", "foo"]);
+        assert!(!ok, "{kind}");
+        assert!(
+            err.contains(
+                "--measure `foo` is not a fretting measure (one of fretting_max, fretting_mean)"
+            ),
+            "{kind}: {err}"
+        );
+    }
     let (ok, _, err) = run(&["contacts", "--campaign", "missing"]);
     assert!(!ok);
     assert!(

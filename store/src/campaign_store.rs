@@ -1,9 +1,12 @@
 //! [`Store`]: the campaign store and job queue, over SQLite or PostgreSQL.
 //!
 //! The backend is chosen by the location: `postgres://…` / `postgresql://…` selects PostgreSQL,
-//! anything else (`sqlite://path`, `sqlite:path` or a plain path) an SQLite file, created with
-//! its parent directories if missing. Opening checks the schema version first: a database
-//! written by a newer moorfret is refused untouched; an older one is migrated.
+//! anything else (`sqlite://path`, `sqlite:path` or a plain path) an SQLite file. Only
+//! [`Store::open`] creates a store (with its parent directories), and only where nothing is;
+//! [`Store::open_existing`] and [`Store::open_if_present`] create nothing, and every opening
+//! refuses an existing file that is not a moorfret store (empty, another program's database)
+//! before writing to it. Opening checks the schema version first: a database written by a
+//! newer moorfret is refused untouched; an older one is migrated.
 //!
 //! Job protocol (DESIGN §3.2): [`Store::claim`] leases the highest-priority ready job in one
 //! atomic statement; the worker renews the lease with [`Store::heartbeat`] and ends it with
@@ -134,9 +137,74 @@ macro_rules! dispatch {
 }
 
 impl Store {
-    /// Opens the store at `location`, creating and migrating it as needed.
+    /// Opens the moorfret store at `location` (migrating an older one), or creates one where
+    /// nothing is: no file at an SQLite path (its missing directories are created), no
+    /// moorfret tables in a PostgreSQL schema. An existing file that is not a moorfret store
+    /// (an empty file, another program's database) is refused untouched.
     pub async fn open(location: &str, options: StoreOptions) -> Result<Store, StoreError> {
-        let policy = options.policy.validated()?;
+        if let Some(store) = Self::open_if_present(location, options.clone()).await? {
+            return Ok(store);
+        }
+        let (policy, location) = Self::check(location, &options)?;
+        let backend = match &location {
+            StoreLocation::Sqlite(path) => {
+                let pool = sqlite::create(path, options.max_connections).await?;
+                Self::prepared_sqlite(pool, &options, policy).await?
+            }
+            StoreLocation::Postgres(url) => {
+                let schema = options.postgres_schema.as_deref();
+                let pool = postgres::connect(url, schema, options.max_connections).await?;
+                Self::prepared_postgres(pool, &options, policy).await?
+            }
+        };
+        Ok(Store { backend, location })
+    }
+
+    /// Opens the moorfret store at `location` (migrating an older one); refuses anything else
+    /// (no file, an empty file, another program's database, a PostgreSQL schema without
+    /// moorfret's tables) without creating or writing anything.
+    pub async fn open_existing(location: &str, options: StoreOptions) -> Result<Store, StoreError> {
+        let parsed = StoreLocation::parse(location)?;
+        parsed.require_existing()?;
+        Self::open_if_present(location, options)
+            .await?
+            .ok_or_else(|| StoreError::InvalidLocation {
+                location: location.to_owned(),
+                reason: "no moorfret store there (`campaign launch` creates a store)".into(),
+            })
+    }
+
+    /// The moorfret store at `location`, opened (and migrated if older), or `None` where
+    /// nothing is; anything else at an SQLite path is refused. Creates and writes nothing
+    /// unless a moorfret store is there.
+    pub async fn open_if_present(
+        location: &str,
+        options: StoreOptions,
+    ) -> Result<Option<Store>, StoreError> {
+        let (policy, location) = Self::check(location, &options)?;
+        let backend = match &location {
+            StoreLocation::Sqlite(path) => {
+                match sqlite::open_if_present(path, options.max_connections).await? {
+                    Some(pool) => Self::prepared_sqlite(pool, &options, policy).await?,
+                    None => return Ok(None),
+                }
+            }
+            StoreLocation::Postgres(url) => {
+                let schema = options.postgres_schema.as_deref();
+                match postgres::open_if_present(url, schema, options.max_connections).await? {
+                    Some(pool) => Self::prepared_postgres(pool, &options, policy).await?,
+                    None => return Ok(None),
+                }
+            }
+        };
+        Ok(Some(Store { backend, location }))
+    }
+
+    fn check(
+        location: &str,
+        options: &StoreOptions,
+    ) -> Result<(QueuePolicy, StoreLocation), StoreError> {
+        let policy = options.policy.clone().validated()?;
         if options.max_connections == 0 {
             return Err(StoreError::InvalidParameter {
                 field: "max_connections",
@@ -144,30 +212,38 @@ impl Store {
                 reason: "must be >= 1",
             });
         }
-        let location = StoreLocation::parse(location)?;
-        let backend = match &location {
-            StoreLocation::Sqlite(path) => {
-                let pool = sqlite::connect(path, options.max_connections).await?;
-                if let Err(err) = sqlite::prepare_schema(&pool).await {
-                    pool.close().await;
-                    return Err(err);
-                }
-                Backend::Sqlite(sqlite::Queue::new(pool, options.clock, policy))
-            }
-            StoreLocation::Postgres(url) => {
-                let schema = options.postgres_schema.as_deref();
-                let pool = postgres::connect(url, schema, options.max_connections).await?;
-                if let Err(err) = postgres::prepare_schema(&pool).await {
-                    pool.close().await;
-                    return Err(err);
-                }
-                Backend::Postgres(
-                    postgres::Queue::new(pool, options.clock, policy),
-                    options.postgres_schema.clone(),
-                )
-            }
-        };
-        Ok(Store { backend, location })
+        Ok((policy, StoreLocation::parse(location)?))
+    }
+
+    async fn prepared_sqlite(
+        pool: sqlx::Pool<sqlx::Sqlite>,
+        options: &StoreOptions,
+        policy: QueuePolicy,
+    ) -> Result<Backend, StoreError> {
+        if let Err(err) = sqlite::prepare_schema(&pool).await {
+            pool.close().await;
+            return Err(err);
+        }
+        Ok(Backend::Sqlite(sqlite::Queue::new(
+            pool,
+            options.clock.clone(),
+            policy,
+        )))
+    }
+
+    async fn prepared_postgres(
+        pool: sqlx::Pool<sqlx::Postgres>,
+        options: &StoreOptions,
+        policy: QueuePolicy,
+    ) -> Result<Backend, StoreError> {
+        if let Err(err) = postgres::prepare_schema(&pool).await {
+            pool.close().await;
+            return Err(err);
+        }
+        Ok(Backend::Postgres(
+            postgres::Queue::new(pool, options.clock.clone(), policy),
+            options.postgres_schema.clone(),
+        ))
     }
 
     /// Where this store lives.
@@ -347,7 +423,8 @@ impl Store {
         dispatch!(self, q => q.sweep_expired().await)
     }
 
-    /// Cancels a campaign and every unfinished job of it; running jobs lose their leases.
+    /// Cancels a campaign and every unfinished job of it; running jobs lose their leases. A
+    /// campaign without unfinished jobs is left as it is (0 jobs cancelled).
     pub async fn cancel_campaign(&self, campaign: CampaignId) -> Result<CancelReport, StoreError> {
         dispatch!(self, q => q.cancel_campaign(campaign).await)
     }

@@ -37,6 +37,44 @@ pub(crate) async fn connect(
     schema: Option<&str>,
     max_connections: u32,
 ) -> Result<Pool<Db>> {
+    connect_in(url, schema, max_connections, true)
+        .await?
+        .ok_or_else(|| StoreError::InvalidLocation {
+            location: url.to_owned(),
+            reason: "the schema could not be created".into(),
+        })
+}
+
+/// The moorfret store at `url` (in `schema` if given), or `None` when the schema is missing or
+/// holds no moorfret tables; nothing is created.
+pub(crate) async fn open_if_present(
+    url: &str,
+    schema: Option<&str>,
+    max_connections: u32,
+) -> Result<Option<Pool<Db>>> {
+    let Some(pool) = connect_in(url, schema, max_connections, false).await? else {
+        return Ok(None);
+    };
+    match schema::is_moorfret_store(&pool).await {
+        Ok(true) => Ok(Some(pool)),
+        Ok(false) => {
+            pool.close().await;
+            Ok(None)
+        }
+        Err(err) => {
+            pool.close().await;
+            Err(err)
+        }
+    }
+}
+
+/// A pool on `url` in `schema` (created when missing if `create`, else `None`).
+async fn connect_in(
+    url: &str,
+    schema: Option<&str>,
+    max_connections: u32,
+    create: bool,
+) -> Result<Option<Pool<Db>>> {
     let invalid = |reason: String| StoreError::InvalidLocation {
         location: url.to_owned(),
         reason,
@@ -59,11 +97,26 @@ pub(crate) async fn connect(
             .connect()
             .await
             .map_err(StoreError::db("open store"))?;
-        sqlx::query(&format!("CREATE SCHEMA IF NOT EXISTS {schema}"))
-            .execute(&mut conn)
+        let present = if create {
+            sqlx::query(&format!("CREATE SCHEMA IF NOT EXISTS {schema}"))
+                .execute(&mut conn)
+                .await
+                .map_err(StoreError::db("create schema"))?;
+            true
+        } else {
+            sqlx::query_scalar::<_, i64>(
+                "SELECT COUNT(*) FROM information_schema.schemata WHERE schema_name = $1",
+            )
+            .bind(schema)
+            .fetch_one(&mut conn)
             .await
-            .map_err(StoreError::db("create schema"))?;
+            .map_err(StoreError::db("look for the schema"))?
+                > 0
+        };
         conn.close().await.map_err(StoreError::db("open store"))?;
+        if !present {
+            return Ok(None);
+        }
         options = options.options([("search_path", schema)]);
     }
     match PgPoolOptions::new()
@@ -80,7 +133,7 @@ pub(crate) async fn connect(
                 Err(StoreError::db("open store")(sqlx::Error::PoolTimedOut))
             }
         },
-        connected => connected.map_err(StoreError::db("open store")),
+        connected => connected.map(Some).map_err(StoreError::db("open store")),
     }
 }
 

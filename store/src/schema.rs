@@ -15,6 +15,25 @@ pub(crate) fn supported_version() -> i64 {
     MIGRATOR.iter().map(|m| m.version).max().unwrap_or(0)
 }
 
+/// Whether the database holds a moorfret store: its `schema_info` marker (written by the
+/// first migration) and its `campaigns` table. Reads only.
+pub(crate) async fn is_moorfret_store(pool: &Pool<Db>) -> Result<bool> {
+    const OP: &str = "look for the store's tables";
+    let mut conn = pool.acquire().await.map_err(StoreError::db(OP))?;
+    for table in ["schema_info", "campaigns"] {
+        let exists = sqlx::query_scalar::<_, i64>(DIALECT.table_exists_sql)
+            .bind(table)
+            .fetch_one(&mut *conn)
+            .await
+            .map_err(StoreError::db(OP))?
+            > 0;
+        if !exists {
+            return Ok(false);
+        }
+    }
+    Ok(true)
+}
+
 /// Schema version recorded in the database (0 for an empty database).
 pub(crate) async fn found_version(pool: &Pool<Db>) -> Result<i64> {
     let mut conn = pool

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use sqlx::migrate::Migrator;
-use sqlx::sqlite::{SqliteConnectOptions, SqliteJournalMode, SqlitePoolOptions, SqliteSynchronous};
+use sqlx::sqlite::{SqliteConnectOptions, SqlitePoolOptions, SqliteSynchronous};
 use sqlx::Pool;
 use sqlx::Sqlite as Db;
 
@@ -42,53 +42,25 @@ pub(crate) use schema::{found_version, prepare_schema, supported_version};
 
 const SQLITE_HEADER: &[u8; 16] = b"SQLite format 3\0";
 
-/// Opens (creating if needed) the database file and its pool of `max_connections`.
-pub(crate) async fn connect(path: &Path, max_connections: u32) -> Result<Pool<Db>> {
-    if let Some(fs_type) = super::filesystem::network_filesystem_of(path) {
-        return Err(StoreError::NetworkFilesystem {
-            path: path.to_path_buf(),
-            fs_type,
-        });
-    }
-    check_header(path)?;
-    if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(parent).map_err(|source| StoreError::Io {
-            path: parent.to_path_buf(),
-            source,
-        })?;
-    }
+/// A pool on the existing file `path`, opened without writing to it: no file is created and
+/// the journal mode is left as it is (switching to WAL writes the file's header).
+async fn connect_existing(path: &Path, max_connections: u32) -> Result<Pool<Db>> {
     let options = SqliteConnectOptions::new()
         .filename(path)
-        .create_if_missing(true)
-        .journal_mode(SqliteJournalMode::Wal)
+        .create_if_missing(false)
         .synchronous(SqliteSynchronous::Normal)
         .foreign_keys(true)
         .busy_timeout(BUSY_TIMEOUT);
-    // Connections to a new file switching it to WAL at the same moment (processes opening a
-    // new store at once) can get SQLITE_BUSY at once, without the busy handler: retried here
-    // for up to the busy timeout.
-    let started = std::time::Instant::now();
-    let mut attempt = 0_u32;
-    let connected = loop {
-        let result = SqlitePoolOptions::new()
-            .max_connections(max_connections)
-            .acquire_timeout(BUSY_TIMEOUT)
-            .connect_with(options.clone())
-            .await;
-        match &result {
-            Err(sqlx::Error::Database(db))
-                if db.code().as_deref() == Some("5") && started.elapsed() < BUSY_TIMEOUT =>
-            {
-                attempt += 1;
-                tokio::time::sleep(std::time::Duration::from_millis(
-                    10 * u64::from(attempt.min(20)),
-                ))
-                .await;
-            }
-            _ => break result,
-        }
-    };
-    connected.map_err(|source| match &source {
+    SqlitePoolOptions::new()
+        .max_connections(max_connections)
+        .acquire_timeout(BUSY_TIMEOUT)
+        .connect_with(options)
+        .await
+        .map_err(|source| open_error(path, source))
+}
+
+fn open_error(path: &Path, source: sqlx::Error) -> StoreError {
+    match &source {
         // SQLITE_CANTOPEN: say why when it is the directory
         sqlx::Error::Database(db) if db.code().as_deref() == Some("14") => {
             match unwritable_directory(path) {
@@ -113,7 +85,174 @@ pub(crate) async fn connect(path: &Path, max_connections: u32) -> Result<Pool<Db
             operation: "open store",
             source,
         },
-    })
+    }
+}
+
+fn refuse_network_filesystem(path: &Path) -> Result<()> {
+    match super::filesystem::network_filesystem_of(path) {
+        Some(fs_type) => Err(StoreError::NetworkFilesystem {
+            path: path.to_path_buf(),
+            fs_type,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// The moorfret store at `path`, opened (switched to WAL, migrated if older), or `None` when
+/// no file is there. Anything else at `path` (an empty file, another program's database, a
+/// file that is not a database) is refused before a byte of it is written.
+pub(crate) async fn open_if_present(path: &Path, max_connections: u32) -> Result<Option<Pool<Db>>> {
+    refuse_network_filesystem(path)?;
+    let not_a_store = |reason: &str| StoreError::NotADatabase {
+        path: path.to_path_buf(),
+        reason: reason.to_owned(),
+    };
+    match std::fs::metadata(path) {
+        Err(err) if err.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(source) => {
+            return Err(StoreError::Io {
+                path: path.to_path_buf(),
+                source,
+            })
+        }
+        Ok(m) if m.is_dir() => return Err(not_a_store("it is a directory")),
+        Ok(m) if m.len() == 0 => {
+            return Err(not_a_store(
+                "the file is empty (it was left as it is; `campaign launch` creates a store \
+                 where no file is)",
+            ))
+        }
+        Ok(_) => {}
+    }
+    check_header(path)?;
+    let pool = connect_existing(path, max_connections).await?;
+    let ours = match schema::is_moorfret_store(&pool).await {
+        Ok(ours) => ours,
+        Err(err) => {
+            pool.close().await;
+            return Err(err);
+        }
+    };
+    if !ours {
+        pool.close().await;
+        return Err(not_a_store(
+            "an SQLite database without moorfret's tables, another program's (it was left as \
+             it is; `campaign launch` creates a store where no file is)",
+        ));
+    }
+    // A newer schema is refused before the journal mode is touched.
+    let checked = match schema::found_version(&pool).await {
+        Ok(found) if found > supported_version() => Err(StoreError::SchemaTooNew {
+            found,
+            supported: supported_version(),
+        }),
+        Ok(_) => switch_to_wal(&pool).await,
+        Err(err) => Err(err),
+    };
+    if let Err(err) = checked {
+        pool.close().await;
+        return Err(err);
+    }
+    Ok(Some(pool))
+}
+
+/// Puts the store in WAL mode (a no-op once it is). Processes switching a new store at the
+/// same moment can get SQLITE_BUSY at once, without the busy handler: retried here for up to
+/// the busy timeout.
+async fn switch_to_wal(pool: &Pool<Db>) -> Result<()> {
+    let started = std::time::Instant::now();
+    let mut attempt = 0_u32;
+    loop {
+        let result = sqlx::query("PRAGMA journal_mode = WAL").execute(pool).await;
+        match &result {
+            Err(sqlx::Error::Database(db))
+                if db.code().as_deref() == Some("5") && started.elapsed() < BUSY_TIMEOUT =>
+            {
+                attempt += 1;
+                tokio::time::sleep(Duration::from_millis(10 * u64::from(attempt.min(20)))).await;
+            }
+            _ => {
+                result.map_err(StoreError::db("switch the store to WAL"))?;
+                return Ok(());
+            }
+        }
+    }
+}
+
+/// Creates a moorfret store at `path` where no file is (its missing parent directories too),
+/// or opens the one another process created at the same moment. The store is built and
+/// migrated under a temporary name and linked into place, so that `path` never holds a
+/// partial store that another opener would take for a foreign file.
+pub(crate) async fn create(path: &Path, max_connections: u32) -> Result<Pool<Db>> {
+    refuse_network_filesystem(path)?;
+    let dir = match path.parent().filter(|p| !p.as_os_str().is_empty()) {
+        Some(parent) => {
+            std::fs::create_dir_all(parent).map_err(|source| StoreError::Io {
+                path: parent.to_path_buf(),
+                source,
+            })?;
+            parent.to_path_buf()
+        }
+        None => PathBuf::from("."),
+    };
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.subsec_nanos());
+    let temporary = dir.join(format!(".{name}.new-{}-{nanos}", std::process::id()));
+    let built = build_new(&temporary, path).await;
+    let linked = built.and_then(|()| match std::fs::hard_link(&temporary, path) {
+        Ok(()) => Ok(()),
+        // another process created it first: use theirs
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(()),
+        // a file system without hard links
+        Err(_) if !path.exists() => {
+            std::fs::rename(&temporary, path).map_err(|source| StoreError::Io {
+                path: path.to_path_buf(),
+                source,
+            })
+        }
+        Err(source) => Err(StoreError::Io {
+            path: path.to_path_buf(),
+            source,
+        }),
+    });
+    for suffix in ["", "-journal", "-wal", "-shm"] {
+        let mut p = temporary.clone().into_os_string();
+        p.push(suffix);
+        let _ = std::fs::remove_file(p);
+    }
+    linked?;
+    open_if_present(path, max_connections)
+        .await?
+        .ok_or_else(|| StoreError::InvalidLocation {
+            location: path.display().to_string(),
+            reason: "the new store disappeared as it was created".into(),
+        })
+}
+
+/// A new store at `temporary` (rollback journal: one file, ready to be linked), migrated.
+async fn build_new(temporary: &Path, path: &Path) -> Result<()> {
+    let options = SqliteConnectOptions::new()
+        .filename(temporary)
+        .create_if_missing(true)
+        .foreign_keys(true)
+        .busy_timeout(BUSY_TIMEOUT);
+    let pool = SqlitePoolOptions::new()
+        .max_connections(1)
+        .connect_with(options)
+        .await
+        .map_err(|source| match open_error(temporary, source) {
+            StoreError::Unwritable { dir, source, .. } => StoreError::Unwritable {
+                path: path.to_path_buf(),
+                dir,
+                source,
+            },
+            other => other,
+        })?;
+    let prepared = prepare_schema(&pool).await;
+    pool.close().await;
+    prepared
 }
 
 /// The directory of `path` and why no file can be created in it, if none can (probed with a

@@ -213,7 +213,41 @@ on_both_backends!(
     database_clock_sets_lease_times,
     seed_spread_and_lifetime_band_of_known_seeds,
     settled_jobs_end_at_once_and_unblock_their_dependents,
+    cancelling_a_finished_campaign_changes_nothing,
 );
+
+/// A campaign whose jobs are all finished has nothing to cancel: 0 jobs cancelled and its
+/// state as it was (it used to be marked cancelled).
+async fn cancelling_a_finished_campaign_changes_nothing(backend: Backend) {
+    let Some(ts) = open_store(backend, QueuePolicy::default()).await else {
+        return;
+    };
+    let id = campaign(&ts.store, "finished").await;
+    ts.store
+        .insert_plan(id, &[test_job(TestPayload::Succeed)])
+        .await
+        .unwrap();
+    let worker = ts.store.register_worker(&worker_info(1)).await.unwrap();
+    let lease = ts
+        .store
+        .claim(&worker, &ClaimFilter::default())
+        .await
+        .unwrap()
+        .unwrap();
+    ts.store
+        .complete(&lease, &JobResults::default())
+        .await
+        .unwrap();
+    let state = |all: Vec<moorfret_store::CampaignRecord>| {
+        all.into_iter().find(|c| c.id == id).unwrap().state
+    };
+    let before = state(ts.store.campaigns().await.unwrap());
+    let report = ts.store.cancel_campaign(id).await.unwrap();
+    assert_eq!(report.jobs_cancelled, 0);
+    assert_eq!(state(ts.store.campaigns().await.unwrap()), before);
+    assert_ne!(before, moorfret_store::CampaignState::Cancelled);
+    ts.finish().await;
+}
 
 async fn eight_workers_complete_a_thousand_jobs_exactly_once(backend: Backend) {
     const JOBS: usize = 1_000;

@@ -50,10 +50,10 @@ pub struct WorkerArgs {
     pub poll_ms: u64,
     /// Wall time this worker may run, s (batch allocations): it never starts a job expected
     /// to take longer than what remains.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub wall_time_s: Option<f64>,
     /// Part of `--wall-time-s` kept for storing the last job's results, s.
-    #[arg(long, default_value_t = 30.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 30.0)]
     pub wall_time_reserve_s: f64,
     /// Take only jobs of this kind (`global`, `strand`, `calibrate` or `strand_reduced`;
     /// repeatable; all kinds by default), e.g. global jobs on small nodes and FE strand jobs on

@@ -40,27 +40,43 @@ impl StoreConfig {
         policy
     }
 
-    /// Opens the store. A PostgreSQL store takes lease times from the server's clock, so
-    /// workers on hosts with skewed clocks agree on when a lease has expired.
-    pub async fn open(&self) -> anyhow::Result<Store> {
+    /// Store options for this location. A PostgreSQL store takes lease times from the
+    /// server's clock, so workers on hosts with skewed clocks agree on when a lease has
+    /// expired.
+    fn store_options(&self) -> anyhow::Result<StoreOptions> {
         let clock = match StoreLocation::parse(&self.db)? {
             StoreLocation::Postgres(_) => Clock::Database,
             StoreLocation::Sqlite(_) => Clock::System,
         };
-        let options = StoreOptions {
+        Ok(StoreOptions {
             clock,
             policy: self.policy(),
             ..StoreOptions::default()
-        };
-        Store::open(&self.db, options)
+        })
+    }
+
+    /// Opens the moorfret store, or creates one where nothing is (`campaign launch` only).
+    pub async fn open(&self) -> anyhow::Result<Store> {
+        Store::open(&self.db, self.store_options()?)
             .await
             .with_context(|| format!("opening the store {}", self.db))
     }
 
-    /// Opens the store if it exists; never creates one (for commands that read or resume).
+    /// Opens the moorfret store; refuses anything else (no file, another program's
+    /// database, an empty file) without creating or writing anything (every command but
+    /// `campaign launch`).
     pub async fn open_existing(&self) -> anyhow::Result<Store> {
-        StoreLocation::parse(&self.db)?.require_existing()?;
-        self.open().await
+        Store::open_existing(&self.db, self.store_options()?)
+            .await
+            .with_context(|| format!("opening the store {}", self.db))
+    }
+
+    /// The moorfret store if there is one, `None` where nothing is; anything else is refused
+    /// untouched.
+    pub async fn open_if_present(&self) -> anyhow::Result<Option<Store>> {
+        Store::open_if_present(&self.db, self.store_options()?)
+            .await
+            .with_context(|| format!("opening the store {}", self.db))
     }
 
     /// The artifact store of this store.
@@ -127,7 +143,7 @@ pub fn run(options: ProcessOptions) -> anyhow::Result<()> {
         .build()
         .context("starting the async runtime")?;
     let summary = runtime.block_on(async {
-        let store = options.store.open().await?;
+        let store = options.store.open_existing().await?;
         let artifacts = options.store.artifact_store()?;
         let (tx, rx) = watch::channel(false);
         tokio::spawn(async move {

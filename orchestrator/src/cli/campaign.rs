@@ -10,6 +10,7 @@
 //! Exit codes: 0 when the campaign ended with every job done (or for status/cancel), 1 on any
 //! error or when jobs failed (their diagnostics are printed).
 
+use crate::cli::output::outln;
 use std::path::PathBuf;
 
 use anyhow::{bail, Context};
@@ -36,6 +37,11 @@ pub(crate) enum CampaignCommand {
         /// Local worker processes (default: the number of cores).
         #[arg(long)]
         workers: Option<usize>,
+        /// Leave the workers running the campaign to its end when this driver is stopped by
+        /// SIGTERM, SIGINT or SIGHUP (by default they are stopped with it, their jobs returned
+        /// to the queue).
+        #[arg(long)]
+        detach_workers: bool,
     },
     /// Run an interrupted campaign to its end with local workers.
     Resume {
@@ -47,6 +53,11 @@ pub(crate) enum CampaignCommand {
         /// Local worker processes (default: the number of cores).
         #[arg(long)]
         workers: Option<usize>,
+        /// Leave the workers running the campaign to its end when this driver is stopped by
+        /// SIGTERM, SIGINT or SIGHUP (by default they are stopped with it, their jobs returned
+        /// to the queue).
+        #[arg(long)]
+        detach_workers: bool,
     },
     /// Jobs per state and occurrence covered, of one campaign or all.
     Status {
@@ -82,11 +93,13 @@ pub(crate) fn execute(cmd: CampaignCommand) -> anyhow::Result<()> {
                 file,
                 store,
                 workers,
-            } => launch(&file, &store, workers).await,
+                detach_workers,
+            } => launch(&file, &store, workers, detach_workers).await,
             CampaignCommand::Resume {
                 name,
                 store,
                 workers,
+                detach_workers,
             } => {
                 let db = store.config().open_existing().await?;
                 let record = find(&db, &name).await?;
@@ -94,14 +107,22 @@ pub(crate) fn execute(cmd: CampaignCommand) -> anyhow::Result<()> {
                     bail!("campaign {name} was cancelled; it cannot be resumed");
                 }
                 check_artifacts_writable(&store)?;
-                run_to_end(&db, &store, &record, workers).await
+                run_to_end(&db, &store, &record, workers, detach_workers).await
             }
             CampaignCommand::Status { name, store, json } => status(&store, name, json).await,
             CampaignCommand::Cancel { name, store } => {
                 let db = store.config().open_existing().await?;
                 let record = find(&db, &name).await?;
                 let report = db.cancel_campaign(record.id).await?;
-                println!("campaign {name}: {} jobs cancelled", report.jobs_cancelled);
+                if report.jobs_cancelled == 0 {
+                    outln!(
+                        "campaign {name}: nothing left to cancel (every job is finished; it \
+                         stays {})",
+                        record.state.as_str()
+                    )?;
+                } else {
+                    outln!("campaign {name}: {} jobs cancelled", report.jobs_cancelled)?;
+                }
                 Ok(())
             }
         }
@@ -121,6 +142,7 @@ async fn launch(
     file: &std::path::Path,
     args: &StoreArgs,
     workers: Option<usize>,
+    detach_workers: bool,
 ) -> anyhow::Result<()> {
     let resolved = resolve(file).with_context(|| format!("in campaign file {}", file.display()))?;
     for m in &resolved.scatter_mismatches {
@@ -140,8 +162,42 @@ async fn launch(
             m.computed
         );
     }
-    check_artifacts_writable(args)?;
-    let store = args.config().open().await?;
+    let reading = resolved.inputs.spec.scatter.reading;
+    for c in &resolved.left_out {
+        tracing::warn!(
+            "sea state Hs {} m, Tp {} s ({:.4} % of the year) left out of the plan: {}; its \
+             occurrence is neither planned nor covered",
+            c.limits.hs_m,
+            c.limits.tp_s,
+            100.0 * plan::occurrence_fraction(c.value, reading),
+            c.limits.faults.join("; ")
+        );
+    }
+    for l in &resolved.planned_limits {
+        if l.energy_kept < 0.95 {
+            tracing::info!(
+                "sea state Hs {} m, Tp {} s: the wave cut-off {:.2} rad/s keeps {:.1} % of its \
+                 spectral energy",
+                l.hs_m,
+                l.tp_s,
+                l.cut_off_rad_s,
+                100.0 * l.energy_kept
+            );
+        }
+    }
+    // An existing file must be a moorfret store (it is refused untouched otherwise); a new
+    // store is created only once the artifact directory is known to take files.
+    let existing = args.config().open_if_present().await?;
+    if let Err(err) = check_artifacts_writable(args) {
+        if let Some(store) = existing {
+            store.close().await;
+        }
+        return Err(err);
+    }
+    let store = match existing {
+        Some(store) => store,
+        None => args.config().open().await?,
+    };
     let started = std::time::Instant::now();
     let (id, jobs) = plan::create(&store, &resolved)
         .await
@@ -154,7 +210,7 @@ async fn launch(
         "campaign planned"
     );
     let record = find(&store, &resolved.inputs.spec.name).await?;
-    run_to_end(&store, args, &record, workers).await
+    run_to_end(&store, args, &record, workers, detach_workers).await
 }
 
 async fn find(store: &Store, name: &str) -> anyhow::Result<CampaignRecord> {
@@ -173,6 +229,7 @@ async fn run_to_end(
     args: &StoreArgs,
     record: &CampaignRecord,
     workers: Option<usize>,
+    detach_workers: bool,
 ) -> anyhow::Result<()> {
     let workers = workers
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
@@ -183,6 +240,7 @@ async fn run_to_end(
         &DriveOptions {
             workers,
             child_args: args.config().child_args(),
+            detach_workers,
         },
     )
     .await?;
@@ -239,7 +297,7 @@ async fn status(args: &StoreArgs, name: Option<String>, as_json: bool) -> anyhow
         if as_json {
             out.push(status_json(record, &p));
         } else {
-            println!(
+            outln!(
                 "{} ({}): {} jobs: {} done, {} running, {} ready, {} blocked, {} failed, {} cancelled; occurrence covered {:.3} % of the year ({:.3} % planned)",
                 record.name,
                 record.state.as_str(),
@@ -252,7 +310,7 @@ async fn status(args: &StoreArgs, name: Option<String>, as_json: bool) -> anyhow
                 p.count(JobState::Cancelled),
                 100.0 * p.occurrence_covered,
                 100.0 * p.occurrence_planned
-            );
+            )?;
         }
     }
     if as_json {
@@ -261,7 +319,7 @@ async fn status(args: &StoreArgs, name: Option<String>, as_json: bool) -> anyhow
         } else {
             serde_json::Value::Array(out)
         };
-        println!("{value}");
+        outln!("{value}")?;
     }
     Ok(())
 }

@@ -4,8 +4,12 @@
 //! terminal, plain log lines otherwise) and stop the children with SIGTERM once the campaign
 //! has no ready, running or blocked job left.
 //!
-//! Killing the driver does not lose work: the children finish what they hold and exit when
-//! idle, and `campaign resume` drives the rest.
+//! A driver stopped by SIGTERM, SIGINT or SIGHUP stops its workers first (SIGTERM: each hands
+//! its running job back to the queue without consuming an attempt), so nothing runs on and
+//! nothing is lost: `campaign resume` completes the campaign with the same results. With
+//! `--detach-workers` the workers are started in a process group of their own and left running
+//! the campaign to its end when the driver stops. A driver killed outright (SIGKILL) leaves
+//! its workers running too; they finish the campaign and exit when idle.
 
 use std::io::IsTerminal;
 use std::process::Stdio;
@@ -26,6 +30,9 @@ pub(crate) struct DriveOptions {
     pub(crate) workers: usize,
     /// Store arguments handed to each worker.
     pub(crate) child_args: Vec<String>,
+    /// Leave the workers running when the driver is stopped by a signal (they are started in a
+    /// process group of their own, out of reach of a terminal's Ctrl-C).
+    pub(crate) detach_workers: bool,
 }
 
 fn spawn_worker(options: &DriveOptions) -> anyhow::Result<Child> {
@@ -38,6 +45,9 @@ fn spawn_worker(options: &DriveOptions) -> anyhow::Result<Child> {
         .stdout(Stdio::null());
     if std::env::var_os("RUST_LOG").is_none() {
         cmd.env("RUST_LOG", "warn");
+    }
+    if options.detach_workers {
+        cmd.process_group(0);
     }
     cmd.spawn().context("starting a worker process")
 }
@@ -68,6 +78,45 @@ async fn stop(mut child: Child) {
         .is_err()
     {
         let _ = child.kill().await;
+    }
+}
+
+/// Stops every worker at once and waits for them all.
+async fn stop_all(children: Vec<Child>) {
+    let stops: Vec<_> = children
+        .into_iter()
+        .map(|c| tokio::spawn(stop(c)))
+        .collect();
+    for s in stops {
+        let _ = s.await;
+    }
+}
+
+/// SIGTERM, SIGINT and SIGHUP, caught from the moment the driver starts its workers.
+struct StopSignals {
+    term: tokio::signal::unix::Signal,
+    int: tokio::signal::unix::Signal,
+    hup: tokio::signal::unix::Signal,
+}
+
+impl StopSignals {
+    fn install() -> anyhow::Result<Self> {
+        use tokio::signal::unix::{signal, SignalKind};
+        let install = |kind| signal(kind).context("installing the driver's signal handlers");
+        Ok(Self {
+            term: install(SignalKind::terminate())?,
+            int: install(SignalKind::interrupt())?,
+            hup: install(SignalKind::hangup())?,
+        })
+    }
+
+    /// Resolves on the next signal, with its name.
+    async fn recv(&mut self) -> &'static str {
+        tokio::select! {
+            _ = self.term.recv() => "SIGTERM",
+            _ = self.int.recv() => "SIGINT",
+            _ = self.hup.recv() => "SIGHUP",
+        }
     }
 }
 
@@ -114,6 +163,7 @@ pub(crate) async fn drive(
             "jobs of dead worker processes of this host taken back"
         );
     }
+    let mut signals = StopSignals::install()?;
     let mut children = Vec::with_capacity(options.workers);
     if open_jobs(&progress) > 0 {
         for _ in 0..options.workers {
@@ -194,14 +244,44 @@ pub(crate) async fn drive(
             }
         }
         store.sweep_expired().await?;
-        tokio::time::sleep(Duration::from_millis(500)).await;
+        let stopped = tokio::select! {
+            name = signals.recv() => Some(name),
+            () = tokio::time::sleep(Duration::from_millis(500)) => None,
+        };
+        if let Some(name) = stopped {
+            if let Some(b) = &bar {
+                b.abandon();
+            }
+            if options.detach_workers {
+                let n = children.len();
+                // the children outlive the driver (`Child` does not kill on drop)
+                drop(children);
+                anyhow::bail!(
+                    "campaign {}: driver stopped by {name}; its {n} worker(s) go on running the \
+                     campaign to its end (--detach-workers)",
+                    record.name
+                );
+            }
+            let pids: Vec<i64> = children
+                .iter()
+                .filter_map(|c| c.id().map(i64::from))
+                .collect();
+            stop_all(children).await;
+            // their running jobs are back in the queue (released on SIGTERM); a worker that
+            // had to be killed loses its lease now rather than when it runs out
+            store.expire_leases_of(&host, &pids).await?;
+            anyhow::bail!(
+                "campaign {}: stopped by {name}; its workers were stopped and their jobs \
+                 returned to the queue (`campaign resume {}` completes it)",
+                record.name,
+                record.name
+            );
+        }
     }
     if let Some(b) = &bar {
         b.finish();
     }
-    for child in children {
-        stop(child).await;
-    }
+    stop_all(children).await;
     tracing::info!(
         "campaign {}: {} done, {} failed, {} cancelled of {} jobs; occurrence covered {:.3} % of the year",
         record.name,

@@ -3,6 +3,7 @@
 //! what maps). What does not map is printed as warnings naming the deck row; a deck moorfret
 //! cannot represent is refused with its row.
 
+use crate::cli::output::outln;
 use std::path::{Component, Path, PathBuf};
 
 use anyhow::{bail, Context};
@@ -34,10 +35,10 @@ pub(crate) struct MoordynArgs {
     #[arg(long)]
     pub(crate) floater: Option<PathBuf>,
     /// Recorded duration (s); by default the end of the motion table.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub(crate) duration_s: Option<f64>,
     /// Time step and output interval (s).
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.1)]
     pub(crate) time_step_s: f64,
     /// Hot spot `LINE:ARC_M` (MoorDyn id of the line at the fairlead, arc length from the
     /// fairlead); repeatable.
@@ -86,6 +87,15 @@ fn relative_path(target: &Path, base: &Path) -> anyhow::Result<PathBuf> {
 /// Runs the command.
 pub(crate) fn execute(cmd: ImportCommand) -> anyhow::Result<()> {
     let ImportCommand::Moordyn(args) = cmd;
+    // the options by their names, before the deck is read or anything written
+    for (option, value) in [
+        ("--duration-s", args.duration_s),
+        ("--time-step-s", Some(args.time_step_s)),
+    ] {
+        if let Some(v) = value.filter(|v| !(v.is_finite() && *v > 0.0)) {
+            bail!("{option} must be a positive number of seconds (got {v})");
+        }
+    }
     let text = std::fs::read_to_string(&args.deck)
         .with_context(|| format!("reading {}", args.deck.display()))?;
     let out_dir = match args.out.parent() {
@@ -138,7 +148,7 @@ pub(crate) fn execute(cmd: ImportCommand) -> anyhow::Result<()> {
     std::fs::write(&args.out, json + "\n")
         .with_context(|| format!("writing {}", args.out.display()))?;
     let m = &imported.case.mooring;
-    println!(
+    outln!(
         "wrote {}: {} line(s) of {} segment(s), {:.1} m each, calm water, {} s at {} s steps ({} warning(s))",
         args.out.display(),
         m.lines.len(),
@@ -147,6 +157,6 @@ pub(crate) fn execute(cmd: ImportCommand) -> anyhow::Result<()> {
         duration_s,
         args.time_step_s,
         imported.notes.len()
-    );
+    )?;
     Ok(())
 }

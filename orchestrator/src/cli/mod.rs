@@ -6,6 +6,7 @@ use clap::{Parser, Subcommand};
 pub(crate) mod campaign;
 pub(crate) mod drive;
 pub(crate) mod import;
+pub(crate) mod output;
 pub(crate) mod query;
 pub(crate) mod rainflow;
 pub(crate) mod report;

@@ -2,8 +2,7 @@
 //! [--format table|csv|json]`: a campaign's results from the store's views
 //! ([`moorfret_orchestrator::query`]).
 
-use std::io::Write;
-
+use anyhow::Context;
 use clap::Args;
 
 use moorfret_orchestrator::query::{self, OutputFormat, QueryKind, DEFAULT_DB};
@@ -32,8 +31,9 @@ pub(crate) struct QueryArgs {
 
 /// Opens an existing store (never creates one for a read).
 pub(crate) async fn open_existing(db: &str) -> anyhow::Result<Store> {
-    moorfret_store::StoreLocation::parse(db)?.require_existing()?;
-    Ok(Store::open(db, StoreOptions::default()).await?)
+    Store::open_existing(db, StoreOptions::default())
+        .await
+        .with_context(|| format!("opening the store {db}"))
 }
 
 /// Runs the query and prints it on stdout.
@@ -48,6 +48,6 @@ pub(crate) fn execute(args: QueryArgs) -> anyhow::Result<()> {
         table
     })?;
     let text = table.render(args.format)?;
-    std::io::stdout().lock().write_all(text.as_bytes())?;
+    super::output::write_out(format_args!("{text}"))?;
     Ok(())
 }

@@ -1,6 +1,9 @@
 //! `moorfret rainflow FILE.csv`: rainflow-count one column of a CSV file (ASTM E1049-85).
 //!
-//! The file has a header row; the counted column is `--column NAME` or else the first one.
+//! The file has a header row; the counted column is `--column NAME` or else the first one that
+//! is not a time column (`t`, `time`, or a name starting with `t_` or `time_`, such as the
+//! `time_s` of moorfret's own `hotspots.csv`): time only increases, and counting it would give
+//! one half cycle over the whole record.
 //! Output (stdout) is JSON `{"cycles": [{"range", "mean", "count", "start_index",
 //! "end_index"}, …]}` or, with `--format csv`, one row per cycle. Indices are zero-based data
 //! rows (the header is not counted). A missing column, a cell that is not a finite number or a
@@ -28,14 +31,15 @@ pub(crate) enum RainflowFormat {
 pub(crate) struct RainflowArgs {
     /// CSV file with a header row.
     pub(crate) file: PathBuf,
-    /// Column to count (default: the first column).
+    /// Column to count (default: the first column that is not a time column: `t`, `time`,
+    /// `t_…`, `time_…`).
     #[arg(long)]
     pub(crate) column: Option<String>,
     /// Treat the series as one period of a repeating history (closes the residue).
     #[arg(long)]
     pub(crate) repeating: bool,
     /// Hysteresis gate: ignore ripples not larger than this (unit of the column).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
     pub(crate) gate: f64,
     /// Write JSON (the default; same as `--format json`).
     #[arg(long, conflicts_with = "format")]
@@ -71,7 +75,13 @@ pub(crate) fn read_column(
                 headers.iter().collect::<Vec<_>>().join(", ")
             ),
         },
-        None => (0, headers.get(0).unwrap_or("").to_string()),
+        None => match headers.iter().position(|h| !is_time_column(h)) {
+            Some(i) => (i, headers.get(i).unwrap_or("").to_string()),
+            None => bail!(
+                "{shown} line 1: every column is a time column ({}); name one with --column",
+                headers.iter().collect::<Vec<_>>().join(", ")
+            ),
+        },
     };
     let mut values = Vec::new();
     for record in reader.records() {
@@ -99,6 +109,12 @@ pub(crate) fn read_column(
         bail!("{shown}: no data rows after the header");
     }
     Ok(values)
+}
+
+/// Whether a column header names time (skipped when no `--column` is given).
+fn is_time_column(header: &str) -> bool {
+    let h = header.trim().to_ascii_lowercase();
+    h == "t" || h == "time" || h.starts_with("t_") || h.starts_with("time_") || h == "time(s)"
 }
 
 /// Writes cycles in the requested format.
@@ -131,6 +147,9 @@ pub(crate) fn write_cycles(
 
 /// Runs `moorfret rainflow`, writing to `out`.
 pub(crate) fn run(args: &RainflowArgs, out: &mut dyn Write) -> anyhow::Result<()> {
+    if !(args.gate.is_finite() && args.gate >= 0.0) {
+        bail!("--gate must be finite and >= 0 (got {})", args.gate);
+    }
     let values = read_column(&args.file, args.column.as_deref())?;
     let options = RainflowOptions {
         hysteresis_gate: args.gate,
@@ -148,7 +167,7 @@ pub(crate) fn run(args: &RainflowArgs, out: &mut dyn Write) -> anyhow::Result<()
 
 /// Executes `moorfret rainflow` on standard output.
 pub(crate) fn execute(args: RainflowArgs) -> anyhow::Result<()> {
-    let stdout = std::io::stdout();
-    let mut lock = stdout.lock();
-    run(&args, &mut lock)
+    let mut out = super::output::stdout();
+    let result = run(&args, &mut out);
+    out.finish(result)
 }

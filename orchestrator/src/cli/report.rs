@@ -1,6 +1,7 @@
 //! `moorfret report NAME --out DIR [--db URL] [--artifacts DIR]`: an offline HTML page of a
 //! campaign's results ([`moorfret_orchestrator::report`]).
 
+use crate::cli::output::outln;
 use std::path::PathBuf;
 
 use clap::Args;
@@ -25,11 +26,46 @@ pub(crate) struct ReportArgs {
     pub(crate) artifacts: Option<PathBuf>,
 }
 
-/// Writes the report and prints the path of the page.
+/// Writes the report and prints the path of the page. The store is opened first: a refused
+/// store leaves no directory behind, and an artifact directory is read, never created.
 pub(crate) fn execute(args: ReportArgs) -> anyhow::Result<()> {
-    let artifacts = match (&args.artifacts, StoreLocation::parse(&args.db)?) {
-        (Some(dir), _) => Some(ArtifactStore::open(dir.clone())?),
-        (None, StoreLocation::Sqlite(path)) if path.exists() => {
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()?;
+    let page = runtime.block_on(async {
+        let store = open_existing(&args.db).await?;
+        let page = match artifact_dir(&args) {
+            Ok(artifacts) => {
+                moorfret_orchestrator::report::write_report(
+                    &store,
+                    &args.name,
+                    &args.out,
+                    artifacts.as_ref(),
+                )
+                .await
+            }
+            Err(err) => Err(err),
+        };
+        store.close().await;
+        page
+    })?;
+    outln!("{}", page.display())?;
+    Ok(())
+}
+
+/// The artifact directory of the report: `--artifacts DIR` (which must exist), or the one
+/// beside an SQLite store when there is one.
+fn artifact_dir(args: &ReportArgs) -> anyhow::Result<Option<ArtifactStore>> {
+    Ok(match (&args.artifacts, StoreLocation::parse(&args.db)?) {
+        (Some(dir), _) => {
+            anyhow::ensure!(
+                dir.is_dir(),
+                "no artifact directory {} (--artifacts)",
+                dir.display()
+            );
+            Some(ArtifactStore::open(dir.clone())?)
+        }
+        (None, StoreLocation::Sqlite(path)) => {
             let mut name = path.file_name().unwrap_or_default().to_os_string();
             name.push(".artifacts");
             let dir = path.with_file_name(name);
@@ -40,22 +76,5 @@ pub(crate) fn execute(args: ReportArgs) -> anyhow::Result<()> {
             }
         }
         _ => None,
-    };
-    let runtime = tokio::runtime::Builder::new_current_thread()
-        .enable_all()
-        .build()?;
-    let page = runtime.block_on(async {
-        let store = open_existing(&args.db).await?;
-        let page = moorfret_orchestrator::report::write_report(
-            &store,
-            &args.name,
-            &args.out,
-            artifacts.as_ref(),
-        )
-        .await;
-        store.close().await;
-        page
-    })?;
-    println!("{}", page.display());
-    Ok(())
+    })
 }

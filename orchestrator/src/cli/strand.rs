@@ -8,6 +8,7 @@
 //!   accumulated slip and number of the cycles of at least `--min-slip-range-m`) and per contact
 //!   class (the damage inputs of the campaigns' default fatigue settings).
 
+use crate::cli::output::outln;
 use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail, Context};
@@ -215,7 +216,7 @@ fn calibrate(args: &CalibrateArgs) -> anyhow::Result<()> {
     };
     let (reduced, source) = calibration_for(&request, &range, range, &mut build, &mut observer)?;
     observer.finish();
-    println!(
+    outln!(
         "reduced strand response {} ({}): {} contacts, strain {:.4e} … {:.4e}, curvature \
          {:.4e} … {:.4e} 1/m",
         source.source,
@@ -225,36 +226,42 @@ fn calibrate(args: &CalibrateArgs) -> anyhow::Result<()> {
         reduced.range.strain[1],
         reduced.range.curvature_per_m[0],
         reduced.range.curvature_per_m[1],
-    );
+    )?;
     let c = &reduced.calibration;
-    println!(
+    outln!(
         "calibration run: {} samples, {} FE sub-steps, {} Newton iterations, {:.1} s",
-        c.design_samples, c.fe_substeps, c.fe_iterations, c.fe_wall_time_s
-    );
+        c.design_samples,
+        c.fe_substeps,
+        c.fe_iterations,
+        c.fe_wall_time_s
+    )?;
     for (k, chain) in c.chains.iter().enumerate() {
-        println!(
+        outln!(
             "  chain {k}: {} samples, {} sub-steps, {} iterations, {:.1} s",
-            chain.samples, chain.substeps, chain.iterations, chain.wall_time_s
-        );
+            chain.samples,
+            chain.substeps,
+            chain.iterations,
+            chain.wall_time_s
+        )?;
     }
     if let Some(m) = &reduced.modes {
-        println!(
+        outln!(
             "collective modes of the interfaces, known after {:.1} s (beside the chains): \
              own amplification, uniform / bending, per interface",
             c.modes_wall_time_s
-        );
+        )?;
         for (x, table) in m.knots.iter().zip(&m.amplification) {
             let own: Vec<String> = table
                 .iter()
                 .enumerate()
                 .map(|(i, row)| format!("{:.2}/{:.2}", row[i][0], row[i][1]))
                 .collect();
-            println!("  scaled tension {x:+.2}: {}", own.join("  "));
+            outln!("  scaled tension {x:+.2}: {}", own.join("  "))?;
         }
     }
-    println!("interface  slip rms resid/spread  f_N rms resid/spread  refit  replay: max range  accumulated  cycles  as range");
+    outln!("interface  slip rms resid/spread  f_N rms resid/spread  refit  replay: max range  accumulated  cycles  as range")?;
     for (f, r) in c.fits.iter().zip(&c.replay) {
-        println!(
+        outln!(
             "{:>9}  {:>9.2e} / {:<9.2e}  {:>8.2e} / {:<9.2e}  {:>5}  {:>+16.1}%  {:>+10.1}%  {:>+5.1}%  {:>8}",
             f.interface,
             f.slip_rms_residual_m,
@@ -266,11 +273,11 @@ fn calibrate(args: &CalibrateArgs) -> anyhow::Result<()> {
             100.0 * r.accumulated_slip_error,
             100.0 * r.cycles_error,
             r.cycles_as_range_label()
-        );
+        )?;
     }
     if let Some(out) = &args.out {
         write_calibration(out, &reduced)?;
-        println!("written to {}", out.display());
+        outln!("written to {}", out.display())?;
     }
     Ok(())
 }
@@ -520,11 +527,11 @@ fn compare(args: &CompareArgs) -> anyhow::Result<()> {
             let mut k = keep.iter();
             run.records.retain(|_| k.next().copied().unwrap_or(false));
         }
-        println!(
+        outln!(
             "{} of {} contacts, those at least {zone} m from the model's ends",
             a.records.len(),
             keep.len()
-        );
+        )?;
     }
     if !(args.run_in_s >= 0.0 && args.run_in_s.is_finite()) {
         bail!("--run-in-s {}: must be finite and ≥ 0", args.run_in_s);
@@ -532,18 +539,19 @@ fn compare(args: &CompareArgs) -> anyhow::Result<()> {
     let load = shared_load(args.load.as_deref(), &a, &b)?;
     let run_in = (args.run_in_s / load.dt_s).round() as usize;
     let interfaces = compare_records(&a.records, &b.records, args.min_slip_range_m, run_in);
-    println!(
+    outln!(
         "per interface, cycles of at least {:.2e} m after {} s (compared / reference − 1):",
-        args.min_slip_range_m, args.run_in_s
-    );
-    println!("{}", InterfaceComparison::HEADER);
+        args.min_slip_range_m,
+        args.run_in_s
+    )?;
+    outln!("{}", InterfaceComparison::HEADER)?;
     for c in &interfaces {
-        println!("{c}");
+        outln!("{c}")?;
     }
     let da = damage_inputs(&a, &load, &strand, run_in)?;
     let db = damage_inputs(&b, &load, &strand, run_in)?;
-    println!("per contact class, damage inputs (compared / reference − 1):");
-    println!("class                      fretting damage rate mean       max              slip cycles/h (all regimes)");
+    outln!("per contact class, damage inputs (compared / reference − 1):")?;
+    outln!("class                      fretting damage rate mean       max              slip cycles/h (all regimes)")?;
     let mut classes = Vec::new();
     for ca in &da.classes {
         let Some(cb) = db.classes.iter().find(|c| c.class == ca.class) else {
@@ -558,7 +566,7 @@ fn compare(args: &CompareArgs) -> anyhow::Result<()> {
             "damage_rate_max_per_s": [ca.fretting_damage_rate_max_per_s, cb.fretting_damage_rate_max_per_s],
             "cycles_per_hour": [total(&ca.regime_cycles_per_hour), total(&cb.regime_cycles_per_hour)],
         });
-        println!(
+        outln!(
             "{:>2} {:<22} {:.3e} → {:.3e} {:>+6.1}%  {:.3e} → {:.3e} {:>+6.1}%  {:.3e} → {:.3e} {:>+6.1}%",
             ca.class.interface,
             ca.class.position.as_str(),
@@ -583,7 +591,7 @@ fn compare(args: &CompareArgs) -> anyhow::Result<()> {
                     total(&ca.regime_cycles_per_hour),
                     total(&cb.regime_cycles_per_hour)
                 ),
-        );
+        )?;
         classes.push(row);
     }
     if let Some(path) = &args.json {

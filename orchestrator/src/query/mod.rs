@@ -3,8 +3,9 @@
 //!
 //! - `damage-inputs`: `sea_state_class_damage_inputs`, one row per sea state × hot spot ×
 //!   contact class for one fretting measure (`fretting_max` by default, or `fretting_mean`);
-//! - `sea-states`: the sea states with their job counts and per-hot-spot damage rates of every
-//!   other measure (T-N curves) from `sea_state_damage_inputs`;
+//! - `sea-states`: the sea states with their job counts, the fraction of their spectral energy
+//!   the wave cut-off keeps (`wave_energy_kept`, from the stored inputs), and per-hot-spot
+//!   damage rates of every other measure (T-N curves) from `sea_state_damage_inputs`;
 //! - `lifetime`: `lifetime_damage` (per hot spot and measure) and `lifetime_class_damage` (per
 //!   hot spot, contact class and fretting measure), annual damage with the covered occurrence
 //!   and its seed band (`moorfret_store::SeedBand`: standard error, D ± 2 SE, effective degrees
@@ -65,15 +66,22 @@ pub async fn run(
     kind: QueryKind,
     measure: &str,
 ) -> anyhow::Result<Table> {
+    // Refused for every kind, also those that list every measure: a mistyped measure is
+    // never ignored ("" stands for the default, `fretting_max`).
+    let measure = if measure.is_empty() {
+        FRETTING_MEASURES[0]
+    } else {
+        measure
+    };
+    if !FRETTING_MEASURES.contains(&measure) {
+        anyhow::bail!(
+            "--measure `{measure}` is not a fretting measure (one of {})",
+            FRETTING_MEASURES.join(", ")
+        );
+    }
     let campaign = campaign_id(store, name).await?;
     match kind {
         QueryKind::DamageInputs => {
-            if !FRETTING_MEASURES.contains(&measure) {
-                anyhow::bail!(
-                    "--measure `{measure}` is not a fretting measure (one of {})",
-                    FRETTING_MEASURES.join(", ")
-                );
-            }
             let rows: Vec<_> = store
                 .sea_state_class_damage(campaign)
                 .await?
@@ -109,20 +117,7 @@ pub async fn run(
         }
         QueryKind::SeaStates => sea_states(store, campaign).await,
         QueryKind::Lifetime => lifetime(store, campaign).await,
-        QueryKind::Seeds => {
-            let measure = if measure.is_empty() {
-                FRETTING_MEASURES[0]
-            } else {
-                measure
-            };
-            if !FRETTING_MEASURES.contains(&measure) {
-                anyhow::bail!(
-                    "--measure `{measure}` is not a fretting measure (one of {})",
-                    FRETTING_MEASURES.join(", ")
-                );
-            }
-            seeds(store, campaign, measure).await
-        }
+        QueryKind::Seeds => seeds(store, campaign, measure).await,
         QueryKind::Fidelity => fidelity(store, campaign).await,
         QueryKind::Contacts => Table::from_rows(
             &[
@@ -162,6 +157,27 @@ async fn sea_states(store: &Store, campaign: CampaignId) -> anyhow::Result<Table
         ],
         &states,
     )?;
+    // The fraction of each sea state's spectral energy the global stage's wave cut-off keeps,
+    // from the campaign's stored inputs (empty for a campaign stored without them).
+    let inputs = store
+        .campaigns()
+        .await?
+        .into_iter()
+        .find(|c| c.id == campaign)
+        .and_then(|c| {
+            serde_json::from_value::<moorfret_campaign::CampaignInputs>(c.spec["inputs"].clone())
+                .ok()
+        });
+    let kept = states
+        .iter()
+        .map(|s| {
+            inputs
+                .as_ref()
+                .and_then(|i| moorfret_campaign::sea_limits::check(i, s.hs_m, s.tp_s).ok())
+                .map_or(Value::Null, |l| Value::from(l.energy_kept))
+        })
+        .collect();
+    table.push_column("wave_energy_kept".into(), kept);
     for (hot_spot, measure) in &extra {
         let column = format!("{measure}_rate_per_s_hs{hot_spot}");
         let values = states

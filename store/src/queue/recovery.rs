@@ -198,12 +198,11 @@ impl Queue {
         const OP: &str = "cancel campaign";
         let mut tx = self.begin_write(OP).await?;
         let now = self.now_ms(&mut tx).await?;
-        let found = sqlx::query("UPDATE campaigns SET state = 'cancelled' WHERE id = $1")
+        let found: i64 = sqlx::query_scalar("SELECT COUNT(*) FROM campaigns WHERE id = $1")
             .bind(campaign.0)
-            .execute(&mut *tx)
+            .fetch_one(&mut *tx)
             .await
-            .map_err(StoreError::db(OP))?
-            .rows_affected();
+            .map_err(StoreError::db(OP))?;
         if found == 0 {
             tx.rollback().await.map_err(StoreError::db(OP))?;
             return Err(StoreError::UnknownCampaign(campaign.to_string()));
@@ -230,6 +229,16 @@ impl Queue {
         .fetch_all(&mut *tx)
         .await
         .map_err(StoreError::db(OP))?;
+        if cancelled.is_empty() {
+            // every job is finished: nothing to cancel, and the campaign keeps its state
+            tx.rollback().await.map_err(StoreError::db(OP))?;
+            return Ok(CancelReport { jobs_cancelled: 0 });
+        }
+        sqlx::query("UPDATE campaigns SET state = 'cancelled' WHERE id = $1")
+            .bind(campaign.0)
+            .execute(&mut *tx)
+            .await
+            .map_err(StoreError::db(OP))?;
         for token in &tokens {
             sqlx::query(
                 "UPDATE attempts SET outcome = 'cancelled', ended_at_ms = $1 \

@@ -11,6 +11,7 @@
 //! cannot reach their fairlead are errors naming the quantity; `main` turns them into exit
 //! code 1.
 
+use crate::cli::output::outln;
 use anyhow::{anyhow, Context};
 use clap::Args;
 use moorfret_solver::mooring::catenary::{
@@ -28,22 +29,22 @@ pub(crate) const INEXTENSIBLE_AXIAL_STIFFNESS_N: f64 = 1.0e15;
 #[command(allow_negative_numbers = true)]
 pub(crate) struct CatenaryArgs {
     /// Horizontal distance from the anchor to the fairlead X_F (m).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub(crate) horizontal_span_m: f64,
     /// Height of the fairlead above the anchor Z_F (m).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub(crate) vertical_span_m: f64,
     /// Unstretched line length L (m).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub(crate) length_m: f64,
     /// Submerged weight per unit length w (N/m).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub(crate) weight_n_per_m: f64,
     /// Axial stiffness EA (N); omitted: inextensible line (EA = 1e15 N, no stretch to reach).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub(crate) axial_stiffness_n: Option<f64>,
     /// Seabed friction coefficient C_B (-).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0)]
     pub(crate) seabed_friction: f64,
     /// Print one JSON object instead of a table.
     #[arg(long)]
@@ -115,28 +116,28 @@ pub(crate) fn execute(args: CatenaryArgs) -> anyhow::Result<()> {
     let report = CatenaryReport::from(&solution);
     if args.json {
         let text = serde_json::to_string(&report).context("serialising the catenary result")?;
-        println!("{text}");
+        outln!("{text}")?;
     } else {
-        println!(
+        outln!(
             "horizontal tension H        {:>14.2} N",
             report.horizontal_tension_n
-        );
-        println!(
+        )?;
+        outln!(
             "fairlead vertical tension   {:>14.2} N",
             report.fairlead_vertical_tension_n
-        );
-        println!(
+        )?;
+        outln!(
             "fairlead tension            {:>14.2} N",
             report.fairlead_tension_n
-        );
-        println!(
+        )?;
+        outln!(
             "anchor tension              {:>14.2} N",
             report.anchor_tension_n
-        );
-        println!(
+        )?;
+        outln!(
             "laid length                 {:>14.4} m",
             report.laid_length_m
-        );
+        )?;
     }
     Ok(())
 }

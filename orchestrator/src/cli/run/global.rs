@@ -18,7 +18,10 @@ use clap::Args;
 use moorfret_solver::floater::prescribed::PrescribedMotion;
 use moorfret_solver::floater::FloaterSpec;
 use moorfret_solver::global::case::FloaterSource;
-use moorfret_solver::global::{run, CaseSpec, FloaterInput, GlobalModel, GlobalResult, RunParams};
+use moorfret_solver::global::{
+    run, CaseSpec, FloaterInput, GlobalError, GlobalModel, GlobalResult, RunParams,
+};
+use moorfret_solver::text::Num;
 
 use moorfret_orchestrator::plot;
 
@@ -31,16 +34,16 @@ pub(crate) struct GlobalArgs {
     #[arg(long)]
     pub(crate) out: PathBuf,
     /// Recorded duration after the transient (s), overriding the case.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub(crate) duration_s: Option<f64>,
     /// Discarded start-up time (s), overriding the case (the wave ramp is shortened to fit).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub(crate) transient_s: Option<f64>,
     /// Significant wave height (m), overriding the case's sea state.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub(crate) hs_m: Option<f64>,
     /// Peak period (s), overriding the case's sea state.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub(crate) tp_s: Option<f64>,
     /// Seed of the sea's realisation, overriding the case's.
     #[arg(long)]
@@ -60,7 +63,17 @@ fn read(path: &Path) -> anyhow::Result<String> {
 
 /// Loads the case and its floater input.
 pub(crate) fn load_case(path: &Path) -> anyhow::Result<(CaseSpec, FloaterInput)> {
-    let case = CaseSpec::from_json_str(&read(path)?)
+    let text = read(path)?;
+    let case = CaseSpec::from_json_str(&text)
+        .map_err(|e| {
+            // the field path at fault, which the case's own reader does not give
+            match moorfret_campaign::spec::from_json_with_path::<CaseSpec>(&text) {
+                Err(with_path) if with_path.starts_with("field `") => {
+                    anyhow::anyhow!("case file is not a valid case description: {with_path}")
+                }
+                _ => anyhow::Error::new(e),
+            }
+        })
         .with_context(|| format!("in case file {}", path.display()))?;
     let base = path.parent().unwrap_or(Path::new("."));
     let floater = match &case.floater {
@@ -82,6 +95,46 @@ pub(crate) fn load_case(path: &Path) -> anyhow::Result<(CaseSpec, FloaterInput)>
     Ok((case, floater))
 }
 
+/// A fault of the case as run: named by the command-line option that set the field at fault,
+/// or else as a fault of the case file.
+fn blame_option(args: &GlobalArgs, err: GlobalError) -> anyhow::Error {
+    let given = |v: Option<f64>| v.map(|x| Num(x).to_string());
+    let options = [
+        ("timing.duration_s", "--duration-s", given(args.duration_s)),
+        (
+            "timing.transient_s",
+            "--transient-s",
+            given(args.transient_s),
+        ),
+        ("sea_state.hs_m", "--hs-m", given(args.hs_m)),
+        ("sea_state.tp_s", "--tp-s", given(args.tp_s)),
+        ("sea_state.seed", "--seed", args.seed.map(|s| s.to_string())),
+    ];
+    let in_case = || format!("in case file {}", args.case.display());
+    match &err {
+        GlobalError::InvalidCase { field, reason, .. } => {
+            match options.iter().find(|(f, _, v)| f == field && v.is_some()) {
+                Some((_, option, Some(value))) => anyhow::anyhow!(
+                    "command-line option {option} {value}: {reason} (it sets the case's {field})"
+                ),
+                _ => anyhow::Error::new(err).context(in_case()),
+            }
+        }
+        // the sea state as the options made it
+        GlobalError::Waves(_) if args.hs_m.is_some() || args.tp_s.is_some() => {
+            let set: Vec<String> = options[2..4]
+                .iter()
+                .filter_map(|(_, o, v)| v.as_ref().map(|v| format!("{o} {v}")))
+                .collect();
+            anyhow::Error::new(err).context(format!(
+                "in the sea state set by the command-line option(s) {}",
+                set.join(" ")
+            ))
+        }
+        _ => anyhow::Error::new(err).context(in_case()),
+    }
+}
+
 /// Runs the command.
 pub(crate) fn execute(args: &GlobalArgs) -> anyhow::Result<()> {
     if args.threads == 0 {
@@ -101,8 +154,8 @@ pub(crate) fn execute(args: &GlobalArgs) -> anyhow::Result<()> {
     if let Some(seed) = args.seed {
         case.sea_state.seed = seed;
     }
-    let model = GlobalModel::new(&case, floater, args.duration_s)
-        .with_context(|| format!("in case file {}", args.case.display()))?;
+    let model =
+        GlobalModel::new(&case, floater, args.duration_s).map_err(|e| blame_option(args, e))?;
     let t_end = model.case.timing.transient_s + model.case.timing.duration_s;
     tracing::info!(
         case = %model.case.name,

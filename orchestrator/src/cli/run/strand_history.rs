@@ -33,6 +33,7 @@
 //! file, then rename); with `--resume` a run starts from FILE if it exists, and gives results
 //! identical to the bit to an uninterrupted run.
 
+use crate::cli::output::outln;
 use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -705,7 +706,7 @@ pub(crate) fn samples_of(
                 }
                 _ => None,
             };
-            println!(
+            outln!(
                 "axial stiffness EA = {ea:.6e} N ({how}; straight strand {:.6e} N, \
                  Costello-corrected {:.6e} N{})",
                 estimate.simple_n,
@@ -713,7 +714,7 @@ pub(crate) fn samples_of(
                 compliant.map_or(String::new(), |c| format!(
                     ", with the contacts' compliance {c:.6e} N"
                 ))
-            );
+            )?;
             // Negative tensions were refused by `read_load` unless `--slack-as-zero`.
             let (samples, slack) = samples_from_tension(
                 &table.time_s,
