@@ -16,7 +16,12 @@
 //! Q = Q_k + (μP/δ_s) F(x) (g − g_k), x = s/(κ δ_s), F(x) = (1 + y + y²)/(1 + y), y = (1 − x)^{1/2},
 //! which is smooth at s = 0 (F(0) = 3/2: initial stiffness k₀ in every direction).
 //! - Reversal: the trial gap moves back towards the current branch's origin,
-//!   (g − g_n)·(g_n − g_k) < 0 with g_n the last accepted gap: (g_n, Q(g_n)) is pushed.
+//!   (g − g_n)·(g_n − g_k) < 0 with g_n the last accepted gap: (g_n, Q(g_n)) is pushed. In two
+//!   dimensions the two branches differ off the line of the branch: the forces of the branch
+//!   continued and of the branch reversed are blended (C¹ smoothstep) over the steps whose
+//!   cosine with the way back lies within ±[`REVERSAL_BAND`], so that the force is continuous
+//!   (in one dimension the cosine is ±1 and one branch is taken exactly); the memory kept is
+//!   that of the branch of larger weight.
 //! - Memory (Masing's rule for nested loops): a branch that reaches the reversal point before
 //!   its own (the mirror point −g₁ for the first branch, whose previous branch is the symmetric
 //!   virgin curve) rejoins the branch it interrupted: both points are popped. At most
@@ -39,6 +44,10 @@ use super::scalar::{Scalar, V3};
 
 /// Reversal points kept in a contact's memory.
 pub const MEMORY_DEPTH: usize = 4;
+
+/// Half-width, in the cosine of the angle between the step and the way back to the newest
+/// reversal point, of the band over which the continued and the reversed branch are blended.
+pub const REVERSAL_BAND: f64 = 0.2;
 
 /// The reversal points of the Cattaneo–Mindlin law at the last accepted step (empty for the
 /// other laws and on the virgin curve).
@@ -126,7 +135,7 @@ pub(crate) fn evaluate<S: Scalar>(
     let delta_s = limit * 1.5 / k0;
     let origin = V3::new(zero, zero, zero);
     let mut stack = [(origin, origin); MEMORY_DEPTH];
-    let mut count = (memory.count as usize).min(MEMORY_DEPTH);
+    let count = (memory.count as usize).min(MEMORY_DEPTH);
     for (slot, r) in stack.iter_mut().zip(&memory.reversals).take(count) {
         *slot = (map(t1, t2, r[0], r[1]), map(t1, t2, r[2], r[3]));
     }
@@ -137,37 +146,86 @@ pub(crate) fn evaluate<S: Scalar>(
             (stack[count - 1].0, stack[count - 1].1, 2.0)
         }
     };
-    // Reversal: the trial gap heads back towards the current branch's origin.
+    // Reversal: the trial gap heads back towards the current branch's origin. The branch
+    // without (A) and with (B) the reversal are blended over a band of step directions nearly
+    // perpendicular to the branch, |cos| < REVERSAL_BAND, so that the force stays continuous in
+    // two dimensions (in one, cos = ±1 and one branch is taken exactly).
     let (gk, qk, kappa) = top(&stack, count);
-    let back = previous.val() - gk.val();
-    let step = g.val() - previous.val();
-    if back.norm() > 0.0 && step.dot(&back) < 0.0 {
-        let (q_prev, _) = branch(previous, &gk, &qk, kappa, limit, delta_s);
-        if count == MEMORY_DEPTH {
-            stack.copy_within(1.., 0);
-            count -= 1;
-        }
-        stack[count] = (*previous, q_prev);
-        count += 1;
-    }
-    // Memory: a branch reaching the reversal point before its own rejoins the earlier branch.
-    while count > 0 {
-        let gk = stack[count - 1].0.val();
-        let gp = if count >= 2 {
-            stack[count - 2].0.val()
+    let back = *previous - gk;
+    let step = *g - *previous;
+    let (bn, sn) = (back.norm().val(), step.norm().val());
+    let cosine = if bn > 0.0 && sn > 0.0 {
+        Some(step.dot(&back) / (step.norm() * back.norm()))
+    } else {
+        None
+    };
+    let weight = cosine.map(|c| {
+        if c.val() <= -REVERSAL_BAND {
+            S::cst(1.0)
+        } else if c.val() >= REVERSAL_BAND {
+            S::cst(0.0)
         } else {
-            -gk
-        };
-        let span = gp - gk;
-        let w = g.val() - gk;
-        if span.norm() > 0.0 && w.dot(&span) > 0.0 && w.norm() >= span.norm() {
-            count -= count.min(2);
-        } else {
-            break;
+            // smoothstep from 0 at c = +band to 1 at c = −band (C¹)
+            let t = (S::cst(REVERSAL_BAND) - c) / S::cst(2.0 * REVERSAL_BAND);
+            t * t * (S::cst(3.0) - t * 2.0)
         }
-    }
-    let (gk, qk, kappa) = top(&stack, count);
-    let (q, x) = branch(g, &gk, &qk, kappa, limit, delta_s);
+    });
+    let follow = |mut stack: [(V3<S>, V3<S>); MEMORY_DEPTH], mut count: usize| {
+        // Memory: a branch reaching the reversal point before its own rejoins the earlier one.
+        while count > 0 {
+            let gk = stack[count - 1].0.val();
+            let gp = if count >= 2 {
+                stack[count - 2].0.val()
+            } else {
+                -gk
+            };
+            let span = gp - gk;
+            let w = g.val() - gk;
+            if span.norm() > 0.0 && w.dot(&span) > 0.0 && w.norm() >= span.norm() {
+                count -= count.min(2);
+            } else {
+                break;
+            }
+        }
+        let (gk, qk, kappa) = top(&stack, count);
+        let (q, x) = branch(g, &gk, &qk, kappa, limit, delta_s);
+        stack
+            .iter_mut()
+            .skip(count)
+            .for_each(|e| *e = (origin, origin));
+        (stack, count, q, x)
+    };
+    let continued = match weight {
+        Some(w) if w.val() >= 1.0 => None,
+        _ => Some(follow(stack, count)),
+    };
+    let reversed = match weight {
+        Some(w) if w.val() > 0.0 => {
+            let (q_prev, _) = branch(previous, &gk, &qk, kappa, limit, delta_s);
+            let (mut pushed, mut n) = (stack, count);
+            if n == MEMORY_DEPTH {
+                pushed.copy_within(1.., 0);
+                n -= 1;
+            }
+            pushed[n] = (*previous, q_prev);
+            Some(follow(pushed, n + 1))
+        }
+        _ => None,
+    };
+    let (stack, count, q, x) = match (continued, reversed, weight) {
+        (Some(a), None, _) => a,
+        (None, Some(b), _) => b,
+        (Some(a), Some(b), Some(w)) => {
+            let q = a.2 + (b.2 - a.2).scale(w);
+            let x = a.3 + (b.3 - a.3) * w.val();
+            if w.val() >= 0.5 {
+                (b.0, b.1, q, x)
+            } else {
+                (a.0, a.1, q, x)
+            }
+        }
+        _ => unreachable!("one branch at least is followed"),
+    };
     let mut points = empty;
     for (out, (a, b)) in points.iter_mut().zip(&stack).take(count) {
         *out = (a.val(), b.val());
