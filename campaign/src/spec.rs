@@ -190,10 +190,19 @@ pub struct StrandSpec {
     /// Inter-wire Coulomb friction coefficient, overriding the profile's.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction_coefficient: Option<f64>,
-    /// Contact normal penalty (N/m).
-    pub normal_penalty_n_per_m: f64,
-    /// Elastic slip of the regularised friction law (m).
-    pub elastic_slip_m: f64,
+    /// Contact laws of the wire crossings: `regularised` (default: penalty normal law and
+    /// elastic-slip Coulomb law, with `normal_penalty_n_per_m` and `elastic_slip_m`) or
+    /// `contact_mechanics` (Hertz normal law at the crossings, line law on the core,
+    /// Cattaneo–Mindlin tangential law with memory; no regularisation parameter).
+    #[serde(default, skip_serializing_if = "StrandContactLaws::is_regularised")]
+    pub contact_laws: StrandContactLaws,
+    /// Contact normal penalty (N/m); `regularised` laws only, required with them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal_penalty_n_per_m: Option<f64>,
+    /// Elastic slip of the regularised friction law (m); `regularised` laws only, required
+    /// with them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elastic_slip_m: Option<f64>,
     /// Sampling interval of the load history fed to the strand (s); a multiple of the
     /// global output interval.
     pub load_interval_s: f64,
@@ -287,6 +296,26 @@ fn default_calibration_hs_fraction() -> f64 {
 
 fn is_default_calibration_hs_fraction(f: &f64) -> bool {
     *f == default_calibration_hs_fraction()
+}
+
+/// Contact laws of the strand model's wire crossings (`strand.contact_laws`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StrandContactLaws {
+    /// Penalty normal law and elastic-slip regularised Coulomb law (seed Sec. 2.1), with
+    /// `normal_penalty_n_per_m` and `elastic_slip_m`.
+    #[default]
+    Regularised,
+    /// Hertz normal law for crossed cylinders at their crossing angle, the line-contact law of
+    /// layer 0 on the core, and the Cattaneo–Mindlin tangential law with memory.
+    ContactMechanics,
+}
+
+impl StrandContactLaws {
+    /// Whether `self` is the default (`regularised`).
+    pub fn is_regularised(&self) -> bool {
+        *self == Self::Regularised
+    }
 }
 
 /// End conditions of the helical wires of the strand model.
@@ -588,8 +617,38 @@ impl CampaignSpec {
                 ));
             }
         }
-        positive("strand.normal_penalty_n_per_m", st.normal_penalty_n_per_m)?;
-        positive("strand.elastic_slip_m", st.elastic_slip_m)?;
+        for (field, value) in [
+            ("strand.normal_penalty_n_per_m", st.normal_penalty_n_per_m),
+            ("strand.elastic_slip_m", st.elastic_slip_m),
+        ] {
+            match (st.contact_laws, value) {
+                (StrandContactLaws::Regularised, Some(v)) => positive(field, v)?,
+                (StrandContactLaws::Regularised, None) => {
+                    return Err(invalid(
+                        field,
+                        "missing",
+                        "is required with strand.contact_laws \"regularised\" (the default)",
+                    ))
+                }
+                (StrandContactLaws::ContactMechanics, Some(v)) => {
+                    return Err(invalid(
+                        field,
+                        Num(v),
+                        "is not used by strand.contact_laws \"contact_mechanics\" (its laws \
+                         have no regularisation): remove it",
+                    ))
+                }
+                (StrandContactLaws::ContactMechanics, None) => {}
+            }
+        }
+        if st.contact_laws == StrandContactLaws::ContactMechanics && st.fidelity.uses_reduced() {
+            return Err(invalid(
+                "strand.fidelity",
+                format!("{:?}", st.fidelity).to_lowercase(),
+                "the reduced strand response is calibrated for the regularised laws only; \
+                 strand.contact_laws \"contact_mechanics\" needs fidelity \"fe\"",
+            ));
+        }
         positive("strand.load_interval_s", st.load_interval_s)?;
         let ratio = st.load_interval_s / s.output_interval_s;
         if ratio < 1.0 - 1e-9 || (ratio - ratio.round()).abs() > 1e-6 {
@@ -742,6 +801,72 @@ mod tests {
         }
         let err = with("periodic_rotation").unwrap_err().to_string();
         assert!(err.contains("periodic_rotations"), "{err}");
+    }
+
+    #[test]
+    fn the_contact_laws_are_regularised_by_default_and_contact_mechanics_has_no_regularisation() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../campaigns/paper.json");
+        let text = std::fs::read_to_string(path).unwrap();
+        let file: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let spec = CampaignSpec::from_json_str(&text).unwrap();
+        assert_eq!(spec.strand.contact_laws, StrandContactLaws::Regularised);
+        // an existing file serialises as before: same strand fields, same values
+        let again = serde_json::to_value(&spec).unwrap();
+        assert_eq!(again["strand"].get("contact_laws"), None);
+        for field in ["normal_penalty_n_per_m", "elastic_slip_m"] {
+            assert_eq!(again["strand"][field], file["strand"][field], "{field}");
+        }
+        let with = |strand: serde_json::Value| {
+            let mut v = serde_json::to_value(&spec).unwrap();
+            for (k, x) in strand.as_object().unwrap() {
+                if x.is_null() {
+                    v["strand"].as_object_mut().unwrap().remove(k);
+                } else {
+                    v["strand"][k] = x.clone();
+                }
+            }
+            CampaignSpec::from_json_str(&v.to_string())
+        };
+        let cm = with(serde_json::json!({"contact_laws": "contact_mechanics",
+            "normal_penalty_n_per_m": null, "elastic_slip_m": null, "fidelity": "fe"}))
+        .unwrap();
+        assert!(cm.validate().is_ok());
+        assert_eq!(
+            serde_json::to_value(&cm).unwrap()["strand"]["contact_laws"],
+            "contact_mechanics"
+        );
+        let field = |s: CampaignSpec| match s.validate() {
+            Err(CampaignError::Invalid { field, reason, .. }) => (field, reason),
+            other => panic!("{other:?}"),
+        };
+        let (f, why) = field(
+            with(
+                serde_json::json!({"contact_laws": "contact_mechanics", "fidelity": "fe",
+                "normal_penalty_n_per_m": null}),
+            )
+            .unwrap(),
+        );
+        assert_eq!(f, "strand.elastic_slip_m");
+        assert!(why.contains("not used"), "{why}");
+        let (f, why) = field(
+            with(
+                serde_json::json!({"contact_laws": "contact_mechanics", "fidelity": "auto",
+                "normal_penalty_n_per_m": null, "elastic_slip_m": null}),
+            )
+            .unwrap(),
+        );
+        assert_eq!(f, "strand.fidelity");
+        assert!(why.contains("regularised laws only"), "{why}");
+        let (f, why) = field(with(serde_json::json!({"elastic_slip_m": null})).unwrap());
+        assert_eq!(f, "strand.elastic_slip_m");
+        assert!(why.contains("required"), "{why}");
+        let err = with(serde_json::json!({"contact_laws": "hertz"}))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("regularised") && err.contains("contact_mechanics"),
+            "{err}"
+        );
     }
 
     #[test]

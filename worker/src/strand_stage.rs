@@ -49,6 +49,7 @@ use crate::gate::{auto_fe_selection, unselected_fe_result, GateContext};
 use crate::global_stage::series_role;
 use crate::series::HotSpotSeries;
 use moorfret_campaign::resolve::hot_spot_line_type;
+use moorfret_campaign::spec::StrandContactLaws;
 use moorfret_campaign::stiffness::{
     replace_file, AxialStiffnessRule, StiffnessCache, STIFFNESS_STRAIN,
 };
@@ -217,11 +218,18 @@ fn read_checkpoint(artifacts: &ArtifactStore, pointer: &Path) -> Option<HistoryC
 /// The model parameters of the campaign's strand settings.
 pub(crate) fn model_parameters(inputs: &CampaignInputs) -> StrandModelParameters {
     let st = &inputs.spec.strand;
-    StrandModelParameters::penalty_contact(
-        st.normal_penalty_n_per_m,
-        st.elastic_slip_m,
-        st.ends.end_kind(),
-    )
+    match st.contact_laws {
+        StrandContactLaws::Regularised => StrandModelParameters::penalty_contact(
+            st.normal_penalty_n_per_m
+                .expect("a validated spec with regularised laws has a normal penalty"),
+            st.elastic_slip_m
+                .expect("a validated spec with regularised laws has an elastic slip"),
+            st.ends.end_kind(),
+        ),
+        StrandContactLaws::ContactMechanics => {
+            StrandModelParameters::contact_mechanics(st.ends.end_kind())
+        }
+    }
 }
 
 fn contact_row(hot_spot_index: usize, index: usize, c: &ContactRecord) -> ContactStatistics {

@@ -20,7 +20,9 @@
 //!   g_T = P (d − r₁ n₁ − r₂ n₂) − α₁ t₁ − α₂ t₂ with αᵢ = ξⁱ₍ₙ₎ − eᵢ (history constants).
 //!
 //! Forces: penalty-type potential, f_N = f_N(−g_N) ≥ 0 and f_T = k_T g_T (stick) or
-//! f_T = μ f_N g_T/|g_T| (slip, radial return), see [`super::laws`]. The internal force vector
+//! f_T = μ f_N g_T/|g_T| (slip, radial return), see [`super::laws`]; with the Cattaneo–Mindlin
+//! law f_T is the branch of [`super::memory`] through the trial gap, returned to μ f_N in
+//! gross slip, and the history also keeps its reversal points. The internal force vector
 //! (contribution to the residual r = f_int − f_ext) is f_int = −f_N ∂g_N/∂q + (∂g_T/∂q)ᵀ f_T, with
 //!   ∂g_N/∂u₁ = −n, ∂g_N/∂u₂ = n, ∂g_N/∂θ₁ = t₁ × (t₂ × m), ∂g_N/∂θ₂ = t₂ × (m × t₁),
 //!   m = (σ/|t₁ × t₂|) P d,
@@ -40,6 +42,7 @@ use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use super::laws::{
     ContactError, ContactParameters, ResolvedLaws, ResolvedNormal, ResolvedTangential,
 };
+use super::memory::{self, TangentialMemory, MEMORY_DEPTH};
 use super::scalar::{director, point, Scalar, NDOF, V3};
 
 /// Element force vector [u₁, θ₁, u₂, θ₂].
@@ -107,6 +110,8 @@ pub struct ContactHistory {
     pub slip_path_m: f64,
     /// Status at the last accepted step.
     pub status: ContactStatus,
+    /// Reversal points of the Cattaneo–Mindlin law (empty for the other laws).
+    pub tangential_memory: TangentialMemory,
 }
 
 /// Result of one evaluation (trial values), with the history to store if the step is accepted.
@@ -154,6 +159,15 @@ struct Kernel<S> {
     n: V3<S>,
     kt: f64,
     status: ContactStatus,
+    /// Elastic gap and reversal points of the Cattaneo–Mindlin law.
+    memory: Option<MemoryState>,
+}
+
+/// What the Cattaneo–Mindlin law keeps from a trial evaluation.
+struct MemoryState {
+    elastic: Vector3<f64>,
+    points: [(Vector3<f64>, Vector3<f64>); MEMORY_DEPTH],
+    count: usize,
 }
 
 /// Components (a, b) of `v` on the non-orthogonal basis (t₁, t₂) of the tangent plane.
@@ -230,6 +244,7 @@ impl ContactPair {
             total_slip_m: [0.0; 2],
             slip_path_m: 0.0,
             status: ContactStatus::Open,
+            tangential_memory: TangentialMemory::default(),
         };
         Ok((pair, history))
     }
@@ -344,6 +359,7 @@ impl ContactPair {
                 let kn = match self.laws.normal {
                     ResolvedNormal::Penalty(kp) => kp,
                     ResolvedNormal::Hertz(kh) => 1.5 * kh * pen.max(0.0).sqrt(),
+                    ResolvedNormal::Line(l) => l.force_and_stiffness(pen).1,
                 };
                 let bn = SVector::<f64, NDOF>::from_column_slice(&k.gap.d);
                 let bt = nalgebra::SMatrix::<f64, 3, NDOF>::from_fn(|i, j| k.gt.c[i].d[j]);
@@ -352,8 +368,12 @@ impl ContactPair {
                         let g = k.gt.val();
                         let gn = g.norm();
                         let u = g / gn;
-                        (Matrix3::identity() - u * u.transpose())
-                            * (self.laws.friction_coefficient * k.normal_force.v / gn)
+                        if gn > 0.0 {
+                            (Matrix3::identity() - u * u.transpose())
+                                * (self.laws.friction_coefficient * k.normal_force.v / gn)
+                        } else {
+                            Matrix3::zeros()
+                        }
                     }
                     _ => Matrix3::identity() * k.kt,
                 };
@@ -423,24 +443,65 @@ impl ContactPair {
                 n,
                 kt: 0.0,
                 status: ContactStatus::Open,
+                memory: None,
             };
         }
         let pen = -gap;
+        // The line law's stiffness dF_N/dp as a scalar of its own (the Cattaneo–Mindlin initial
+        // stiffness of a line contact is proportional to it).
+        let mut line_stiffness = None;
         let fnorm = match self.laws.normal {
             ResolvedNormal::Penalty(k) => pen * k,
             ResolvedNormal::Hertz(k) => pen.powf(1.5) * k,
+            ResolvedNormal::Line(l) => {
+                let p0 = pen.val();
+                let (f, k, dk) = l.force_stiffness_and_derivative(p0);
+                line_stiffness = Some(pen * dk + (k - dk * p0));
+                pen * k + (f - k * p0)
+            }
         };
         let mu = self.laws.friction_coefficient;
-        let kt = match self.laws.tangential {
-            ResolvedTangential::ElasticSlip(ge) => fnorm * (mu / ge),
-            ResolvedTangential::Mindlin(c) => fnorm.powf(1.0 / 3.0) * c,
+        let k0 = match self.laws.tangential {
+            ResolvedTangential::CattaneoMindlinPoint(c) => Some(fnorm.powf(1.0 / 3.0) * c),
+            ResolvedTangential::CattaneoMindlinLine(ratio) => Some(match line_stiffness {
+                Some(k) => k * ratio,
+                // a penalty or Hertz normal law: its own tangent stiffness
+                None => match self.laws.normal {
+                    ResolvedNormal::Penalty(k) => S::cst(k * ratio),
+                    _ => pen.sqrt() * (1.5 * ratio) * self.hertz_coefficient(),
+                },
+            }),
+            _ => None,
         };
-        let limit = fnorm * mu;
-        let gt_norm = gt.norm().val();
-        let (ft, status) = if kt.val() * gt_norm <= limit.val() {
-            (gt.scale(kt), ContactStatus::Stick)
+        let (ft, status, kt, memory) = if let Some(k0) = k0 {
+            let m = &h.tangential_memory;
+            let previous = t1.scalef(h.elastic_gap_m[0]) + t2.scalef(h.elastic_gap_m[1]);
+            let trial = memory::evaluate(m, &previous, &gt, &t1, &t2, fnorm, k0, mu);
+            let state = MemoryState {
+                elastic: trial.elastic,
+                points: trial.points,
+                count: trial.count,
+            };
+            let status = if trial.slip {
+                ContactStatus::Slip
+            } else {
+                ContactStatus::Stick
+            };
+            (trial.force, status, trial.stiffness, Some(state))
         } else {
-            (gt.scale(limit / gt.norm()), ContactStatus::Slip)
+            let kt = match self.laws.tangential {
+                ResolvedTangential::ElasticSlip(ge) => fnorm * (mu / ge),
+                ResolvedTangential::Mindlin(c) => fnorm.powf(1.0 / 3.0) * c,
+                _ => unreachable!("the Cattaneo-Mindlin laws are evaluated above"),
+            };
+            let limit = fnorm * mu;
+            let gt_norm = gt.norm().val();
+            let (ft, status) = if kt.val() * gt_norm <= limit.val() {
+                (gt.scale(kt), ContactStatus::Stick)
+            } else {
+                (gt.scale(limit / gt.norm()), ContactStatus::Slip)
+            };
+            (ft, status, kt.val(), None)
         };
         // Normal and tangential terms share their structure: with
         // M = (σ/|t₁ × t₂|)(f_N P d + (n·v) f_T) and φ = f_T,
@@ -465,8 +526,17 @@ impl ContactPair {
             gt,
             ft,
             n,
-            kt: kt.val(),
+            kt,
             status,
+            memory,
+        }
+    }
+
+    /// K_H of a Hertz normal law (0 for the others).
+    fn hertz_coefficient(&self) -> f64 {
+        match self.laws.normal {
+            ResolvedNormal::Hertz(k) => k,
+            _ => 0.0,
         }
     }
 
@@ -487,11 +557,26 @@ impl ContactPair {
         let mapped_elastic = t1 * h.elastic_gap_m[0] + t2 * h.elastic_gap_m[1];
         let increment = gt - mapped_elastic;
         let total = t1 * h.total_slip_m[0] + t2 * h.total_slip_m[1] + increment;
-        let elastic = match k.status {
-            ContactStatus::Open => Vector3::zeros(),
-            ContactStatus::Stick => gt,
-            ContactStatus::Slip => ft / k.kt,
+        let elastic = match (k.status, &k.memory) {
+            (ContactStatus::Open, _) => Vector3::zeros(),
+            (_, Some(m)) => m.elastic,
+            (ContactStatus::Stick, None) => gt,
+            (ContactStatus::Slip, None) => ft / k.kt,
         };
+        let mut tangential_memory = TangentialMemory::default();
+        if let (ContactStatus::Stick | ContactStatus::Slip, Some(m)) = (k.status, &k.memory) {
+            tangential_memory.count = m.count as u8;
+            for (slot, (g, q)) in tangential_memory
+                .reversals
+                .iter_mut()
+                .zip(&m.points)
+                .take(m.count)
+            {
+                let [g1, g2] = components(g, t1, t2);
+                let [q1, q2] = components(q, t1, t2);
+                *slot = [g1, g2, q1, q2];
+            }
+        }
         let sliding = match k.status {
             ContactStatus::Slip => gt - elastic,
             _ => Vector3::zeros(),
@@ -506,6 +591,7 @@ impl ContactPair {
             total_slip_m: components(&total, t1, t2),
             slip_path_m: h.slip_path_m + sliding.norm(),
             status: k.status,
+            tangential_memory,
         };
         ContactResponse {
             status: k.status,

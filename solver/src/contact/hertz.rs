@@ -124,6 +124,98 @@ impl CrossedCylinders {
     }
 }
 
+/// Two elastic cylinders of radii R₁, R₂ with parallel axes touching along a generator over a
+/// length ℓ (a line contact; Johnson 1985, §4.2 and §5.3). With the load per unit length
+/// q = P/ℓ, the contact half-width b = (4 q R/(π E*))^{1/2}, 1/R = 1/R₁ + 1/R₂, and the approach
+/// of the two axes (Johnson 1985, eq. 5.36, written for two bodies of the same material through
+/// E*)
+///   δ = q/(π E*) [ln(4R₁/b) + ln(4R₂/b) − 1] = q/(π E*) [ln(C/q) − 1],  C = 4π E* (R₁ + R₂).
+/// Unlike the point contact, δ is not a power of q: P(δ) is found by Newton's method per
+/// evaluation, and dP/dδ = π E* ℓ/(ln(C/q) − 2). The law holds while b ≪ R (q ≪ C); beyond
+/// q = C e⁻³ (never reached by steel wires: b would exceed the radii) it is continued linearly.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineContact {
+    /// E* (Pa).
+    pub e_star: f64,
+    /// ℓ (m).
+    pub length_m: f64,
+    /// C = 4π E* (R₁ + R₂) (N/m).
+    pub c_n_per_m: f64,
+}
+
+impl LineContact {
+    /// The line contact of cylinders of radii `r1`, `r2` (m) over `length_m`, contact modulus
+    /// `e_star` (Pa).
+    pub fn new(r1: f64, r2: f64, length_m: f64, e_star: f64) -> Self {
+        Self {
+            e_star,
+            length_m,
+            c_n_per_m: 4.0 * std::f64::consts::PI * e_star * (r1 + r2),
+        }
+    }
+
+    /// Approach δ (m) under the load per unit length q (N/m).
+    pub fn approach_m(&self, q: f64) -> f64 {
+        let q_lim = self.c_n_per_m * (-3.0f64).exp();
+        let k = PI * self.e_star;
+        if q <= 0.0 {
+            0.0
+        } else if q <= q_lim {
+            q / k * ((self.c_n_per_m / q).ln() - 1.0)
+        } else {
+            q_lim / k * 2.0 + (q - q_lim) / k
+        }
+    }
+
+    /// Contact force P (N), dP/dδ (N/m) and d²P/dδ² (N/m²) at the approach `pen` (m).
+    pub fn force_stiffness_and_derivative(&self, pen: f64) -> (f64, f64, f64) {
+        let (p, k) = self.force_and_stiffness(pen);
+        let q = p / self.length_m;
+        let l = (self.c_n_per_m / q).ln();
+        if p <= 0.0 || l <= 3.0 {
+            return (p, k, 0.0);
+        }
+        // dk/dδ = (dk/dq)(dq/dδ), k = π E* ℓ/(L − 2), L = ln(C/q), dq/dδ = π E*/(L − 2)
+        let ke = PI * self.e_star;
+        (p, k, ke * ke * self.length_m / (q * (l - 2.0).powi(3)))
+    }
+
+    /// Contact force P (N) and its derivative dP/dδ (N/m) at the approach `pen` (m).
+    pub fn force_and_stiffness(&self, pen: f64) -> (f64, f64) {
+        let k = PI * self.e_star;
+        let c = self.c_n_per_m;
+        let q_lim = c * (-3.0f64).exp();
+        if pen <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let pen_lim = self.approach_m(q_lim);
+        if pen >= pen_lim {
+            return (
+                (q_lim + (pen - pen_lim) * k) * self.length_m,
+                k * self.length_m,
+            );
+        }
+        // Fixed point q = k δ/(ln(C/q) − 1) to start (the logarithm varies slowly), then Newton.
+        let mut q = k * pen / 20.0;
+        for _ in 0..3 {
+            q = (k * pen / ((c / q).ln() - 1.0)).min(q_lim);
+        }
+        for _ in 0..60 {
+            let l = (c / q).ln();
+            let f = q / k * (l - 1.0) - pen;
+            let df = (l - 2.0) / k;
+            let next = (q - f / df).clamp(0.5 * q, (2.0 * q).min(q_lim));
+            let done = (next - q).abs() <= 1e-15 * q;
+            q = next;
+            if done {
+                break;
+            }
+        }
+        let stiffness = k / ((c / q).ln() - 2.0);
+        (q * self.length_m, stiffness * self.length_m)
+    }
+}
+
 /// Contact modulus E* of two elastic bodies: 1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂.
 pub fn contact_modulus(e1: f64, nu1: f64, e2: f64, nu2: f64) -> f64 {
     1.0 / ((1.0 - nu1 * nu1) / e1 + (1.0 - nu2 * nu2) / e2)
@@ -139,6 +231,29 @@ pub fn tangential_modulus(e1: f64, nu1: f64, e2: f64, nu2: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn line_contact_inverts_johnsons_approach_and_differentiates_it() {
+        let (r1, r2, len, es) = (2.6e-3, 2.3e-3, 5e-3, 115.4e9);
+        let l = LineContact::new(r1, r2, len, es);
+        for q in [10.0, 1e3, 1e5, 1e6] {
+            let delta = l.approach_m(q);
+            // the two-logarithm form of Johnson's eq. 5.36
+            let b = (4.0 * q * (r1 * r2 / (r1 + r2)) / (PI * es)).sqrt();
+            let direct = q / (PI * es) * ((4.0 * r1 / b).ln() + (4.0 * r2 / b).ln() - 1.0);
+            assert!((delta / direct - 1.0).abs() < 1e-12, "{delta} vs {direct}");
+            let (p, k) = l.force_and_stiffness(delta);
+            assert!((p / (q * len) - 1.0).abs() < 1e-12, "{p} vs {}", q * len);
+            let h = 1e-6 * delta;
+            let fd = (l.force_and_stiffness(delta + h).0 - l.force_and_stiffness(delta - h).0)
+                / (2.0 * h);
+            assert!((k / fd - 1.0).abs() < 1e-6, "{k} vs {fd}");
+            let (_, _, dk) = l.force_stiffness_and_derivative(delta);
+            let fd2 = (l.force_and_stiffness(delta + h).1 - l.force_and_stiffness(delta - h).1)
+                / (2.0 * h);
+            assert!((dk / fd2 - 1.0).abs() < 1e-5, "{dk} vs {fd2}");
+        }
+    }
 
     #[test]
     fn elliptic_integrals_match_tabulated_values() {

@@ -1,19 +1,31 @@
-//! Contact laws and their parameters: normal law (linear penalty or Hertz for crossed cylinders),
-//! tangential law (elastic slip or Mindlin compliance) and Coulomb friction.
+//! Contact laws and their parameters: normal law (linear penalty, Hertz for crossed cylinders, or
+//! the line contact of cylinders along a generator), tangential law (elastic slip, Mindlin
+//! compliance, or the Cattaneo–Mindlin law with memory) and Coulomb friction.
 //!
 //! Normal force (compression positive) from the penetration p = −g_N ≥ 0:
 //!   penalty  f_N = ε_N p                  (seed Sec. 2.1; ε_N in N/m),
-//!   Hertz    f_N = K_H p^{3/2}            (K_H from [`super::hertz::CrossedCylinders`]).
+//!   Hertz    f_N = K_H p^{3/2}            (K_H from [`super::hertz::CrossedCylinders`]),
+//!   line     p = f_N/(π E* ℓ) [ln(4R₁/b) + ln(4R₂/b) − 1], b² = 4 f_N R/(π E* ℓ)
+//!            (two cylinders of radii R₁, R₂ touching along a generator over a length ℓ,
+//!            Johnson 1985 §5.3; [`super::hertz::LineContact`], inverted per evaluation).
 //! Tangential stiffness before sliding, k_T, with the Coulomb limit |f_T| ≤ μ f_N:
 //!   elastic slip  k_T = μ f_N / γ_e       (seed Sec. 2.1: slides once |g_T| = γ_e),
 //!   Mindlin       k_T = 8 G* c(f_N)       (Mindlin 1949, initial stiffness; c ∝ f_N^{1/3}).
-//! Both tangential laws are elastic–perfectly-plastic in the tangential gap with this k_T: the
-//! Mindlin choice gives the physical micro-slip stiffness, not the full Cattaneo–Mindlin
-//! hysteresis.
+//! Both are elastic–perfectly-plastic in the tangential gap with this k_T: the Mindlin choice
+//! gives the physical micro-slip stiffness, not the full Cattaneo–Mindlin hysteresis.
+//!
+//! Cattaneo–Mindlin (`TangentialLaw::CattaneoMindlin`, [`super::memory`]): the force–
+//! displacement curve of a Hertz contact under a constant normal force P with micro-slip,
+//! Q = μP [1 − (1 − δ/δ_s)^{3/2}], δ_s = 3μP/(16 G* c) (Johnson 1985 eq. 7.42, both bodies in
+//! G*), its unloading and reloading branches by Masing's rule from the last reversal (Johnson
+//! §7.3; Mindlin & Deresiewicz 1953) and Coulomb sliding at |Q| = μP. For a line contact the
+//! initial stiffness 8 G* c is replaced by the Mindlin ratio of tangential to normal stiffness,
+//! k_T0 = (4 G*/E*) k_N (exact for circular and elliptical Hertz contacts of equal elastic
+//! constants to within the ellipse's correction; an approximation for the strip).
 
 use serde::{Deserialize, Serialize};
 
-use super::hertz::{contact_modulus, tangential_modulus, CrossedCylinders};
+use super::hertz::{contact_modulus, tangential_modulus, CrossedCylinders, LineContact};
 
 /// Normal contact law.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -26,6 +38,17 @@ pub enum NormalLaw {
     },
     /// Hertz elliptical contact of crossed cylinders, f_N = K_H (−g_N)^{3/2}.
     Hertz,
+    /// Two cylinders touching along a generator over the length `length_m` (Johnson 1985,
+    /// §5.3): the approach of the axes p = f_N/(π E* ℓ) [ln(4R₁/b) + ln(4R₂/b) − 1].
+    Line {
+        /// Length of wire the contact stands for (m).
+        length_m: f64,
+    },
+    /// The contact-mechanics family of a strand model: Hertz for crossed cylinders at the
+    /// crossings (at their actual crossing angle), [`NormalLaw::Line`] over the tributary length
+    /// for the line contacts of a helical layer on the core, which the strand model resolves per
+    /// contact. A contact element given this law directly treats it as [`NormalLaw::Hertz`].
+    ContactMechanics,
 }
 
 /// Tangential (stick) law before Coulomb sliding.
@@ -39,6 +62,9 @@ pub enum TangentialLaw {
     },
     /// Mindlin initial compliance: k_T = 8 G* c with c the Hertz equivalent contact radius.
     Mindlin,
+    /// Cattaneo–Mindlin micro-slip with Masing unloading / reloading and Coulomb sliding, the
+    /// reversal points kept in the contact history (module docs, [`super::memory`]).
+    CattaneoMindlin,
 }
 
 /// The contact laws a model is given: its regularisation. The friction coefficient and the
@@ -51,6 +77,23 @@ pub struct ContactLaws {
     pub normal: NormalLaw,
     /// Tangential law.
     pub tangential: TangentialLaw,
+}
+
+impl ContactLaws {
+    /// The contact-mechanics family: Hertz (crossed cylinders, line contacts resolved by the
+    /// strand model) and Cattaneo–Mindlin with memory. It has no regularisation parameter.
+    pub fn contact_mechanics() -> Self {
+        Self {
+            normal: NormalLaw::ContactMechanics,
+            tangential: TangentialLaw::CattaneoMindlin,
+        }
+    }
+
+    /// Whether these are the contact-mechanics laws (normal law from elasticity and a
+    /// tangential law with memory).
+    pub fn is_contact_mechanics(&self) -> bool {
+        self.tangential == TangentialLaw::CattaneoMindlin
+    }
 }
 
 impl Default for ContactLaws {
@@ -180,6 +223,11 @@ impl ContactParameters {
                 );
             }
         }
+        if let NormalLaw::Line { length_m } = self.normal {
+            if !(length_m > 0.0 && length_m.is_finite()) {
+                return bad("normal.length_m", length_m, "must be finite and > 0");
+            }
+        }
         if let TangentialLaw::ElasticSlip { elastic_slip_m } = self.tangential {
             if !(elastic_slip_m > 0.0 && elastic_slip_m.is_finite()) {
                 return bad(
@@ -200,6 +248,19 @@ pub enum ResolvedNormal {
     Penalty(f64),
     /// f_N = K_H p^{3/2}.
     Hertz(f64),
+    /// Line contact (f_N from p by inversion).
+    Line(LineContact),
+}
+
+impl ResolvedNormal {
+    /// f_N(p) and its derivative dF_N/dp for a penetration p > 0 (plain numbers).
+    pub fn force_and_stiffness(&self, pen: f64) -> (f64, f64) {
+        match *self {
+            Self::Penalty(k) => (k * pen, k),
+            Self::Hertz(k) => (k * pen.powf(1.5), 1.5 * k * pen.max(0.0).sqrt()),
+            Self::Line(l) => l.force_and_stiffness(pen),
+        }
+    }
 }
 
 /// Tangential law resolved for one contact.
@@ -209,6 +270,12 @@ pub enum ResolvedTangential {
     ElasticSlip(f64),
     /// k_T = `coefficient` · f_N^{1/3} (= 8 G* c).
     Mindlin(f64),
+    /// Cattaneo–Mindlin with memory, initial stiffness k_T0 = `coefficient` · f_N^{1/3}
+    /// (= 8 G* c) at a Hertz point contact.
+    CattaneoMindlinPoint(f64),
+    /// Cattaneo–Mindlin with memory, initial stiffness k_T0 = `ratio` · k_N (the normal
+    /// tangent stiffness) at a line contact; `ratio` = 4 G*/E*.
+    CattaneoMindlinLine(f64),
 }
 
 /// The laws of one contact with every geometry-dependent constant computed.
@@ -241,7 +308,15 @@ impl ResolvedLaws {
         };
         let normal = match params.normal {
             NormalLaw::Penalty { stiffness_n_per_m } => ResolvedNormal::Penalty(stiffness_n_per_m),
-            NormalLaw::Hertz => ResolvedNormal::Hertz(hertz()?.force_coefficient),
+            NormalLaw::Hertz | NormalLaw::ContactMechanics => {
+                ResolvedNormal::Hertz(hertz()?.force_coefficient)
+            }
+            NormalLaw::Line { length_m } => ResolvedNormal::Line(LineContact::new(
+                r1,
+                r2,
+                length_m,
+                contact_modulus(e, nu, e, nu),
+            )),
         };
         let tangential = match params.tangential {
             TangentialLaw::ElasticSlip { elastic_slip_m } => {
@@ -250,6 +325,14 @@ impl ResolvedLaws {
             TangentialLaw::Mindlin => ResolvedTangential::Mindlin(
                 8.0 * tangential_modulus(e, nu, e, nu) * hertz()?.radius_coefficient,
             ),
+            TangentialLaw::CattaneoMindlin => match normal {
+                ResolvedNormal::Line(_) => ResolvedTangential::CattaneoMindlinLine(
+                    4.0 * tangential_modulus(e, nu, e, nu) / contact_modulus(e, nu, e, nu),
+                ),
+                _ => ResolvedTangential::CattaneoMindlinPoint(
+                    8.0 * tangential_modulus(e, nu, e, nu) * hertz()?.radius_coefficient,
+                ),
+            },
         };
         Ok(Self {
             normal,

@@ -4,7 +4,9 @@
 //!   consistent tangent), its history and its outputs;
 //! - `laws`: normal (penalty / Hertz) and tangential (elastic slip / Mindlin) laws, parameters
 //!   and errors;
-//! - [`hertz`]: Hertz constants of crossed cylinders and the Mindlin tangential modulus;
+//! - [`hertz`]: Hertz constants of crossed cylinders and of line contacts, the Mindlin tangential
+//!   modulus;
+//! - [`memory`]: the Cattaneo–Mindlin tangential law with its reversal points;
 //! - `scalar`: the generic scalar / dual-number arithmetic from which the tangent is derived.
 //!
 //! Contact pairing is fixed for the whole analysis; the history changes only when the caller
@@ -13,6 +15,7 @@
 pub(crate) mod element;
 pub mod hertz;
 pub(crate) mod laws;
+pub mod memory;
 pub(crate) mod scalar;
 
 #[cfg(test)]
@@ -23,3 +26,4 @@ pub use element::{
     NodeKinematics,
 };
 pub use laws::{ContactError, ContactLaws, ContactParameters, NormalLaw, TangentialLaw};
+pub use memory::TangentialMemory;

@@ -16,7 +16,7 @@
 
 use nalgebra::Vector3;
 
-use super::contacts::{find_contacts, ContactSearchParameters};
+use super::contacts::{find_contacts, ContactKind, ContactSearchParameters};
 use super::ends::EndTie;
 use super::mesh::{build_mesh, MeshParameters, StrandMesh};
 use super::periodic::{end_layout, PeriodicEnds};
@@ -106,6 +106,17 @@ impl StrandModelParameters {
         }
     }
 
+    /// The defaults with the contact-mechanics laws ([`ContactLaws::contact_mechanics`]: Hertz
+    /// for the crossings at their own angle, the line law for the line contacts of layer 0 on
+    /// the core, Cattaneo–Mindlin with memory) and the given end conditions.
+    pub fn contact_mechanics(ends: EndKind) -> Self {
+        Self {
+            contact: ContactLaws::contact_mechanics(),
+            ends,
+            ..Self::default()
+        }
+    }
+
     /// Checks the model's own fields (mesh, search and contact are checked where used).
     pub fn validated(self) -> Result<Self, StrandModelError> {
         if !(self.end_penalty_factor > 0.0 && self.end_penalty_factor.is_finite()) {
@@ -124,6 +135,32 @@ impl StrandModelParameters {
         }
         Ok(self)
     }
+}
+
+/// Length of wire each line contact (`ContactKind::CoreLine`) of an outer wire stands for, by
+/// wire index: the wire's arc length over the model length divided by its number of line
+/// contact points (they are spaced uniformly in arc length, `super::contacts`); 0 for a wire
+/// without line contacts.
+fn line_contact_lengths(strand: &Strand, mesh: &StrandMesh) -> Vec<f64> {
+    let wires = strand.wires();
+    let mut counts = vec![0usize; wires.len()];
+    for mc in &mesh.contacts {
+        if mc.kind == ContactKind::CoreLine {
+            counts[mesh.nodes[mc.nodes[1].0].wire.0] += 1;
+        }
+    }
+    wires
+        .iter()
+        .zip(&counts)
+        .map(|(w, &n)| {
+            if n == 0 {
+                return 0.0;
+            }
+            let t = w.helix.tangent(0.0);
+            let cos_lay = (t.z / t.norm()).abs();
+            strand.model_length_m / cos_lay / n as f64
+        })
+        .collect()
 }
 
 /// Immutable strand model.
@@ -226,14 +263,25 @@ impl StrandModel {
                 node2: 0,
                 source,
             })?;
+        let line_lengths = line_contact_lengths(strand, &mesh);
         let mut contacts = Vec::with_capacity(mesh.contacts.len());
         let mut initial_histories = Vec::with_capacity(mesh.contacts.len());
         for (c, mc) in mesh.contacts.iter().enumerate() {
             let [a, b] = mc.nodes;
             let (na, nb) = (&mesh.nodes[a.0], &mesh.nodes[b.0]);
             let (ra, rb) = (wires[na.wire.0].radius_m, wires[nb.wire.0].radius_m);
+            // The contact-mechanics family: line contacts of layer 0 on the core get the line
+            // law over their share of the wire, crossings Hertz at their own angle.
+            let mut own = contact_params;
+            if contact_params.normal == NormalLaw::ContactMechanics
+                && mc.kind == ContactKind::CoreLine
+            {
+                own.normal = NormalLaw::Line {
+                    length_m: line_lengths[nb.wire.0],
+                };
+            }
             let (pair, history) = ContactPair::new(
-                &contact_params,
+                &own,
                 ra,
                 rb + params.initial_interference_m,
                 &NodeKinematics::at(na.position),

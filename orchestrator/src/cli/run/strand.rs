@@ -26,7 +26,7 @@ use moorfret_solver::strand::driver::{run_case, CaseResult, StrandRunParameters}
 use plotters::prelude::*;
 use serde::Serialize;
 
-use super::strand_model::{load_model, ModelArgs, ModelSizes};
+use super::strand_model::{load_model, ContactLawsArg, ModelArgs, ModelSizes};
 
 /// Arguments of `moorfret run strand`.
 #[derive(Debug, Args)]
@@ -176,7 +176,10 @@ pub(crate) fn execute(args: StrandArgs) -> anyhow::Result<()> {
     }
     csv.flush()?;
     let summary = Summary {
-        regularisation: args.model.regularisation.clone(),
+        regularisation: match args.model.contact_laws {
+            ContactLawsArg::ContactMechanics => args.model.regularisation_name(),
+            ContactLawsArg::Regularised => args.model.regularisation.clone(),
+        },
         sizes: ModelSizes::of(&model),
         straight_case: summarise(&straight, t0),
         cases,

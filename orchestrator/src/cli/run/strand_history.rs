@@ -504,10 +504,7 @@ impl ModelDescription {
     fn of(args: &ModelArgs) -> Self {
         Self {
             profile: args.profile.display().to_string(),
-            regularisation: match &args.contact_regularisation {
-                Some(v) => format!("normal penalty {} N/m, elastic slip {} m", v[0], v[1]),
-                None => args.regularisation.clone(),
-            },
+            regularisation: args.regularisation_name(),
             ends: format!("{:?}", args.ends.end_kind()),
         }
     }

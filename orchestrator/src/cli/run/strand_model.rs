@@ -30,6 +30,34 @@ pub(crate) struct ModelArgs {
     /// End conditions of the helical wires.
     #[arg(long, value_enum, default_value_t = Ends::PenaltyTies)]
     pub(crate) ends: Ends,
+    /// Contact laws of the wire crossings: `regularised` (penalty normal law and elastic-slip
+    /// Coulomb law, from `--regularisation` or `--contact-regularisation`) or
+    /// `contact-mechanics` (Hertz at the crossings, line law on the core, Cattaneo–Mindlin
+    /// tangential law with memory; no regularisation).
+    #[arg(long, value_enum, default_value_t = ContactLawsArg::Regularised)]
+    pub(crate) contact_laws: ContactLawsArg,
+}
+
+/// Contact laws of a run (`--contact-laws`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum ContactLawsArg {
+    /// Penalty normal law and elastic-slip regularised Coulomb law (seed Sec. 2.1).
+    Regularised,
+    /// Hertz / line-contact normal laws and the Cattaneo–Mindlin tangential law with memory.
+    ContactMechanics,
+}
+
+impl ModelArgs {
+    /// The contact laws as a run's summary names them.
+    pub(crate) fn regularisation_name(&self) -> String {
+        match (self.contact_laws, &self.contact_regularisation) {
+            (ContactLawsArg::ContactMechanics, _) => {
+                "contact mechanics (Hertz, line contacts on the core, Cattaneo-Mindlin)".into()
+            }
+            (_, Some(v)) => format!("normal penalty {} N/m, elastic slip {} m", v[0], v[1]),
+            (_, None) => self.regularisation.clone(),
+        }
+    }
 }
 
 /// End conditions of the helical wires (`--ends`).
@@ -104,6 +132,16 @@ pub(crate) fn load_strand(
     let strand = profile
         .validate()
         .with_context(|| format!("in strand profile {}", args.profile.display()))?;
+    if args.contact_laws == ContactLawsArg::ContactMechanics {
+        if args.contact_regularisation.is_some() {
+            bail!(
+                "--contact-regularisation is not used by --contact-laws contact-mechanics (its \
+                 laws have no regularisation)"
+            );
+        }
+        let params = StrandModelParameters::contact_mechanics(args.ends.end_kind());
+        return Ok((profile, strand, params));
+    }
     let reg = match args.contact_regularisation.as_deref() {
         Some(&[normal_penalty_n_per_m, elastic_slip_m]) => {
             for (name, v) in [

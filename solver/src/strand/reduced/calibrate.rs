@@ -171,6 +171,13 @@ fn elastic_slip_of(model: &StrandModel) -> Result<f64, ReducedError> {
                      uses the Mindlin law"
                 .into(),
         }),
+        TangentialLaw::CattaneoMindlin => Err(ReducedError::Calibration {
+            reason: "the reduced response models the elastic-slip tangential law (one Jenkins \
+                     element per contact); this model uses the contact-mechanics laws \
+                     (Cattaneo-Mindlin with memory), which it cannot calibrate yet: run the FE \
+                     model (fidelity fe)"
+                .into(),
+        }),
     }
 }
 
