@@ -243,7 +243,10 @@ pub async fn gather(
     let sea_states = store.sea_state_status(campaign).await?;
     let lifetime_classes = store.lifetime_class_damage(campaign).await?;
     let critical = critical_class(&lifetime_classes);
-    let class_lives = class_lives(&lifetime_classes, &store.sea_state_class_damage(campaign).await?);
+    let class_lives = class_lives(
+        &lifetime_classes,
+        &store.sea_state_class_damage(campaign).await?,
+    );
     let mut fretting_share = BTreeMap::new();
     let mut tn_share = None;
     if let Some(c) = &critical {
