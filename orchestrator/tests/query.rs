@@ -112,7 +112,8 @@ async fn views_aggregate_the_class_rows(postgres: bool) {
     let table = query::run(&store, fixture::NAME, QueryKind::Lifetime, "")
         .await
         .unwrap();
-    assert_eq!(table.rows.len(), 1 + 2 * 2);
+    // 1 T-N curve, 2 classes × 4 fretting measures
+    assert_eq!(table.rows.len(), 1 + 2 * 4);
     let table = query::run(&store, fixture::NAME, QueryKind::Contacts, "")
         .await
         .unwrap();
@@ -185,7 +186,8 @@ async fn query_command_prints_json_csv_and_tables() {
         assert!(!ok, "{kind}");
         assert!(
             err.contains(
-                "--measure `foo` is not a fretting measure (one of fretting_max, fretting_mean)"
+                "--measure `foo` is not a fretting measure (one of fretting_max, fretting_mean, \
+                 rope_tn_max, rope_tn_mean)"
             ),
             "{kind}: {err}"
         );

@@ -1110,14 +1110,17 @@ async fn seed_spread_and_lifetime_band_of_known_seeds(backend: Backend) {
     let year = 31_557_600.0;
     let close = |got: f64, want: f64| (got - want).abs() <= 1e-12 * want.abs();
     // per sea state: fretting_max mean 3e-9, SD √7e-9 (deviations -2, -1, 3; 14 / 2);
-    // fretting_mean half of it; one seed: no SD
+    // fretting_mean half of it, rope_tn_max twice, rope_tn_mean equal (the rows of
+    // `class_row`); one seed: no SD
     let cells = ts.store.sea_state_class_damage(id).await.unwrap();
-    assert_eq!(cells.len(), 4);
+    assert_eq!(cells.len(), 2 * 4, "2 sea states × 4 fretting measures");
     for c in &cells {
-        let scale = if c.measure == "fretting_max" {
-            1.0
-        } else {
-            0.5
+        let scale = match c.measure.as_str() {
+            "fretting_max" => 1.0,
+            "fretting_mean" => 0.5,
+            "rope_tn_max" => 2.0,
+            "rope_tn_mean" => 1.0,
+            other => panic!("unexpected measure {other}"),
         };
         if c.sea_state_index == 0 {
             assert_eq!(c.seeds, 3);

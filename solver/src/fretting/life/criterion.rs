@@ -64,7 +64,7 @@ pub enum CriticalPlane {
 }
 
 /// The contact-stress fretting-fatigue law.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactStressLaw {
     /// Wire surface condition (selects the constants unless `constants` is given).
@@ -77,15 +77,6 @@ pub struct ContactStressLaw {
     pub critical_plane: CriticalPlane,
 }
 
-impl Default for ContactStressLaw {
-    fn default() -> Self {
-        Self {
-            surface: WireSurface::default(),
-            constants: None,
-            critical_plane: CriticalPlane::default(),
-        }
-    }
-}
 
 impl ContactStressLaw {
     /// The constants in force.

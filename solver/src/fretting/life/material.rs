@@ -162,7 +162,7 @@ impl StrainLife {
 
     /// Cycles N with SWT(N) = `swt_pa` (σ_n,max Δε/2 in Pa); ∞ for a non-positive parameter.
     pub fn swt_life(&self, swt_pa: f64) -> f64 {
-        if !(swt_pa > 0.0) {
+        if swt_pa.is_nan() || swt_pa <= 0.0 {
             return f64::INFINITY;
         }
         let (sf, b, ef, c, e) = self.constants();
@@ -172,7 +172,7 @@ impl StrainLife {
 
     /// Cycles N with FS(N) = `fs` (Δγ/2 (1 + k σ_n,max/σ_y), dimensionless); ∞ when ≤ 0.
     pub fn fatemi_socie_life(&self, fs: f64) -> f64 {
-        if !(fs > 0.0) {
+        if fs.is_nan() || fs <= 0.0 {
             return f64::INFINITY;
         }
         let (sf, b, ef, c, _) = self.constants();
