@@ -359,6 +359,29 @@ fn a_given_axial_stiffness_must_be_positive() {
 }
 
 #[test]
+fn negative_option_values_are_refused_by_range_naming_the_option() {
+    let dir = tempfile::tempdir().unwrap();
+    let load = dir.path().join("load.csv");
+    std::fs::write(&load, tension_history()).unwrap();
+    let out = dir.path().join("out");
+    for (args, named) in [
+        (["--axial-stiffness-n", "-2e7"], "--axial-stiffness-n"),
+        (
+            ["--turning-point-tolerance", "-1"],
+            "turning_point_tolerance",
+        ),
+        (["--threads", "-2"], "--threads"),
+    ] {
+        let o = run(&load, &out, &args);
+        assert!(!o.status.success(), "{args:?}");
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(!e.contains("unexpected argument"), "{args:?}: {e}");
+        assert!(e.contains(named), "{args:?}: {e}");
+        assert!(!out.exists(), "{args:?}");
+    }
+}
+
+#[test]
 fn bad_load_files_fail_naming_sample_and_column() {
     let header = "time_s,tension_n,curvature_per_m";
     let e = refused(header, 4, "0.75,NaN,0.001");

@@ -82,6 +82,7 @@ pub(crate) struct CalibrateArgs {
 
 /// Arguments of `moorfret strand compare`.
 #[derive(Debug, Args)]
+#[command(allow_negative_numbers = true)]
 pub(crate) struct CompareArgs {
     /// The strand model both runs used (for the contact geometry of the damage inputs).
     #[command(flatten)]
@@ -112,6 +113,7 @@ pub(crate) struct CompareArgs {
 
 /// Arguments of `moorfret strand fretting`.
 #[derive(Debug, Args)]
+#[command(allow_negative_numbers = true)]
 pub(crate) struct FrettingArgs {
     /// The strand model of the run (for the contact geometry).
     #[command(flatten)]

@@ -28,8 +28,10 @@ use serde::Serialize;
 
 use super::strand_model::{load_model, ContactLawsArg, ModelArgs, ModelSizes};
 
-/// Arguments of `moorfret run strand`.
+/// Arguments of `moorfret run strand`. Negative numbers parse as values, so that a value out of
+/// range is refused by its option's name rather than taken for an unknown flag.
 #[derive(Debug, Args)]
+#[command(allow_negative_numbers = true)]
 pub(crate) struct StrandArgs {
     /// The strand model.
     #[command(flatten)]

@@ -77,7 +77,6 @@ pub struct ContactStressLaw {
     pub critical_plane: CriticalPlane,
 }
 
-
 impl ContactStressLaw {
     /// The constants in force.
     pub fn material(&self) -> StrainLife {
