@@ -38,6 +38,7 @@ use super::error::FrettingError;
 use super::hertz::{CrossedCylinders, HertzModel};
 use super::histogram::{BinEdges, CycleHistogram};
 use super::indicators::{evaluate_cycle, FrettingParams, FrettingRegime, WireStress};
+use super::life::field::EllipseHotSpot;
 use super::life::{cycle_life, ContactStressLaw, CycleLoad};
 use super::rainflow::RainflowOptions;
 use super::record::{ContactClass, ContactRecord};
@@ -322,6 +323,11 @@ pub fn sea_state_damage_inputs(
         .iter()
         .map(HertzModel::crossed_cylinders)
         .collect::<Result<Vec<_>, _>>()?;
+    let nu = config.contact_stress.material().poisson_ratio;
+    let shapes: Vec<_> = models
+        .iter()
+        .map(|m| EllipseHotSpot::shared(m.axis_ratio, nu))
+        .collect();
     let extrema = RangeExtrema::new(tension);
     let mut classes: BTreeMap<ContactClass, ClassAccumulator> = BTreeMap::new();
     for (r, record) in records.iter().enumerate() {
@@ -385,6 +391,7 @@ pub fn sea_state_damage_inputs(
             let t = &cycle.tangential_force_n;
             let life = cycle_life(
                 model,
+                &shapes[record.interface],
                 config.fretting.friction_coefficient,
                 &config.contact_stress,
                 &CycleLoad {

@@ -130,9 +130,12 @@ pub struct CycleLife {
     pub wear_energy_j: f64,
 }
 
-/// Evaluates one cycle; an open contact (P ≤ 0) has no fretting life to spend (∞).
+/// Evaluates one cycle; an open contact (P ≤ 0) has no fretting life to spend (∞). `shape` is
+/// the hot-spot table of `model`'s ellipse (`EllipseHotSpot::shared(model.axis_ratio, ν)`),
+/// looked up once per contact geometry by the caller, not per cycle.
 pub fn cycle_life(
     model: &HertzModel,
+    shape: &EllipseHotSpot,
     friction_coefficient: f64,
     law: &ContactStressLaw,
     load: &CycleLoad,
@@ -183,7 +186,6 @@ pub fn cycle_life(
     let a = contact.semi_major_m;
     let p0 = contact.peak_pressure_pa;
     let eta = 0.5 * m.critical_distance_m / a;
-    let shape = EllipseHotSpot::shared(model.axis_ratio, m.poisson_ratio);
     let normal = shape.normal(eta).scaled(p0);
     // The traction μp − μp₀(c/a)√(1 − ρ²) over the stick ellipse carries
     // Q = μP(1 − (c/a)³) by construction.

@@ -66,12 +66,6 @@ impl Stress {
         self.xx + self.yy + self.zz
     }
 
-    /// Normal stress n·σ·n on the plane of unit normal n.
-    pub fn normal_on(&self, n: [f64; 3]) -> f64 {
-        let t = self.traction_on(n);
-        t[0] * n[0] + t[1] * n[1] + t[2] * n[2]
-    }
-
     /// Traction vector σ·n.
     pub fn traction_on(&self, n: [f64; 3]) -> [f64; 3] {
         [

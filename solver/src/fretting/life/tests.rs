@@ -107,6 +107,7 @@ fn cattaneo_stick_radius_is_half_the_contact_at_seven_eighths_of_the_limit() {
     let life = |q: f64| {
         cycle_life(
             &model,
+            &EllipseHotSpot::shared(model.axis_ratio, NU),
             mu,
             &law,
             &CycleLoad {
@@ -297,6 +298,7 @@ fn uniaxial_stress_reduces_swt_to_its_definition() {
     let m = law.material();
     let life = cycle_life(
         &model,
+        &EllipseHotSpot::shared(model.axis_ratio, NU),
         0.12,
         &law,
         &CycleLoad {
