@@ -458,6 +458,18 @@ fn strand_job(
     }
 }
 
+/// The sea states of a resolved campaign, in plan order.
+pub fn campaign_sea_states(resolved: &ResolvedCampaign) -> Vec<NewSeaState> {
+    let inputs = &resolved.inputs;
+    sea_states(
+        &resolved.scatter,
+        inputs.spec.scatter.reading,
+        inputs.spec.simulation.seeds_per_sea_state,
+        extra_seeds_per_sea_state(inputs),
+        inputs.spec.seed,
+    )
+}
+
 /// Stores `resolved` with its sea states and jobs in one transaction; returns the campaign and
 /// its job ids.
 pub async fn create(
@@ -466,13 +478,7 @@ pub async fn create(
 ) -> Result<(CampaignId, Vec<JobId>), StoreError> {
     let inputs = &resolved.inputs;
     let (spec, spec_sha256) = resolved.stored_spec();
-    let sea_states = sea_states(
-        &resolved.scatter,
-        inputs.spec.scatter.reading,
-        inputs.spec.simulation.seeds_per_sea_state,
-        extra_seeds_per_sea_state(inputs),
-        inputs.spec.seed,
-    );
+    let sea_states = campaign_sea_states(resolved);
     let inputs_sha256 = inputs.results_sha256();
     let campaign = NewCampaign {
         name: inputs.spec.name.clone(),
