@@ -36,12 +36,12 @@ fn plan_digest(name: &str) -> String {
 fn shipped_campaign_files_keep_their_cache_keys() {
     assert_eq!(
         plan_digest("demo.json"),
-        "PIN_DEMO",
+        "6 jobs 8f5d36eaef59ea23698f5a9e1fa6ff957ae14a936e4d7a87ba9e378a6711bd89",
         "campaigns/demo.json plans other cache keys"
     );
     assert_eq!(
         plan_digest("paper.json"),
-        "PIN_PAPER",
+        "1066 jobs e4350c14602d474f5b9a3a37a49fefb2f25d20edfc28919fc21a8430b3fbc439",
         "campaigns/paper.json plans other cache keys"
     );
 }
