@@ -16,12 +16,14 @@
 //!   keys;
 //! - [`error`]: the error type, [`CampaignError`].
 
+pub mod design;
 pub mod error;
 pub mod fatigue;
 pub mod fidelity;
 pub mod payload;
 pub mod resolve;
 pub mod sea_limits;
+pub mod sectors;
 pub mod seeds;
 pub mod spec;
 pub mod stiffness;

@@ -66,6 +66,18 @@ pub struct GlobalPayload {
     /// at once with no results.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub extra_seed: bool,
+    /// Wave heading of a directional sector (deg), when it differs from
+    /// `simulation.heading_deg` ([`crate::sectors`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heading_deg: Option<f64>,
+}
+
+impl GlobalPayload {
+    /// The wave heading of this realisation (deg).
+    pub fn heading_deg(&self, inputs: &CampaignInputs) -> f64 {
+        self.heading_deg
+            .unwrap_or(inputs.spec.simulation.heading_deg)
+    }
 }
 
 /// Input of a `strand` job: one hot spot of one global realisation.
@@ -105,8 +117,25 @@ pub struct CalibratePayload {
 }
 
 impl CampaignInputs {
-    /// The base case with one sea state, seed and the campaign's timing, wind and hot spots.
+    /// The base case with one sea state, seed and the campaign's timing, wind and hot spots,
+    /// at the campaign's `simulation.heading_deg`.
     pub fn case_for(&self, hs_m: f64, tp_s: f64, seed: u64) -> CaseSpec {
+        self.case_at(hs_m, tp_s, seed, self.spec.simulation.heading_deg)
+    }
+
+    /// The base case of a global job's realisation, at its heading.
+    pub fn case_of(&self, payload: &GlobalPayload) -> CaseSpec {
+        self.case_at(
+            payload.hs_m,
+            payload.tp_s,
+            payload.seed,
+            payload.heading_deg(self),
+        )
+    }
+
+    /// The base case with one sea state, seed and heading (deg) and the campaign's timing,
+    /// wind and hot spots.
+    pub fn case_at(&self, hs_m: f64, tp_s: f64, seed: u64, heading_deg: f64) -> CaseSpec {
         let sim = &self.spec.simulation;
         let mut case = self.base_case.clone();
         case.name = format!("{}_hs{hs_m}_tp{tp_s}_seed{seed}", self.spec.name);
@@ -115,7 +144,7 @@ impl CampaignInputs {
             tp_s,
             gamma: sim.gamma.clone(),
             seed,
-            heading_deg: sim.heading_deg,
+            heading_deg,
         };
         case.timing.transient_s = sim.transient_s;
         case.timing.duration_s = sim.duration_s;
@@ -138,6 +167,7 @@ impl CampaignInputs {
         copy.spec.name.clear();
         copy.spec.about = None;
         copy.spec.design_life_years = 0.0;
+        copy.spec.design_fatigue_factor = None;
         copy.base_case.name.clear();
         copy.base_case.about = None;
         let text = serde_json::to_string(&copy).unwrap_or_default();

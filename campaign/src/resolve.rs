@@ -23,6 +23,7 @@ use crate::error::CampaignError;
 use crate::fatigue::interface_geometry;
 use crate::payload::{CampaignInputs, FloaterContent, SOLVER_VERSION};
 use crate::sea_limits::{self, CellLimits};
+use crate::sectors::ScatterSource;
 use crate::spec::{CampaignSpec, OutsideModel};
 use crate::stiffness::AxialStiffnessRule;
 use moorfret_solver::text::Num;
@@ -45,16 +46,40 @@ pub struct ResolvedCampaign {
     pub inputs: CampaignInputs,
     /// Every file read, the campaign file first.
     pub files: Vec<ResolvedFile>,
-    /// The scatter diagram.
-    pub scatter: ScatterTable,
-    /// Printed totals of the scatter diagram that differ from their cells.
-    pub scatter_mismatches: Vec<TotalMismatch>,
-    /// Cells the wave model cannot carry, left out of the plan (zeroed in `scatter`) under
+    /// The climate's scatter tables in plan order: the campaign's one table, or one per
+    /// directional sector ([`crate::sectors`]).
+    pub sectors: Vec<ResolvedScatter>,
+}
+
+/// One scatter table of a campaign, read and checked.
+#[derive(Debug, Clone)]
+pub struct ResolvedScatter {
+    /// Where it comes from, how it is read and the heading of its sea states.
+    pub source: ScatterSource,
+    /// The table; cells left out of the plan are zero.
+    pub table: ScatterTable,
+    /// Printed totals that differ from their cells.
+    pub mismatches: Vec<TotalMismatch>,
+    /// Cells the wave model cannot carry, left out of the plan (zeroed in `table`) under
     /// `scatter.cells_outside_model = "leave_out"`.
     pub left_out: Vec<LeftOutCell>,
     /// What the wave model makes of every planned sea state, in table order (the energy kept
     /// below the cut-off among it).
     pub planned_limits: Vec<CellLimits>,
+}
+
+impl ResolvedCampaign {
+    /// Cells left out of the plan, with the table they belong to.
+    pub fn left_out(&self) -> impl Iterator<Item = (&ResolvedScatter, &LeftOutCell)> {
+        self.sectors
+            .iter()
+            .flat_map(|s| s.left_out.iter().map(move |c| (s, c)))
+    }
+
+    /// What the wave model makes of every planned sea state, in plan order.
+    pub fn planned_limits(&self) -> impl Iterator<Item = &CellLimits> {
+        self.sectors.iter().flat_map(|s| s.planned_limits.iter())
+    }
 }
 
 /// A scatter cell left out of the plan.
@@ -163,20 +188,18 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
         .get_or_insert(AxialStiffnessRule::StrandModel);
     let mut files = vec![campaign_file];
 
-    let (scatter_path, text, file) = read_file(base, "scatter.path", &spec.scatter.path)?;
-    files.push(file);
-    let scatter =
-        ScatterTable::parse(&text).map_err(|e| file_error("scatter.path", &scatter_path, e))?;
-    let scatter_mismatches = scatter.total_mismatches();
-    if scatter.cell_sum() <= 0.0 {
-        return Err(file_error(
-            "scatter.path",
-            &scatter_path,
-            "every cell is zero",
-        ));
+    let mut tables = Vec::new();
+    for source in spec.scatter.sources(spec.simulation.heading_deg) {
+        let field = source.field.as_str();
+        let (path, text, file) = read_file(base, field, &source.path)?;
+        files.push(file);
+        let table = ScatterTable::parse(&text).map_err(|e| file_error(field, &path, e))?;
+        if table.cell_sum() <= 0.0 {
+            return Err(file_error(field, &path, "every cell is zero"));
+        }
+        check_scatter(&table).map_err(|m| file_error(field, &path, m))?;
+        tables.push((path, table, source));
     }
-    check_scatter(&scatter).map_err(|m| file_error("scatter.path", &scatter_path, m))?;
-
     let (case_path, text, file) = read_file(base, "global.case_path", &spec.global.case_path)?;
     files.push(file);
     let mut base_case = CaseSpec::from_json_str(&text).map_err(|e| {
@@ -254,53 +277,53 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
         })?;
     }
 
-    let resolved = ResolvedCampaign {
-        inputs: CampaignInputs {
-            spec,
-            base_case,
-            floater,
-            profile,
-            hot_spot_axial_stiffness_n,
-        },
-        files,
-        scatter,
-        scatter_mismatches,
-        left_out: Vec::new(),
-        planned_limits: Vec::new(),
+    let inputs = CampaignInputs {
+        spec,
+        base_case,
+        floater,
+        profile,
+        hot_spot_axial_stiffness_n,
     };
     // The base case with the first planned sea state must be a valid case (a fault of the
     // case itself is named there), then every cell is checked.
-    let first = resolved
-        .scatter
-        .cells()
-        .into_iter()
-        .find(|c| c.value > 0.0)
-        .map(|c| (0.5 * (c.hs_lower_m + c.hs_upper_m), c.tp_s))
-        .unwrap_or((1.0, 10.0));
-    resolved
-        .inputs
-        .case_for(first.0, first.1, 1)
-        .validate()
-        .map_err(|e| file_error("global.case_path", &case_path, e))?;
-    let mut resolved = resolved;
-    resolved.left_out = check_cells(&mut resolved, &scatter_path)?;
-    Ok(resolved)
+    for (_, table, source) in &tables {
+        let first = table
+            .cells()
+            .into_iter()
+            .find(|c| c.value > 0.0)
+            .map(|c| (0.5 * (c.hs_lower_m + c.hs_upper_m), c.tp_s))
+            .unwrap_or((1.0, 10.0));
+        inputs
+            .case_at(first.0, first.1, 1, source.heading_deg)
+            .validate()
+            .map_err(|e| file_error("global.case_path", &case_path, e))?;
+    }
+    let mut sectors = Vec::with_capacity(tables.len());
+    for (path, table, source) in tables {
+        sectors.push(check_cells(&inputs, path, table, source)?);
+    }
+    check_intervals(&inputs, &sectors)?;
+    Ok(ResolvedCampaign {
+        inputs,
+        files,
+        sectors,
+    })
 }
 
-/// Checks every non-zero cell before anything is stored: each must make a valid case, and one
-/// the wave model can carry ([`crate::sea_limits`]), else it is refused or, with
-/// `scatter.cells_outside_model = "leave_out"`, zeroed in the table and returned. Then the
-/// output and load intervals must resolve the shortest planned peak period.
+/// Checks every non-zero cell of one table before anything is stored: each must make a valid
+/// case, and one the wave model can carry ([`crate::sea_limits`]), else it is refused or, with
+/// `scatter.cells_outside_model = "leave_out"`, zeroed in the table and listed.
 fn check_cells(
-    resolved: &mut ResolvedCampaign,
-    scatter_path: &Path,
-) -> Result<Vec<LeftOutCell>, CampaignError> {
-    let inputs = &resolved.inputs;
+    inputs: &CampaignInputs,
+    path: PathBuf,
+    mut table: ScatterTable,
+    source: ScatterSource,
+) -> Result<ResolvedScatter, CampaignError> {
+    let field = source.field.as_str();
+    let mismatches = table.total_mismatches();
     let mut faults = Vec::new();
     let mut left_out = Vec::new();
     let mut planned = Vec::new();
-    let mut shortest_tp: Option<f64> = None;
-    let table = &resolved.scatter;
     for (row, &(lower, upper)) in table.hs_bins_m.iter().enumerate() {
         for (column, &tp_s) in table.tp_s.iter().enumerate() {
             let value = table.values[row][column];
@@ -314,9 +337,8 @@ fn check_cells(
                 column + 1
             );
             let limits = sea_limits::check(inputs, hs_m, tp_s)
-                .map_err(|e| file_error("scatter.path", scatter_path, format!("{cell}: {e}")))?;
+                .map_err(|e| file_error(field, &path, format!("{cell}: {e}")))?;
             if limits.faults.is_empty() {
-                shortest_tp = Some(shortest_tp.map_or(tp_s, |t: f64| t.min(tp_s)));
                 planned.push(limits);
             } else {
                 faults.push(format!("{cell}: {}", limits.faults.join("; ")));
@@ -331,8 +353,8 @@ fn check_cells(
     }
     if !faults.is_empty() && inputs.spec.scatter.cells_outside_model == OutsideModel::Refuse {
         return Err(file_error(
-            "scatter.path",
-            scatter_path,
+            field,
+            &path,
             format!(
                 "{} sea state(s) the wave model cannot carry (set \
                  scatter.cells_outside_model to \"leave_out\" to plan without them): {}",
@@ -341,15 +363,39 @@ fn check_cells(
             ),
         ));
     }
-    let Some(shortest_tp) = shortest_tp else {
+    if planned.is_empty() {
         return Err(file_error(
-            "scatter.path",
-            scatter_path,
+            field,
+            &path,
             format!(
                 "no sea state the wave model can carry: {}",
                 faults.join(" | ")
             ),
         ));
+    }
+    for c in &left_out {
+        table.values[c.row][c.column] = 0.0;
+    }
+    Ok(ResolvedScatter {
+        source,
+        mismatches,
+        table,
+        left_out,
+        planned_limits: planned,
+    })
+}
+
+/// The output and load intervals must resolve the shortest planned peak period of every table.
+fn check_intervals(
+    inputs: &CampaignInputs,
+    sectors: &[ResolvedScatter],
+) -> Result<(), CampaignError> {
+    let Some(shortest_tp) = sectors
+        .iter()
+        .flat_map(|s| s.planned_limits.iter().map(|l| l.tp_s))
+        .reduce(f64::min)
+    else {
+        return Ok(());
     };
     let sim = &inputs.spec.simulation;
     let needed = shortest_tp / sea_limits::MIN_SAMPLES_PER_PEAK_PERIOD;
@@ -371,11 +417,7 @@ fn check_cells(
             });
         }
     }
-    for c in &left_out {
-        resolved.scatter.values[c.row][c.column] = 0.0;
-    }
-    resolved.planned_limits = planned;
-    Ok(left_out)
+    Ok(())
 }
 
 /// Line type of the segment holding arc length `arc_length_m` (from the fairlead), if any.

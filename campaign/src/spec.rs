@@ -25,6 +25,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::CampaignError;
 use crate::fatigue::FatigueSpec;
 use crate::fidelity::{AutoFe, StrandFidelity};
+use crate::sectors::SectorSpec;
 use crate::seeds::{ExtraSeeds, MAX_SEEDS_PER_SEA_STATE};
 use crate::stiffness::AxialStiffnessRule;
 
@@ -39,6 +40,10 @@ pub struct CampaignSpec {
     pub name: String,
     /// Design life (years) the lifetime damage is reported for.
     pub design_life_years: f64,
+    /// Design fatigue factor of the design check: the damage over the design life times this
+    /// factor must not exceed 1 ([`crate::design`]); 5 (DNV-OS-E301) when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub design_fatigue_factor: Option<f64>,
     /// Campaign seed: every realisation seed is drawn from it once, at planning.
     pub seed: u64,
     /// Scatter diagram and how its cells are read.
@@ -81,10 +86,16 @@ pub fn from_json_with_path<T: serde::de::DeserializeOwned>(text: &str) -> Result
 #[serde(deny_unknown_fields)]
 pub struct ScatterSpec {
     /// Path of the table (TSV/CSV, see `moorfret_solver::waves::scatter`), relative to the
-    /// campaign file.
-    pub path: String,
-    /// How the cells are read.
-    pub reading: ScatterReading,
+    /// campaign file; absent when the climate is given as `sectors`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub path: Option<String>,
+    /// How the cells of `path` are read; absent with `sectors`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reading: Option<ScatterReading>,
+    /// Directional sectors, each with its heading, share of the year and table
+    /// ([`crate::sectors`]); instead of `path` and `reading`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sectors: Vec<SectorSpec>,
     /// What becomes of cells the wave model cannot carry ([`crate::sea_limits`]): refused
     /// (the default) or left out of the plan.
     #[serde(default, skip_serializing_if = "OutsideModel::is_refuse")]
@@ -485,15 +496,16 @@ impl CampaignSpec {
             ));
         }
         positive("design_life_years", self.design_life_years)?;
-        if let ScatterReading::Sector { share_percent } = self.scatter.reading {
-            if !(share_percent.is_finite() && share_percent > 0.0 && share_percent <= 100.0) {
+        if let Some(f) = self.design_fatigue_factor {
+            if !(f.is_finite() && f >= 1.0) {
                 return Err(invalid(
-                    "scatter.reading.sector.share_percent",
-                    share_percent,
-                    "must be in (0, 100]",
+                    "design_fatigue_factor",
+                    Num(f),
+                    "must be a finite number >= 1",
                 ));
             }
         }
+        self.scatter.validate(self.simulation.heading_deg)?;
         let s = &self.simulation;
         non_negative("simulation.transient_s", s.transient_s)?;
         positive("simulation.duration_s", s.duration_s)?;

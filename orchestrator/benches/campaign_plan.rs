@@ -13,8 +13,8 @@ use moorfret_store::{Store, StoreOptions};
 fn plan_ten_thousand_jobs(c: &mut Criterion) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns/paper.json");
     let mut resolved = resolve(&path).expect("paper campaign resolves");
-    let cells = resolved
-        .scatter
+    let cells = resolved.sectors[0]
+        .table
         .cells()
         .iter()
         .filter(|c| c.value > 0.0)

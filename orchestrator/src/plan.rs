@@ -65,26 +65,71 @@ pub fn sea_states(
     extra_seeds: u32,
     campaign_seed: u64,
 ) -> Vec<NewSeaState> {
+    let climate = [ClimateTable {
+        table,
+        reading,
+        heading_deg: 0.0,
+        sector: None,
+    }];
+    climate_sea_states(&climate, seeds_per_sea_state, extra_seeds, campaign_seed)
+}
+
+/// One table of a campaign's climate, as planned.
+#[derive(Debug, Clone, Copy)]
+pub struct ClimateTable<'a> {
+    /// The table.
+    pub table: &'a ScatterTable,
+    /// How its cells are read.
+    pub reading: ScatterReading,
+    /// Heading of its sea states (deg).
+    pub heading_deg: f64,
+    /// Its sector's label, if the climate is directional.
+    pub sector: Option<&'a str>,
+}
+
+/// The sea states of a climate's tables, in table order and each table's cell order, numbered
+/// through; seeds drawn from `campaign_seed` as [`sea_states`] does, over all tables: a
+/// climate of one table plans exactly what [`sea_states`] plans from it.
+pub fn climate_sea_states(
+    climate: &[ClimateTable<'_>],
+    seeds_per_sea_state: u32,
+    extra_seeds: u32,
+    campaign_seed: u64,
+) -> Vec<NewSeaState> {
     let mut rng = campaign_seed;
     // Seeds stay below 2^63 so they survive databases with signed 64-bit integers.
     let mut draw = |n: u32| -> Vec<u64> { (0..n).map(|_| splitmix64(&mut rng) >> 1).collect() };
-    let mut states: Vec<NewSeaState> = table
-        .cells()
-        .into_iter()
-        .filter(|c| c.value > 0.0)
+    let mut states: Vec<NewSeaState> = climate
+        .iter()
+        .flat_map(|t| {
+            t.table
+                .cells()
+                .into_iter()
+                .filter(|c| c.value > 0.0)
+                .map(move |c| (t, c))
+        })
         .enumerate()
-        .map(|(index, c)| NewSeaState {
+        .map(|(index, (t, c))| NewSeaState {
             index: index as i64,
             hs_m: 0.5 * (c.hs_lower_m + c.hs_upper_m),
             tp_s: c.tp_s,
-            occurrence_fraction: occurrence_fraction(c.value, reading),
+            occurrence_fraction: occurrence_fraction(c.value, t.reading),
             seeds: draw(seeds_per_sea_state),
+            heading_deg: t.heading_deg,
+            sector: t.sector.map(str::to_owned),
         })
         .collect();
     for state in &mut states {
         state.seeds.extend(draw(extra_seeds));
     }
     states
+}
+
+/// The heading a global job's payload carries: none when its sea state runs at the campaign's
+/// `simulation.heading_deg` (so one-direction campaigns keep their cache keys), else the
+/// sector's.
+fn payload_heading(inputs: &CampaignInputs, sea_state: &NewSeaState) -> Option<f64> {
+    (sea_state.heading_deg != inputs.spec.simulation.heading_deg).then_some(sea_state.heading_deg)
 }
 
 /// Extra seeds per sea state of the campaign's `simulation.extra_seeds` (0 without the rule).
@@ -158,6 +203,7 @@ pub fn jobs(
                 seed_index,
                 seed,
                 extra_seed: false,
+                heading_deg: payload_heading(inputs, sea_state),
             };
             let global_json = serde_json::to_value(&global).unwrap_or_default();
             let global_key = cache_key("global", &global_sha256, &global_json.to_string());
@@ -393,6 +439,7 @@ fn push_extra_seeds(
                 seed_index,
                 seed,
                 extra_seed: true,
+                heading_deg: payload_heading(inputs, sea_state),
             };
             let global_json = serde_json::to_value(&global).unwrap_or_default();
             let global_key = cache_key("global", inputs_sha256, &global_json.to_string());
@@ -458,12 +505,21 @@ fn strand_job(
     }
 }
 
-/// The sea states of a resolved campaign, in plan order.
+/// The sea states of a resolved campaign, in plan order: its tables in turn.
 pub fn campaign_sea_states(resolved: &ResolvedCampaign) -> Vec<NewSeaState> {
     let inputs = &resolved.inputs;
-    sea_states(
-        &resolved.scatter,
-        inputs.spec.scatter.reading,
+    let climate: Vec<ClimateTable<'_>> = resolved
+        .sectors
+        .iter()
+        .map(|s| ClimateTable {
+            table: &s.table,
+            reading: s.source.reading,
+            heading_deg: s.source.heading_deg,
+            sector: s.source.label.as_deref(),
+        })
+        .collect();
+    climate_sea_states(
+        &climate,
         inputs.spec.simulation.seeds_per_sea_state,
         extra_seeds_per_sea_state(inputs),
         inputs.spec.seed,
@@ -540,7 +596,13 @@ mod tests {
         resolved.inputs.spec.strand.fidelity = fidelity;
         resolved.inputs.spec.strand.calibration_hs_fraction = hs_fraction;
         let inputs = &resolved.inputs;
-        let states = sea_states(&resolved.scatter, inputs.spec.scatter.reading, 2, 0, 1);
+        let states = sea_states(
+            &resolved.sectors[0].table,
+            resolved.sectors[0].source.reading,
+            2,
+            0,
+            1,
+        );
         let ids: Vec<SeaStateId> = (0..states.len() as i64).map(SeaStateId).collect();
         jobs(inputs, &inputs.results_sha256(), &states, &ids)
     }
@@ -695,8 +757,8 @@ mod tests {
         let inputs = &resolved.inputs;
         assert!(inputs.spec.validate().is_ok());
         let states = sea_states(
-            &resolved.scatter,
-            inputs.spec.scatter.reading,
+            &resolved.sectors[0].table,
+            resolved.sectors[0].source.reading,
             inputs.spec.simulation.seeds_per_sea_state,
             extra_seeds_per_sea_state(inputs),
             1,

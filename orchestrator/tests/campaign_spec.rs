@@ -30,6 +30,10 @@ fn campaign_copy() -> tempfile::TempDir {
     }
     for entry in std::fs::read_dir(src.join("data")).unwrap() {
         let entry = entry.unwrap();
+        // the demo and paper files use no data subdirectory
+        if entry.file_type().unwrap().is_dir() {
+            continue;
+        }
         std::fs::copy(
             entry.path(),
             dir.path().join("data").join(entry.file_name()),
@@ -260,7 +264,7 @@ fn a_byte_order_mark_is_not_content() {
     }
     let marked = resolve(&dir.path().join("demo.json")).unwrap();
     assert_eq!(marked.inputs.spec, plain.inputs.spec);
-    assert_eq!(marked.scatter, plain.scatter);
+    assert_eq!(marked.sectors[0].table, plain.sectors[0].table);
 }
 
 #[test]
@@ -441,30 +445,32 @@ fn store_of_a_newer_schema_is_refused_and_left_untouched() {
 #[test]
 fn paper_campaign_plans_every_non_zero_cell_of_the_scatter_diagram() {
     let resolved = resolve(&campaigns_dir().join("paper.json")).unwrap();
-    let table = &resolved.scatter;
+    assert_eq!(resolved.sectors.len(), 1);
+    let table = &resolved.sectors[0].table;
     let non_zero = table.cells().iter().filter(|c| c.value > 0.0).count();
     let states = plan::sea_states(
         table,
-        resolved.inputs.spec.scatter.reading,
+        resolved.sectors[0].source.reading,
         resolved.inputs.spec.simulation.seeds_per_sea_state,
         plan::extra_seeds_per_sea_state(&resolved.inputs),
         resolved.inputs.spec.seed,
     );
     // one cell, Hs 0-0.5 m at Tp 3 s, lies mostly above the wave cut-off (1.98 rad/s, the
     // floater's kinematics table): it is left out, by the file's `cells_outside_model`
-    assert_eq!(resolved.left_out.len(), 1);
-    let out = &resolved.left_out[0].limits;
+    let left_out: Vec<_> = resolved.left_out().map(|(_, c)| c).collect();
+    assert_eq!(left_out.len(), 1);
+    let out = &left_out[0].limits;
     assert_eq!((out.hs_m, out.tp_s), (0.25, 3.0));
     assert!(out.energy_kept < 0.5, "{out:?}");
     assert_eq!(states.len(), non_zero);
     assert_eq!(states.len(), 152);
-    assert_eq!(resolved.planned_limits.len(), 152);
+    assert_eq!(resolved.planned_limits().count(), 152);
     // cells are percent of the year: their sum, 43.517 % less the 0.005 % left out, is the
     // year fraction planned
     let covered: f64 = states.iter().map(|s| s.occurrence_fraction).sum();
     assert!((covered - 0.43512).abs() < 1e-9, "{covered}");
     // the printed totals that disagree with their cells are all found
-    assert!(!resolved.scatter_mismatches.is_empty());
+    assert!(!resolved.sectors[0].mismatches.is_empty());
     // every referenced file is hashed
     let fields: Vec<&str> = resolved.files.iter().map(|f| f.field.as_str()).collect();
     assert!(fields.contains(&"scatter.path"));
@@ -689,19 +695,21 @@ fn cells_outside_the_model_may_be_left_out_explicitly() {
         v["scatter"]["cells_outside_model"] = serde_json::json!("leave_out");
     });
     let resolved = resolve(&dir.path().join("demo.json")).unwrap();
-    assert_eq!(resolved.left_out.len(), 1);
-    assert_eq!(resolved.left_out[0].limits.tp_s, 3.0);
+    let left_out: Vec<_> = resolved.left_out().map(|(_, c)| c).collect();
+    assert_eq!(left_out.len(), 1);
+    assert_eq!(left_out[0].limits.tp_s, 3.0);
     let states = plan::sea_states(
-        &resolved.scatter,
-        resolved.inputs.spec.scatter.reading,
+        &resolved.sectors[0].table,
+        resolved.sectors[0].source.reading,
         1,
         0,
         1,
     );
     assert_eq!(states.len(), 1);
     assert_eq!(states[0].tp_s, 11.0);
-    assert_eq!(resolved.planned_limits.len(), 1);
-    assert!(resolved.planned_limits[0].energy_kept > 0.99);
+    let limits: Vec<_> = resolved.planned_limits().collect();
+    assert_eq!(limits.len(), 1);
+    assert!(limits[0].energy_kept > 0.99);
 }
 
 /// Every non-zero cell makes a valid case before anything is stored: a Tp = 0 column after a

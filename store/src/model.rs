@@ -37,6 +37,10 @@ pub struct NewSeaState {
     pub occurrence_fraction: f64,
     /// Random seeds of its realisations, drawn once at planning.
     pub seeds: Vec<u64>,
+    /// Wave heading (deg, from +x towards +y).
+    pub heading_deg: f64,
+    /// Directional sector of the climate it belongs to; `None` for a climate of one table.
+    pub sector: Option<String>,
 }
 
 /// A job of a plan. Dependencies refer to jobs earlier in the same plan.

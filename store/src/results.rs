@@ -367,6 +367,12 @@ pub struct SeaStateStatus {
     pub jobs_done: i64,
     /// Jobs failed.
     pub jobs_failed: i64,
+    /// Wave heading (deg); `None` in stores written before directional climates.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heading_deg: Option<f64>,
+    /// Directional sector; `None` for a climate of one table.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sector: Option<String>,
 }
 
 /// A `contact_statistics` row with its sea state.

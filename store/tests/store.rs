@@ -939,6 +939,8 @@ async fn lifetime_view_reproduces_the_reference_annual_damage(backend: Backend) 
                     tp_s: 8.5,
                     occurrence_fraction: 0.30,
                     seeds: vec![11, 12],
+                    heading_deg: 0.0,
+                    sector: None,
                 },
                 NewSeaState {
                     index: 1,
@@ -946,6 +948,8 @@ async fn lifetime_view_reproduces_the_reference_annual_damage(backend: Backend) 
                     tp_s: 16.5,
                     occurrence_fraction: 0.13758,
                     seeds: vec![13, 14],
+                    heading_deg: 0.0,
+                    sector: None,
                 },
             ],
         )
@@ -1058,6 +1062,8 @@ async fn seed_spread_and_lifetime_band_of_known_seeds(backend: Backend) {
                     tp_s: 14.0,
                     occurrence_fraction: 0.2,
                     seeds: vec![1, 2, 3],
+                    heading_deg: 0.0,
+                    sector: None,
                 },
                 NewSeaState {
                     index: 1,
@@ -1065,6 +1071,8 @@ async fn seed_spread_and_lifetime_band_of_known_seeds(backend: Backend) {
                     tp_s: 8.0,
                     occurrence_fraction: 0.1,
                     seeds: vec![4],
+                    heading_deg: 0.0,
+                    sector: None,
                 },
             ],
         )

@@ -28,7 +28,7 @@ pub fn run_global(
     payload: &GlobalPayload,
     artifacts: &ArtifactStore,
 ) -> Result<JobResults, JobFailure> {
-    let case = inputs.case_for(payload.hs_m, payload.tp_s, payload.seed);
+    let case = inputs.case_of(payload);
     let floater = match &inputs.floater {
         FloaterContent::RigidBody(spec) => FloaterInput::RigidBody(spec.clone()),
         FloaterContent::PrescribedMotionCsv(text) => FloaterInput::Prescribed(

@@ -145,46 +145,7 @@ async fn launch(
     detach_workers: bool,
 ) -> anyhow::Result<()> {
     let resolved = resolve(file).with_context(|| format!("in campaign file {}", file.display()))?;
-    for m in &resolved.scatter_mismatches {
-        let which = match m.kind {
-            TotalKind::Row {
-                hs_lower_m,
-                hs_upper_m,
-            } => format!("row total of Hs {hs_lower_m}-{hs_upper_m} m"),
-            TotalKind::Column { tp_s } => format!("column total of Tp {tp_s} s"),
-            TotalKind::Grand => "grand total".to_owned(),
-        };
-        tracing::warn!(
-            "scatter diagram {} line {}: printed {which} {} differs from the sum of its cells {:.4}; the cells are used",
-            resolved.inputs.spec.scatter.path,
-            m.line,
-            m.printed,
-            m.computed
-        );
-    }
-    let reading = resolved.inputs.spec.scatter.reading;
-    for c in &resolved.left_out {
-        tracing::warn!(
-            "sea state Hs {} m, Tp {} s ({:.4} % of the year) left out of the plan: {}; its \
-             occurrence is neither planned nor covered",
-            c.limits.hs_m,
-            c.limits.tp_s,
-            100.0 * plan::occurrence_fraction(c.value, reading),
-            c.limits.faults.join("; ")
-        );
-    }
-    for l in &resolved.planned_limits {
-        if l.energy_kept < 0.95 {
-            tracing::info!(
-                "sea state Hs {} m, Tp {} s: the wave cut-off {:.2} rad/s keeps {:.1} % of its \
-                 spectral energy",
-                l.hs_m,
-                l.tp_s,
-                l.cut_off_rad_s,
-                100.0 * l.energy_kept
-            );
-        }
-    }
+    report_climate(&resolved);
     // An existing file must be a moorfret store (it is refused untouched otherwise); a new
     // store is created only once the artifact directory is known to take files.
     let existing = args.config().open_if_present().await?;
@@ -322,4 +283,70 @@ async fn status(args: &StoreArgs, name: Option<String>, as_json: bool) -> anyhow
         outln!("{value}")?;
     }
     Ok(())
+}
+
+/// Logs what resolution found in the climate's tables: printed totals that differ from their
+/// cells, cells left out of the plan, sea states whose wave cut-off keeps little energy, and
+/// the directional sectors with their shares.
+fn report_climate(resolved: &moorfret_campaign::ResolvedCampaign) {
+    for sector in &resolved.sectors {
+        for m in &sector.mismatches {
+            let which = match m.kind {
+                TotalKind::Row {
+                    hs_lower_m,
+                    hs_upper_m,
+                } => format!("row total of Hs {hs_lower_m}-{hs_upper_m} m"),
+                TotalKind::Column { tp_s } => format!("column total of Tp {tp_s} s"),
+                TotalKind::Grand => "grand total".to_owned(),
+            };
+            tracing::warn!(
+                "scatter diagram {} line {}: printed {which} {} differs from the sum of its cells {:.4}; the cells are used",
+                sector.source.path,
+                m.line,
+                m.printed,
+                m.computed
+            );
+        }
+    }
+    for (sector, c) in resolved.left_out() {
+        tracing::warn!(
+            "sea state Hs {} m, Tp {} s ({:.4} % of the year{}) left out of the plan: {}; its \
+             occurrence is neither planned nor covered",
+            c.limits.hs_m,
+            c.limits.tp_s,
+            100.0 * plan::occurrence_fraction(c.value, sector.source.reading),
+            sector
+                .source
+                .label
+                .as_deref()
+                .map(|l| format!(", sector {l}"))
+                .unwrap_or_default(),
+            c.limits.faults.join("; ")
+        );
+    }
+    for l in resolved.planned_limits() {
+        if l.energy_kept < 0.95 {
+            tracing::info!(
+                "sea state Hs {} m, Tp {} s: the wave cut-off {:.2} rad/s keeps {:.1} % of its \
+                 spectral energy",
+                l.hs_m,
+                l.tp_s,
+                l.cut_off_rad_s,
+                100.0 * l.energy_kept
+            );
+        }
+    }
+    for sector in &resolved.sectors {
+        if let (Some(label), moorfret_campaign::spec::ScatterReading::Sector { share_percent }) =
+            (&sector.source.label, sector.source.reading)
+        {
+            tracing::info!(
+                "sector {label}: heading {} deg, {share_percent} % of the year, {} sea states \
+                 from {}",
+                sector.source.heading_deg,
+                sector.planned_limits.len(),
+                sector.source.path
+            );
+        }
+    }
 }

@@ -48,6 +48,12 @@ pub enum QueryKind {
     Contacts,
     /// Reduced against FE strand results where both ran (`auto` fidelity).
     Fidelity,
+    /// Utilisation γ_F · D · T_design of every damage figure, with its verdict.
+    Utilisation,
+    /// Pass or fail per mooring line, with the governing figure, sector and sea state.
+    Lines,
+    /// Annual damage of each line's governing figure per wave direction (sector).
+    Directions,
 }
 
 /// The id of campaign `name`, or an error naming it.
@@ -119,6 +125,9 @@ pub async fn run(
         QueryKind::Lifetime => lifetime(store, campaign).await,
         QueryKind::Seeds => seeds(store, campaign, measure).await,
         QueryKind::Fidelity => fidelity(store, campaign).await,
+        QueryKind::Utilisation | QueryKind::Lines | QueryKind::Directions => {
+            design_table(store, campaign, kind).await
+        }
         QueryKind::Contacts => Table::from_rows(
             &[
                 "sea_state_index",
@@ -360,4 +369,89 @@ async fn fidelity(store: &Store, campaign: CampaignId) -> anyhow::Result<Table> 
         relative(|r| (r.fe_slip_cycles_per_hour, r.reduced_slip_cycles_per_hour)),
     );
     Ok(table)
+}
+
+/// The design check's tables: every figure, the verdict per line, the damage per direction.
+async fn design_table(
+    store: &Store,
+    campaign: CampaignId,
+    kind: QueryKind,
+) -> anyhow::Result<Table> {
+    let check = crate::design::check(store, campaign)
+        .await?
+        .context("the campaign is stored without its inputs: no design check")?;
+    match kind {
+        QueryKind::Utilisation => Table::from_rows(
+            &[
+                "line",
+                "hot_spot_index",
+                "arc_length_m",
+                "measure",
+                "check",
+                "class",
+                "annual_damage",
+                "life_years",
+                "utilisation",
+                "year_covered",
+                "verdict",
+            ],
+            &check.figures,
+        ),
+        QueryKind::Lines => lines_table(&check),
+        _ => Table::from_rows(
+            &[
+                "line",
+                "sector",
+                "heading_deg",
+                "year_share",
+                "annual_damage",
+            ],
+            &check.sectors,
+        ),
+    }
+}
+
+/// The verdict per line with the governing figure, sector and sea state.
+pub fn lines_table(check: &crate::design::DesignCheck) -> anyhow::Result<Table> {
+    let rows: Vec<Value> = check
+        .lines
+        .iter()
+        .map(|l| {
+            let f = &check.figures[l.governing];
+            let state = l.governing_sea_state;
+            serde_json::json!({
+                "line": l.line,
+                "verdict": l.verdict.as_str(),
+                "utilisation": l.utilisation,
+                "hot_spot_index": f.hot_spot_index,
+                "measure": f.measure,
+                "class": f.class,
+                "life_years": f.life_years,
+                "sector": l.governing_sector,
+                "sea_state_index": state.map(|s| s.0),
+                "hs_m": state.map(|s| s.1),
+                "tp_s": state.map(|s| s.2),
+                "heading_deg": state.map(|s| s.3),
+                "sea_state_share": l.governing_sea_state_share,
+            })
+        })
+        .collect();
+    Table::from_rows(
+        &[
+            "line",
+            "verdict",
+            "utilisation",
+            "hot_spot_index",
+            "measure",
+            "class",
+            "life_years",
+            "sector",
+            "sea_state_index",
+            "hs_m",
+            "tp_s",
+            "heading_deg",
+            "sea_state_share",
+        ],
+        &rows,
+    )
 }

@@ -116,6 +116,9 @@ pub struct ReportData {
     /// Per sea state index: the run-in detected on its counted strand result (s), `None` when
     /// the history never stabilised or was too short; the run-in left out of its statistics (s).
     pub run_in: BTreeMap<i64, (Option<f64>, f64)>,
+    /// The design check (`query utilisation`, `lines`, `directions`); `None` for a campaign
+    /// stored without its inputs.
+    pub design: Option<crate::design::DesignCheck>,
 }
 
 /// Rows of the damage-inputs table in the report: the most damaging sea states of the
@@ -372,6 +375,7 @@ pub async fn gather(
         comparison: query::run(store, name, query::QueryKind::Fidelity, "").await?,
         calibrations,
         run_in,
+        design: crate::design::check(store, campaign).await?,
     })
 }
 

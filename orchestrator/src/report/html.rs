@@ -47,6 +47,81 @@ fn table_html(table: &Table) -> String {
     out + "</table>\n"
 }
 
+/// The design check: pass or fail per line with what governs it, the damage by direction of
+/// each line's governing figure, and the design figures per hot spot.
+fn design_section(data: &ReportData) -> anyhow::Result<String> {
+    let mut body = String::from("<h2>Design check</h2>\n");
+    let Some(d) = &data.design else {
+        body += "<p class=\"empty\">The campaign is stored without its inputs: no design \
+                 check.</p>\n";
+        return Ok(body);
+    };
+    let _ = writeln!(
+        body,
+        "<p>Utilisation u = γ<sub>F</sub> · D<sub>year</sub> · T<sub>design</sub> with design \
+         fatigue factor γ<sub>F</sub> = {} and design life {} years; a line passes when every \
+         design figure of its hot spots (the fretting law on the most damaged contact of every \
+         class, <code>fretting_max</code>, and the rope T-N curves of the tension) has u ≤ 1 \
+         over the whole year. The climate covers {:.1} % of the year: a figure on less of it can \
+         fail but not pass (INCOMPLETE).</p>",
+        number(d.design_fatigue_factor),
+        number(d.design_life_years),
+        100.0 * d.year_planned
+    );
+    if d.lines.is_empty() {
+        body += "<p class=\"empty\">No damage figure stored yet.</p>\n";
+        return Ok(body);
+    }
+    let verdicts: Vec<String> = d
+        .lines
+        .iter()
+        .map(|l| {
+            let class = match l.verdict {
+                moorfret_campaign::design::Verdict::Pass => "pass",
+                moorfret_campaign::design::Verdict::Fail => "fail",
+                moorfret_campaign::design::Verdict::Incomplete => "incomplete",
+            };
+            format!(
+                "<span class=\"verdict {class}\">line {}: {} (u = {})</span>",
+                l.line,
+                l.verdict.as_str(),
+                number(l.utilisation)
+            )
+        })
+        .collect();
+    let _ = writeln!(body, "<p>{}</p>", verdicts.join(" "));
+    body += &table_html(&crate::query::lines_table(d)?);
+    if d.sectors.iter().any(|s| s.sector != "all") {
+        body += "<h3>Damage by wave direction of each line's governing figure</h3>\n";
+        body += "<p>Each wedge is a sector at the heading its waves travel towards (model \
+                 frame, counter-clockwise from +x); its length is the sector's annual damage \
+                 on a log scale over four decades below the line's largest, its colour the \
+                 sector's share of the line's annual damage.</p>\n";
+        body += &plots::direction_roses_svg(&d.sectors)?;
+    }
+    let design_figures = Table::from_rows(
+        &[
+            "line",
+            "hot_spot_index",
+            "arc_length_m",
+            "measure",
+            "class",
+            "annual_damage",
+            "life_years",
+            "utilisation",
+            "year_covered",
+            "verdict",
+        ],
+        &d.figures
+            .iter()
+            .filter(|f| f.check == "design")
+            .collect::<Vec<_>>(),
+    )?;
+    body += "<h3>Design figures per hot spot, largest utilisation first</h3>\n";
+    body += &table_html(&design_figures);
+    Ok(body)
+}
+
 /// The run-in per sea state: where the slip monitors stopped drifting, on the scatter diagram.
 fn run_in_section(data: &ReportData) -> anyhow::Result<String> {
     let mut body = String::from("<h2>Run-in per sea state</h2>\n");
@@ -244,6 +319,7 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
         planned + 0.0,
         covered + 0.0
     );
+    body += &design_section(data)?;
     body += "<h2>Scatter diagram: share of the annual damage per sea state</h2>\n";
     if data.fidelity.values().any(|f| f != "fe") {
         body += "<p>Every disc is a sea state; a thick blue ring marks the sea states whose \
@@ -412,7 +488,11 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
          th, td {{ border: 1px solid #bbb; padding: 2px 6px; text-align: right; }}\n\
          th {{ white-space: normal; max-width: 9em; }}\n\
          th {{ background: #eee; }}\n .fig {{ display: inline-block; margin: 4px; }}\n\
-         .empty {{ color: #888; font-style: italic; }}\n</style>\n</head>\n<body>\n{body}\
+         .empty {{ color: #888; font-style: italic; }}\n\
+         .verdict {{ display: inline-block; padding: 4px 10px; margin: 2px; font-weight: bold; \
+         border-radius: 4px; color: white; }}\n\
+         .pass {{ background: #2e7d32; }} .fail {{ background: #c62828; }} \
+         .incomplete {{ background: #9e9e9e; }}\n</style>\n</head>\n<body>\n{body}\
          </body>\n</html>\n"
     ))
 }

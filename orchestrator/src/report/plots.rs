@@ -200,3 +200,100 @@ pub(crate) fn series_svg(series: &HotSpotSeries) -> anyhow::Result<String> {
     }
     Ok(svg)
 }
+
+/// One compass rose per mooring line: a wedge per directional sector, centred on the heading
+/// its waves travel towards (model frame, counter-clockwise from +x, drawn with +x to the right
+/// and +y up), its length the sector's annual damage on a log scale spanning four decades below
+/// the line's largest, its colour the sector's share of the line's damage. Plain SVG: plotters
+/// has no polar axes.
+pub(crate) fn direction_roses_svg(
+    sectors: &[crate::design::SectorDamage],
+) -> anyhow::Result<String> {
+    use std::fmt::Write;
+    const SIZE: f64 = 220.0;
+    const RADIUS: f64 = 80.0;
+    const DECADES: f64 = 4.0;
+    let mut lines: Vec<u32> = sectors.iter().map(|s| s.line).collect();
+    lines.dedup();
+    let mut out = String::new();
+    for line in lines {
+        let of_line: Vec<_> = sectors
+            .iter()
+            .filter(|s| s.line == line && s.sector != "all")
+            .collect();
+        let total: f64 = of_line.iter().map(|s| s.annual_damage).sum();
+        let largest = of_line.iter().map(|s| s.annual_damage).fold(0.0, f64::max);
+        // half width of a wedge: half the smallest spacing of the headings, at most 22.5°
+        let mut headings: Vec<f64> = of_line
+            .iter()
+            .map(|s| s.heading_deg.rem_euclid(360.0))
+            .collect();
+        headings.sort_by(f64::total_cmp);
+        let mut spacing: f64 = 45.0;
+        for (i, h) in headings.iter().enumerate() {
+            let next = headings.get(i + 1).copied().unwrap_or(headings[0] + 360.0);
+            if next - h > 1e-9 {
+                spacing = spacing.min(next - h);
+            }
+        }
+        let half = 0.5 * spacing;
+        let c = SIZE / 2.0;
+        let _ = write!(
+            out,
+            "<svg class=\"fig\" xmlns=\"http://www.w3.org/2000/svg\" width=\"{SIZE}\" \
+             height=\"{h}\" viewBox=\"0 0 {SIZE} {h}\">\
+             <text x=\"{c}\" y=\"16\" text-anchor=\"middle\" font-size=\"14\">line {line}</text>",
+            h = SIZE + 20.0
+        );
+        let cy = c + 10.0;
+        for k in 1..=DECADES as usize {
+            let r = RADIUS * k as f64 / DECADES;
+            let _ = write!(
+                out,
+                "<circle cx=\"{c}\" cy=\"{cy}\" r=\"{r:.1}\" fill=\"none\" stroke=\"#ccc\"/>"
+            );
+        }
+        let _ = write!(
+            out,
+            "<text x=\"{x:.1}\" y=\"{cy}\" font-size=\"10\" fill=\"#666\">+x</text>\
+             <text x=\"{c}\" y=\"{y:.1}\" font-size=\"10\" fill=\"#666\">+y</text>",
+            x = c + RADIUS + 4.0,
+            y = cy - RADIUS - 4.0
+        );
+        for s in &of_line {
+            if s.annual_damage <= 0.0 || largest <= 0.0 {
+                continue;
+            }
+            let decades_below = (largest / s.annual_damage).log10();
+            let r = RADIUS * (1.0 - decades_below / DECADES).clamp(0.02, 1.0);
+            let (a0, a1) = (
+                (s.heading_deg - half).to_radians(),
+                (s.heading_deg + half).to_radians(),
+            );
+            // SVG y grows downwards: +y of the model is up
+            let p = |a: f64| (c + r * a.cos(), cy - r * a.sin());
+            let ((x0, y0), (x1, y1)) = (p(a0), p(a1));
+            let colour = share_colour(s.annual_damage / total);
+            let _ = write!(
+                out,
+                "<path d=\"M {c} {cy} L {x0:.1} {y0:.1} A {r:.1} {r:.1} 0 0 0 {x1:.1} {y1:.1} Z\" \
+                 fill=\"rgb({},{},{})\" stroke=\"#333\"><title>{}: heading {} deg, {:.3e} per year \
+                 ({:.1} % of the line's)</title></path>",
+                colour.0,
+                colour.1,
+                colour.2,
+                super::html::escape(&s.sector),
+                s.heading_deg,
+                s.annual_damage,
+                100.0 * s.annual_damage / total
+            );
+        }
+        let _ = write!(
+            out,
+            "<text x=\"{c}\" y=\"{y:.1}\" text-anchor=\"middle\" font-size=\"10\">rings: \
+             decades below {largest:.2e}/yr</text></svg>",
+            y = SIZE + 16.0
+        );
+    }
+    Ok(out)
+}

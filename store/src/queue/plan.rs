@@ -119,8 +119,9 @@ pub(super) async fn insert_sea_state_rows(
         })?;
         let id: i64 = sqlx::query_scalar(
             "INSERT INTO sea_states \
-             (campaign_id, sea_state_index, hs_m, tp_s, occurrence_fraction, seeds_json) \
-             VALUES ($1, $2, $3, $4, $5, $6) RETURNING id",
+             (campaign_id, sea_state_index, hs_m, tp_s, occurrence_fraction, seeds_json, \
+              heading_deg, sector) \
+             VALUES ($1, $2, $3, $4, $5, $6, $7, $8) RETURNING id",
         )
         .bind(campaign.0)
         .bind(sea_state.index)
@@ -128,6 +129,8 @@ pub(super) async fn insert_sea_state_rows(
         .bind(sea_state.tp_s)
         .bind(sea_state.occurrence_fraction)
         .bind(seeds)
+        .bind(sea_state.heading_deg)
+        .bind(sea_state.sector.as_deref())
         .fetch_one(&mut **tx)
         .await
         .map_err(StoreError::db(OP))?;

@@ -261,6 +261,7 @@ impl Queue {
         const OP: &str = "read sea states";
         let rows = sqlx::query(
             "SELECT s.id AS sea_state_id, s.sea_state_index, s.hs_m, s.tp_s, s.occurrence_fraction, \
+             s.heading_deg, s.sector, \
              (SELECT COUNT(*) FROM jobs j WHERE j.sea_state_id = s.id) AS jobs_total, \
              (SELECT COUNT(*) FROM jobs j WHERE j.sea_state_id = s.id AND j.state = 'done') \
                  AS jobs_done, \
@@ -283,6 +284,8 @@ impl Queue {
                     jobs_total: get(row, "jobs_total", OP)?,
                     jobs_done: get(row, "jobs_done", OP)?,
                     jobs_failed: get(row, "jobs_failed", OP)?,
+                    heading_deg: get(row, "heading_deg", OP)?,
+                    sector: get(row, "sector", OP)?,
                 })
             })
             .collect()
