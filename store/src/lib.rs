@@ -1,4 +1,4 @@
-//! Campaign store and job queue (DESIGN §3.2-3.3).
+//! Campaign store and job queue (ARCHITECTURE.md, "Data flow of a campaign" and the store).
 //!
 //! - [`Store`] ([`campaign_store`]): campaigns, sea states, jobs and their dependencies,
 //!   attempts, workers, results; claim / heartbeat / complete / fail / sweep / cancel; cache
