@@ -1,6 +1,6 @@
 //! Fretting and fatigue settings of a campaign (`"fatigue"` in the campaign file, every field
 //! optional) and the damage-input configuration a strand job derives from them and from the
-//! strand profile (DESIGN §4.5, [`moorfret_solver::fretting::sea_state_damage_inputs`]).
+//! strand profile (`docs/damage.md`, [`moorfret_solver::fretting::sea_state_damage_inputs`]).
 //!
 //! What comes from where:
 //! - Hertz geometry of each layer interface: the wire radii of the two layers and the angle
@@ -19,7 +19,7 @@
 //!   type's hydrodynamic diameter, taken as the rope's nominal diameter: an assumption, since
 //!   a volume-equivalent diameter is somewhat smaller than the nominal one (the nominal stress
 //!   range, hence the DNV damage, is then on the high side).
-//! - Run-in: the start of each strand history is left out of every statistic (the seed's
+//! - Run-in: the start of each strand history is left out of every statistic (the paper's
 //!   Fig. 22 shows a mean-slip drift over about the first 100 s). Each strand job detects where
 //!   the slip of every slip monitor, less the part that follows the load (axial strain and
 //!   curvature), stops drifting ([`RunInDetection`],
@@ -187,7 +187,7 @@ impl RunInDetection {
 
 impl Default for FatigueSpec {
     /// Slip edges from 0.5 µm to 1 mm and normal-force edges from 10 N to 100 kN, a few bins
-    /// per decade: they span the µm-scale slips and the N to kN contact forces of the seed's
+    /// per decade: they span the µm-scale slips and the N to kN contact forces of the paper's
     /// strand results (Figs. 16-22).
     fn default() -> Self {
         let fretting = FrettingParams::default();

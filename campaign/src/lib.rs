@@ -1,6 +1,6 @@
 //! # moorfret-campaign
 //!
-//! Campaign files (DESIGN §3.1) and what a worker runs from: the contract between the
+//! Campaign files (`docs/campaign-files.md`) and what a worker runs from: the contract between the
 //! orchestrator, which reads and plans a campaign, and the workers, which run its jobs.
 //!
 //! - [`spec`]: the campaign file (serde, units in names) and its checks;

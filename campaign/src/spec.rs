@@ -1,4 +1,4 @@
-//! The campaign file (DESIGN §3.1): one JSON document that fully defines a campaign.
+//! The campaign file (`docs/campaign-files.md`): one JSON document that fully defines a campaign.
 //!
 //! serde with `deny_unknown_fields` everywhere and units in the field names. Referenced files
 //! (scatter diagram, global base case, strand profiles) are paths relative to the campaign
@@ -313,7 +313,7 @@ fn is_default_calibration_hs_fraction(f: &f64) -> bool {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum StrandContactLaws {
-    /// Penalty normal law and elastic-slip regularised Coulomb law (seed Sec. 2.1), with
+    /// Penalty normal law and elastic-slip regularised Coulomb law (the paper's Sec. 2.1), with
     /// `normal_penalty_n_per_m` and `elastic_slip_m`.
     #[default]
     Regularised,
@@ -333,12 +333,12 @@ impl StrandContactLaws {
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum StrandEnds {
-    /// Periodic constraints between the two ends (seed Sec. 2.3).
+    /// Periodic constraints between the two ends (the paper's Sec. 2.3).
     #[default]
     Periodic,
     /// Periodic constraints with the far ends following the start ends in rotation too.
     PeriodicRotations,
-    /// Penalty ties of the helical wire ends to the core end sections (seed Sec. 2.2).
+    /// Penalty ties of the helical wire ends to the core end sections (the paper's Sec. 2.2).
     PenaltyTies,
 }
 

@@ -1,6 +1,6 @@
 //! Planning the paper campaign (`campaigns/paper.json`) with enough seeds per sea state for
 //! about 10 000 jobs: sea states, seeds, payloads, cache keys, and the whole plan stored in one
-//! SQLite transaction (`plan::create`). Target (DESIGN §7): < 1 s.
+//! SQLite transaction (`plan::create`). Target (`docs/benchmarks.md`): < 1 s.
 
 use std::path::Path;
 use std::time::{Duration, Instant};

@@ -1,4 +1,4 @@
-//! Planning (DESIGN §3.2): scatter diagram → sea states → jobs.
+//! Planning (ARCHITECTURE.md, "Data flow of a campaign"): scatter diagram → sea states → jobs.
 //!
 //! Every non-zero cell becomes a sea state with Hs at the centre of its bin and Tp of its
 //! column; its occurrence fraction of the year is `cell / 100` for joint-percent tables and
@@ -14,8 +14,8 @@
 //!
 //! Expected costs (s, on one core of a 2-core machine) are rough, for the scheduler only:
 //! global 0.03 s per time step (`cargo bench --bench global`: 27 ms per 0.1 s step of the
-//! paper case); strand 5 ms per wire per load sample, which is the DESIGN §7 target of a
-//! 1000 s six-layer history in 10 min at 0.1 s sampling.
+//! paper case); strand 5 ms per wire per load sample, which is the target of a 1000 s
+//! six-layer history in 10 min (`docs/benchmarks.md`) at 0.1 s sampling.
 
 use moorfret_solver::waves::scatter::ScatterTable;
 

@@ -1,5 +1,5 @@
-//! `moorfret run strand PROFILE --load LOAD.csv` on the 1+6+1 benchmark strand (seed Sec. 2.2,
-//! 'vs_analytical' regularisation: ε_N = 2e8 N/m, γ_e = 1e-7 m) with a short tension and
+//! `moorfret run strand PROFILE --load LOAD.csv` on the 1+6+1 benchmark strand (the paper's
+//! Sec. 2.2, 'vs_analytical' regularisation: ε_N = 2e8 N/m, γ_e = 1e-7 m) with a short tension and
 //! curvature history: every output is written and consistent, the wire forces and contact
 //! forces agree with the straight-strand and stick solutions, a bad load file fails naming the
 //! sample and column with nothing written, and a run interrupted and resumed from its

@@ -1,4 +1,5 @@
-//! Rainflow counting throughput (DESIGN §7 target: ≥ 50 M samples/s on one core).
+//! Rainflow counting throughput (target ≥ 50 M samples/s on one core,
+//! `docs/benchmarks.md`).
 //!
 //! Two signals of one million samples each: seeded white noise (the worst case: two reversals
 //! in three samples) and a narrow-band signal (a few sinusoids near one frequency with random

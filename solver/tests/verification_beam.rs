@@ -1,5 +1,5 @@
 //! Verification of the corotational beam, the sparse solvers and the Newton driver against
-//! published large-deflection benchmarks (DESIGN §6, beams).
+//! published large-deflection benchmarks (`docs/verification.md`: Bathe–Bolourchi, Mattiasson).
 
 use faer::Par;
 use moorfret_solver::beam::frame::{BeamFrame, DofMap, FrameState, NodeId};

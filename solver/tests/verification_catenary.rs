@@ -233,7 +233,7 @@ fn equal_segments_reproduce_the_single_line_solution() {
     }
 }
 
-/// The seed paper's line (Bussolati et al. 2020, Table 1) from `paper_case_lines.json`: segment
+/// The paper's line (Bussolati et al. 2020, Table 1) from `paper_case_lines.json`: segment
 /// sections by type, the 2 t extra mass spread over "wire-rope-2" as solid steel.
 fn paper_case_line() -> SegmentedCatenary {
     let path = concat!(

@@ -1,5 +1,5 @@
-//! The strand FE model on the 1+6+1 benchmark of the seed's Sec. 2.2 (DESIGN §6): the 1+6
-//! strand in tension against Costello's simple straight strand, and the outer helix of the
+//! The strand FE model on the 1+6+1 benchmark of the paper's Sec. 2.2 (`docs/verification.md`): the
+//! 1+6 strand in tension against Costello's simple straight strand, and the outer helix of the
 //! 1+6+1 strand in bending against the stick and friction-limited slip solutions.
 
 use moorfret_solver::strand::analytical::SimpleStrand;
@@ -20,7 +20,7 @@ fn benchmark(layers: usize) -> Strand {
     profile.validate().expect("benchmark profile is valid")
 }
 
-/// The seed's 'vs_analytical' regularisation: ε_N = 2e5 N/mm, γ_e = 1e-4 mm.
+/// The paper's 'vs_analytical' regularisation: ε_N = 2e5 N/mm, γ_e = 1e-4 mm.
 fn vs_analytical() -> StrandModelParameters {
     StrandModelParameters::penalty_contact(2e8, 1e-7, EndKind::PenaltyTies)
 }
@@ -127,9 +127,10 @@ fn in_phase(theta: &[f64], d: &[f64], u_s: f64) -> f64 {
     sgd / sgg
 }
 
-/// Below the slip onset κ_b ≈ 1.2e-2 1/m (DESIGN §6) every contact sticks and the outer-helix
-/// force varies in phase with the stick solution ΔF = EA cos²β R κ sin θ, but with about half its
-/// amplitude. The stick solution assumes every point of the outer wire follows plane sections;
+/// Below the slip onset κ_b ≈ 1.2e-2 1/m (`docs/verification.md`) every contact sticks and the
+/// outer-helix force varies in phase with the stick solution ΔF = EA cos²β R κ sin θ, but with
+/// about half its amplitude. The stick solution assumes every point of the outer wire follows plane
+/// sections;
 /// the test measures, at the 18 trellis contacts, how far the material points depart from
 /// plane-section motion along the outer wire (in-phase part c, in units of the stick
 /// displacement amplitude u_s = 3.4 µm) and checks that these departures account for the
@@ -138,7 +139,7 @@ fn in_phase(theta: &[f64], d: &[f64], u_s: f64) -> f64 {
 ///   force per point ≤ EA cos²β R κ · 20° ≈ 90 N on k_T = μ f_N/γ_e ≈ 1e9 N/m: 0.03 u_s);
 /// - the 6-wire layer rolls on its core line points without slipping: its core-side point stays
 ///   on plane sections (|c| < 0.05 u_s, same bound), so the point facing the outer wire moves
-///   twice as far as its axis (rolling, within 0.05 u_s) — the point-contact freedom the seed
+///   twice as far as its axis (rolling, within 0.05 u_s) — the point-contact freedom the paper
 ///   (Sec. 2.2) names with the penalty regularisation for its smaller FE amplitude, and which the
 ///   line-contact analytical model excludes;
 /// - the outer wire's force amplitude is (1 + c) of the stick one for c of its axis, within 0.05
@@ -234,8 +235,8 @@ fn outer_helix_force_is_friction_limited_above_slip_onset() {
     assert!(2 * slipping > bent.contacts.len());
 }
 
-/// κ = 1 1/m (seed Fig. 4b, 1e-3 1/mm), twenty times the slip onset curvature: the outer helix
-/// slides at every trellis point except the two at the extremes of its force (θ = ±π/2, where
+/// κ = 1 1/m (the paper's Fig. 4b, 1e-3 1/mm), twenty times the slip onset curvature: the outer
+/// helix slides at every trellis point except the two at the extremes of its force (θ = ±π/2, where
 /// the force gradient and so the friction needed vanish), and its force follows the
 /// friction-limited slip solution, a triangle wave tri(θ) of amplitude A = (π/2) μ T₀ sin β
 /// ([`slip_force_variation`]), 1.9 % of the stick amplitude. Least squares F ≈ a + b tri(θ)

@@ -258,7 +258,8 @@ fn mesh_puts_nodes_on_every_contact_and_keeps_elements_short() {
 
 #[test]
 fn costello_simple_strand_in_tension_gives_the_published_forces() {
-    // 1+6, r = 2.15 mm, 12°, E = 210 GPa, ν = 0.3, ε = 1e-3: F ≈ 19.95 kN, T₂ ≈ 2879 N (DESIGN §6).
+    // 1+6, r = 2.15 mm, 12°, E = 210 GPa, ν = 0.3, ε = 1e-3: F ≈ 19.95 kN, T₂ ≈ 2879 N
+    // (`docs/verification.md`).
     let strand = SimpleStrand {
         core_radius_m: 2.15e-3,
         wire_radius_m: 2.15e-3,

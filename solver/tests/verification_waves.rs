@@ -1,5 +1,5 @@
-//! Verification of the wave module against the published numbers of DESIGN §6 and statistical
-//! properties of long realisations, plus the paper's scatter diagram as printed.
+//! Verification of the wave module against the published numbers of `docs/verification.md` and
+//! statistical properties of long realisations, plus the paper's scatter diagram as printed.
 
 use std::f64::consts::PI;
 
@@ -17,7 +17,7 @@ fn rel(a: f64, b: f64) -> f64 {
 
 #[test]
 fn jonswap_peak_density_matches_dnv_reference() {
-    // DESIGN §6 (DNV-RP-C205 §3.5.5): Hs = 2 m, Tp = 10 s, S(ωp) = 0.569983 (γ = 1) and
+    // DNV-RP-C205 §3.5.5: Hs = 2 m, Tp = 10 s, S(ωp) = 0.569983 (γ = 1) and
     // 1.236428 (γ = 3.3) m²s/rad; given to 6 decimals, i.e. 1e-6 relative.
     for (gamma, expected) in [(1.0, 0.569983), (3.3, 1.236428)] {
         let s = Jonswap::new(2.0, 10.0, PeakEnhancement::Given(gamma)).unwrap();
@@ -28,7 +28,8 @@ fn jonswap_peak_density_matches_dnv_reference() {
 
 #[test]
 fn jonswap_formula_m0_matches_dnv_reference_ratios() {
-    // DESIGN §6: m0 of the formula is 1.0000 (γ = 1) and 1.0024 (γ = 3.3) × Hs²/16, to 4 decimals.
+    // docs/verification.md: m0 of the formula is 1.0000 (γ = 1) and 1.0024 (γ = 3.3) × Hs²/16,
+    // to 4 decimals.
     for (gamma, expected) in [(1.0, 1.0000), (3.3, 1.0024)] {
         let s = Jonswap::new(2.0, 10.0, PeakEnhancement::Given(gamma)).unwrap();
         let ratio = s.formula_m0() / (2.0 * 2.0 / 16.0);
@@ -41,7 +42,8 @@ fn jonswap_formula_m0_matches_dnv_reference_ratios() {
 
 #[test]
 fn dispersion_matches_reference_wavenumber() {
-    // DESIGN §6: T = 10 s, d = 100 m → k = 0.04026863 rad/m (8 decimals: 1.2e-7 relative).
+    // docs/verification.md: T = 10 s, d = 100 m → k = 0.04026863 rad/m (8 decimals: 1.2e-7
+    // relative).
     let k = wavenumber(2.0 * PI / 10.0, 100.0).unwrap();
     assert!(rel(k, 0.04026863) < 1.2e-7, "k = {k}");
 }
@@ -93,7 +95,8 @@ const AMPLITUDES: [(usize, f64, f64); 3] = [
 
 #[test]
 fn one_hour_realisation_has_target_hs_and_peak_period() {
-    // Severe fatigue sea state of the paper case (DESIGN §5): Hs = 8.75 m, Tp = 16.5 s, γ = 1.3.
+    // Severe fatigue sea state of the paper case (`docs/paper-campaign.md`): Hs = 8.75 m,
+    // Tp = 16.5 s, γ = 1.3.
     let (hs, tp, duration) = (8.75, 16.5, 3600.0);
     let spectrum = Jonswap::new(hs, tp, PeakEnhancement::Given(1.3)).unwrap();
     let params = RealisationParams {

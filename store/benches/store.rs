@@ -4,7 +4,7 @@
 //! 16-worker cluster: claims (each followed by its completion) per second.
 //!
 //! SQLite always; PostgreSQL too when `MOORFRET_BENCH_POSTGRES_URL` is set (each run in a
-//! schema of its own, dropped afterwards). Targets (DESIGN §7 and the store's acceptance):
+//! schema of its own, dropped afterwards). Targets (`docs/benchmarks.md`):
 //! < 10 ms per claimed and completed job, < 1 s for a 10 000-job plan.
 //!
 //! Measured on a shared 2-core machine under heavy load (load average ≈ 13), wall time:

@@ -8,11 +8,11 @@
 //! before writing to it. Opening checks the schema version first: a database written by a
 //! newer moorfret is refused untouched; an older one is migrated.
 //!
-//! Job protocol (DESIGN §3.2): [`Store::claim`] leases the highest-priority ready job in one
-//! atomic statement; the worker renews the lease with [`Store::heartbeat`] and ends it with
-//! [`Store::complete`], [`Store::complete_from_cache`] or [`Store::fail`], each guarded by the
-//! lease token (a stale token gets [`StoreError::LeaseLost`] and changes nothing).
-//! [`Store::sweep_expired`] returns jobs whose lease ran out to the queue.
+//! Job protocol (ARCHITECTURE.md, "Data flow of a campaign"): [`Store::claim`] leases the
+//! highest-priority ready job in one atomic statement; the worker renews the lease with
+//! [`Store::heartbeat`] and ends it with [`Store::complete`], [`Store::complete_from_cache`] or
+//! [`Store::fail`], each guarded by the lease token (a stale token gets [`StoreError::LeaseLost`]
+//! and changes nothing). [`Store::sweep_expired`] returns jobs whose lease ran out to the queue.
 //! Validity is decided by the token alone: a lease past its end that no sweep has taken back
 //! yet may still be renewed or completed, since no other worker can hold the job.
 

@@ -145,6 +145,7 @@ pub enum StoreError {
         source: serde_json::Error,
     },
     /// Results of the test-only job kind were offered for the users' result tables.
+    #[cfg(feature = "test-support")]
     #[error("job {0} is of the test kind; only its job-level result may be stored")]
     TestKindResults(JobId),
     /// A file or directory of the store (not an artifact) could not be read or created.

@@ -1,4 +1,4 @@
-//! Refusing SQLite on network file systems (DESIGN §3.3).
+//! Refusing SQLite on network file systems (ARCHITECTURE.md, the store).
 //!
 //! SQLite's locking relies on POSIX advisory locks and, in WAL mode, on shared memory; both are
 //! unreliable or absent on NFS, Lustre, CIFS and similar, where concurrent workers could corrupt

@@ -1,4 +1,4 @@
-//! Campaign store and job queue (DESIGN §3.2-3.3).
+//! Campaign store and job queue (ARCHITECTURE.md, "Data flow of a campaign" and the store).
 //!
 //! - [`Store`] ([`campaign_store`]): campaigns, sea states, jobs and their dependencies,
 //!   attempts, workers, results; claim / heartbeat / complete / fail / sweep / cancel; cache
@@ -7,7 +7,8 @@
 //! - [`ArtifactStore`] ([`artifacts`]): content-addressed files for large series and
 //!   checkpoints.
 //! - [`Clock`], [`QueuePolicy`]: time source and queue settings.
-//! - [`TestPayload`] ([`test_kind`]): payload of the test-only job kind.
+//! - `TestPayload` (`test_kind`): payload of the test-only job kind, built with the
+//!   `test-support` feature only (the tests of this crate and of its dependents enable it).
 //! - [`RetryPolicy`] ([`retry`]): capped exponential backoff while the database is away.
 //! - [`WallTimeBudget`] ([`wall_time`]): which jobs fit in a worker's remaining wall time.
 //!
@@ -26,6 +27,7 @@ mod postgres;
 pub mod results;
 pub mod retry;
 mod sqlite;
+#[cfg(feature = "test-support")]
 pub mod test_kind;
 pub mod types;
 pub mod wall_time;
@@ -38,6 +40,7 @@ pub use model::*;
 pub use policy::QueuePolicy;
 pub use results::*;
 pub use retry::{complete_with_retry, RetryPolicy};
+#[cfg(feature = "test-support")]
 pub use test_kind::TestPayload;
 pub use types::*;
 pub use wall_time::WallTimeBudget;

@@ -12,9 +12,9 @@ use super::error::StoreError;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct QueuePolicy {
-    /// Lease granted by a claim or a heartbeat, ms (DESIGN §3.2: 5 min).
+    /// Lease granted by a claim or a heartbeat, ms (default 5 min).
     pub lease_ms: i64,
-    /// How often a worker should heartbeat, ms (DESIGN §3.2: 30 s); must be below `lease_ms`.
+    /// How often a worker should heartbeat, ms (default 30 s); must be below `lease_ms`.
     pub heartbeat_interval_ms: i64,
     /// A job whose lease expired this many times is failed instead of re-queued.
     pub max_lost: i64,

@@ -1,4 +1,5 @@
-//! Result rows of strand jobs and what the result views return (DESIGN §3.3, §4.5).
+//! Result rows of strand jobs and what the result views return (README, "Results and queries";
+//! `docs/damage.md`).
 //!
 //! A strand job turns its [`SeaStateInputs`] (from
 //! [`moorfret_solver::fretting::sea_state_damage_inputs`]) into rows with [`damage_rows`]:

@@ -1,7 +1,7 @@
 //! SQLite backend: one database file in WAL mode, written in `BEGIN IMMEDIATE` transactions.
 //!
-//! Connection settings (DESIGN §3.3): `journal_mode=WAL` so readers never block the writer,
-//! `synchronous=NORMAL` (durable at checkpoints, safe against corruption in WAL mode),
+//! Connection settings (ARCHITECTURE.md, the store): `journal_mode=WAL` so readers never block the
+//! writer, `synchronous=NORMAL` (durable at checkpoints, safe against corruption in WAL mode),
 //! `foreign_keys=ON`, and a 30 s busy timeout set on every connection through the connect
 //! options, so that concurrent workers wait for the write lock instead of failing with
 //! "database is locked". Write transactions begin `IMMEDIATE`: the lock is taken before the

@@ -70,24 +70,25 @@ impl fmt::Display for LeaseToken {
     }
 }
 
-/// Defines a text-backed enum with its `Display`, `FromStr` and list of all values.
+/// Defines a text-backed enum with its `Display`, `FromStr` and list of all values. A value
+/// written `Variant => "text" if cfg(…)` exists only where the condition holds.
 macro_rules! text_enum {
-    ($(#[$doc:meta])* $name:ident, $field:literal { $($(#[$vdoc:meta])* $variant:ident => $text:literal),+ $(,)? }) => {
+    ($(#[$doc:meta])* $name:ident, $field:literal { $($(#[$vdoc:meta])* $variant:ident => $text:literal $(if cfg($cfg:meta))?),+ $(,)? }) => {
         $(#[$doc])*
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
         #[serde(rename_all = "snake_case")]
         pub enum $name {
-            $($(#[$vdoc])* $variant),+
+            $($(#[$vdoc])* $(#[cfg($cfg)])? $variant),+
         }
 
         impl $name {
             /// Every value, in declaration order.
-            pub const ALL: &'static [$name] = &[$($name::$variant),+];
+            pub const ALL: &'static [$name] = &[$($(#[cfg($cfg)])? $name::$variant),+];
 
             /// The text stored in the database.
             pub fn as_str(self) -> &'static str {
                 match self {
-                    $($name::$variant => $text),+
+                    $($(#[cfg($cfg)])? $name::$variant => $text),+
                 }
             }
         }
@@ -103,7 +104,7 @@ macro_rules! text_enum {
 
             fn from_str(text: &str) -> Result<Self, Self::Err> {
                 match text {
-                    $($text => Ok($name::$variant),)+
+                    $($(#[cfg($cfg)])? $text => Ok($name::$variant),)+
                     other => Err(UnknownValue {
                         field: $field,
                         value: other.to_owned(),
@@ -154,8 +155,9 @@ text_enum!(
         Calibrate => "calibrate",
         /// The reduced strand response for one (sea state, seed, hot spot).
         StrandReduced => "strand_reduced",
-        /// Queue exercise only (sleep, succeed, fail); never reaches users' results.
-        Test => "test",
+        /// Queue exercise only (sleep, succeed, fail); never reaches users' results. Built with
+        /// the `test-support` feature only.
+        Test => "test" if cfg(feature = "test-support"),
     }
 );
 
@@ -226,9 +228,9 @@ text_enum!(
         /// Its lease expired too many times.
         Lost => "lost",
         /// The test job kind's transient failure.
-        TestTransient => "test_transient",
+        TestTransient => "test_transient" if cfg(feature = "test-support"),
         /// The test job kind's permanent failure.
-        TestPermanent => "test_permanent",
+        TestPermanent => "test_permanent" if cfg(feature = "test-support"),
     }
 );
 

@@ -1,8 +1,8 @@
 //! Wall-time budget of a worker whose allocation ends at a known time (Slurm `--time`, a
 //! Kubernetes `activeDeadlineSeconds`, a reservation): which jobs still fit.
 //!
-//! A worker never starts a job whose expected cost exceeds its remaining wall time (DESIGN
-//! §3.5). The budget turns "time left" into the number the store filters on,
+//! A worker never starts a job whose expected cost exceeds its remaining wall time
+//! (`deploy/README.md`). The budget turns "time left" into the number the store filters on,
 //! [`ClaimFilter::max_expected_cost_s`]:
 //!
 //! `max_expected_cost_s(t) = max(0, t_end − t − reserve)`,

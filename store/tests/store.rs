@@ -921,7 +921,7 @@ async fn cached_results_of_another_campaign_are_reused(backend: Backend) {
     ts.finish().await;
 }
 
-/// DESIGN §6, damage aggregation: occurrences 0.30 and 0.13758, T_eff = 10 800 s, per-sea-state
+/// docs/damage.md, lifetime damage: occurrences 0.30 and 0.13758, T_eff = 10 800 s, per-sea-state
 /// damage 1e-6 and 4e-6 give an annual damage of 2.48463504e-3 (Julian year, 31 557 600 s).
 async fn lifetime_view_reproduces_the_reference_annual_damage(backend: Backend) {
     let Some(ts) = open_store(backend, QueuePolicy::default()).await else {

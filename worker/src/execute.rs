@@ -2,7 +2,6 @@
 //! stage. Store reads a stage needs (the upstream series of a strand job) go through `rt`,
 //! retried under the worker's [`RetryPolicy`].
 
-use serde_json::json;
 use tokio::runtime::Handle;
 
 use crate::failure::permanent;
@@ -11,7 +10,6 @@ use crate::{global_stage, reduced_stage, strand_stage};
 use moorfret_campaign::{CalibratePayload, CampaignInputs, GlobalPayload, StrandPayload};
 use moorfret_store::{
     ArtifactStore, FailureClass, JobFailure, JobKind, JobResults, Lease, RetryPolicy, Store,
-    TestPayload,
 };
 
 fn decode<T: serde::de::DeserializeOwned>(lease: &Lease) -> Result<T, JobFailure> {
@@ -48,6 +46,7 @@ pub fn execute(
         extra_seed_gate(&ctx, global, hot_spot)
     };
     match lease.kind {
+        #[cfg(feature = "test-support")]
         JobKind::Test => run_test(lease),
         JobKind::Global => {
             let payload: GlobalPayload = decode(lease)?;
@@ -94,7 +93,9 @@ pub fn execute(
 }
 
 /// The test job kind: sleep, fail or crash as its payload says.
+#[cfg(feature = "test-support")]
 fn run_test(lease: &Lease) -> Result<JobResults, JobFailure> {
+    use moorfret_store::TestPayload;
     let payload: TestPayload = decode(lease)?;
     match payload {
         TestPayload::Sleep { duration_ms } => {
@@ -110,7 +111,7 @@ fn run_test(lease: &Lease) -> Result<JobResults, JobFailure> {
         return Err(failure);
     }
     Ok(JobResults {
-        result: json!({ "test": payload }),
+        result: serde_json::json!({ "test": payload }),
         ..JobResults::default()
     })
 }

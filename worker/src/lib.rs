@@ -1,6 +1,7 @@
 //! # moorfret-worker
 //!
-//! A worker claims sea-state jobs from a campaign store and runs them (DESIGN §3.2, §3.5):
+//! A worker claims sea-state jobs from a campaign store and runs them (ARCHITECTURE.md, "Data flow
+//! of a campaign"):
 //!
 //! - [`serve`]: the claim loop: cache reuse, the stage on a blocking thread with a heartbeat
 //!   task, completion guarded by the lease token, failure reports, release on shutdown;

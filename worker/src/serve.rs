@@ -1,4 +1,5 @@
-//! The worker loop (DESIGN §3.2, §3.5): claim a job, run it, heartbeat, complete.
+//! The worker loop (ARCHITECTURE.md, "Data flow of a campaign"): claim a job, run it, heartbeat,
+//! complete.
 //!
 //! [`run`] takes its store, artifact store, settings and a shutdown signal as arguments (the
 //! `moorfret worker` / `moorfret-worker` binaries wire SIGTERM/SIGINT to it). Per job:
@@ -46,7 +47,7 @@ pub struct WorkerConfig {
     /// Return once no campaign has ready, running or blocked jobs left.
     pub exit_when_idle: bool,
     /// Wall time of this worker's allocation (batch schedulers): jobs expected to run past
-    /// it are not claimed (DESIGN §3.5).
+    /// it are not claimed ([`moorfret_store::wall_time`]).
     pub wall_time: Option<WallTimeBudget>,
     /// How store calls are retried while the database is unreachable.
     pub retry: RetryPolicy,
@@ -290,6 +291,7 @@ async fn inputs_of(
     cache: &mut HashMap<CampaignId, Arc<CampaignInputs>>,
     lease: &Lease,
 ) -> Result<Option<Arc<CampaignInputs>>, JobFailure> {
+    #[cfg(feature = "test-support")]
     if lease.kind == JobKind::Test {
         return Ok(None);
     }

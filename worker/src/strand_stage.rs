@@ -1,8 +1,8 @@
 //! The `strand` stage of a job: load the hot-spot series of its global job (found by that
 //! job's cache key, so a global result shared from another campaign serves as well), convert
-//! it to the strand load ε(t) = T(t) / EA and κ(t) (DESIGN §4.4), sampled every `load_stride`
-//! global output samples, and drive the detailed strand model through it
-//! (`moorfret_solver::strand::history`). EA follows the campaign's rule
+//! it to the strand load ε(t) = T(t) / EA and κ(t) (docs/strand-runs.md, "Strand jobs in
+//! campaigns"), sampled every `load_stride` global output samples, and drive the detailed
+//! strand model through it (`moorfret_solver::strand::history`). EA follows the campaign's rule
 //! (`moorfret_campaign::stiffness`): measured on the strand model, once per model and artifact
 //! directory (the first job to need it measures it, the others read it back), or the line
 //! type's; the job result gives both.

@@ -1,4 +1,4 @@
-//! Plots of a strand history run (seed Figs. 19-22): one file per quantity, one panel per
+//! Plots of a strand history run (the paper's Figs. 19-22): one file per quantity, one panel per
 //! helical layer (wire axial force) or layer interface (contact forces, slip), each with the
 //! neutral-axis and outer-arc monitors against time; and the load, T or ε, and κ against time.
 

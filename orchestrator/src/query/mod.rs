@@ -1,5 +1,5 @@
 //! Queries users run on a campaign's results (`moorfret query …`), read from the store's views
-//! (DESIGN §3.3-3.4):
+//! (README, "Results and queries"):
 //!
 //! - `damage-inputs`: `sea_state_class_damage_inputs`, one row per sea state × hot spot ×
 //!   contact class for one fretting measure (`fretting_max` by default, or `fretting_mean`);

@@ -2,9 +2,9 @@
 //! with `MOORFRET_FAULT_WORKER_DB` set, and [`run_if_requested`] then runs this loop instead of
 //! the tests.
 //!
-//! The loop is the store protocol a worker follows (DESIGN §3.2): register; claim (sweeping
-//! expired leases first when nothing is ready); heartbeat from a separate task while the job
-//! runs; complete guarded by the lease token. Every store call goes through
+//! The loop is the store protocol a worker follows (ARCHITECTURE.md, "Data flow of a campaign"):
+//! register; claim (sweeping expired leases first when nothing is ready); heartbeat from a separate
+//! task while the job runs; complete guarded by the lease token. Every store call goes through
 //! [`RetryPolicy::run`], so a database that goes away is waited for. Test jobs sleep for their
 //! payload's duration. Each event is printed on stdout as one line (`CLAIMED job=…`,
 //! `COMPLETED job=…`, `REJECTED job=…`) for the test to read.

@@ -1,4 +1,5 @@
-//! The two-node small-sliding frictional contact element between two wire beams (seed Eqs. 1-11).
+//! The two-node small-sliding frictional contact element between two wire beams (the paper's
+//! Eqs. 1-11).
 //!
 //! DOFs, in this order: [u₁(3), θ₁(3), u₂(3), θ₂(3)], with θᵢ spatial rotation increments
 //! (`crate::beam::rotation`: Λ ← exp(θ̂) Λ). A node's current tangent is tᵢ = Λᵢ Tᵢ with Tᵢ the

@@ -3,13 +3,13 @@
 //! compliance, or the Cattaneo–Mindlin law with memory) and Coulomb friction.
 //!
 //! Normal force (compression positive) from the penetration p = −g_N ≥ 0:
-//!   penalty  f_N = ε_N p                  (seed Sec. 2.1; ε_N in N/m),
+//!   penalty  f_N = ε_N p                  (the paper's Sec. 2.1; ε_N in N/m),
 //!   Hertz    f_N = K_H p^{3/2}            (K_H from [`super::hertz::CrossedCylinders`]),
 //!   line     p = f_N/(π E* ℓ) [ln(4R₁/b) + ln(4R₂/b) − 1], b² = 4 f_N R/(π E* ℓ)
 //!            (two cylinders of radii R₁, R₂ touching along a generator over a length ℓ,
 //!            Johnson 1985 §5.3; [`super::hertz::LineContact`], inverted per evaluation).
 //! Tangential stiffness before sliding, k_T, with the Coulomb limit |f_T| ≤ μ f_N:
-//!   elastic slip  k_T = μ f_N / γ_e       (seed Sec. 2.1: slides once |g_T| = γ_e),
+//!   elastic slip  k_T = μ f_N / γ_e       (the paper's Sec. 2.1: slides once |g_T| = γ_e),
 //!   Mindlin       k_T = 8 G* c(f_N)       (Mindlin 1949, initial stiffness; c ∝ f_N^{1/3}).
 //! Both are elastic–perfectly-plastic in the tangential gap with this k_T: the Mindlin choice
 //! gives the physical micro-slip stiffness, not the full Cattaneo–Mindlin hysteresis.
@@ -97,7 +97,7 @@ impl ContactLaws {
 }
 
 impl Default for ContactLaws {
-    /// The seed's regularisation for comparison with the analytical solution (Sec. 2.2:
+    /// The paper's regularisation for comparison with the analytical solution (Sec. 2.2:
     /// ε_N = 2e5 N/mm, γ_e = 1e-4 mm).
     fn default() -> Self {
         let p = ContactParameters::default();
@@ -125,8 +125,8 @@ pub struct ContactParameters {
 }
 
 impl Default for ContactParameters {
-    /// The seed's regularisation for comparison with the analytical solution (Sec. 2.2:
-    /// ε_N = 2e5 N/mm, γ_e = 1e-4 mm), steel wires, μ = 0.12 (seed Sec. 2.4).
+    /// The paper's regularisation for comparison with the analytical solution (Sec. 2.2:
+    /// ε_N = 2e5 N/mm, γ_e = 1e-4 mm), steel wires, μ = 0.12 (the paper's Sec. 2.4).
     fn default() -> Self {
         Self {
             normal: NormalLaw::Penalty {

@@ -1,4 +1,5 @@
-//! Small-sliding node-to-node frictional contact between wire beams (seed Sec. 2.1, Eqs. 1-11).
+//! Small-sliding node-to-node frictional contact between wire beams (the paper's Sec. 2.1,
+//! Eqs. 1-11).
 //!
 //! - `element`: the two-node contact element (kinematics, return mapping, internal force,
 //!   consistent tangent), its history and its outputs;

@@ -1,4 +1,4 @@
-//! Lifetime damage from per-sea-state, per-seed results (DESIGN §4.5).
+//! Lifetime damage from per-sea-state, per-seed results (`docs/damage.md`).
 //!
 //! ```text
 //! D_life = Σ_s  p_s · (L / T_eff) · mean over seeds of D_s,seed
@@ -192,7 +192,7 @@ mod tests {
 
     #[test]
     fn reference_vector_gives_the_published_annual_damage() {
-        // DESIGN §6: occurrences 0.30 and 0.13758, T_eff = 10 800 s, damages 1e-6 and 4e-6,
+        // docs/damage.md: occurrences 0.30 and 0.13758, T_eff = 10 800 s, damages 1e-6 and 4e-6,
         // design life 1 year → 2.48463504e-3.
         let s = [
             state("a", 0.30, &[(1, 1e-6)]),

@@ -1,5 +1,5 @@
 //! Classical tension-tension fatigue of mooring components and lifetime aggregation
-//! (DESIGN §4.5).
+//! (`docs/damage.md`).
 //!
 //! - `tn`: T-N curves of DNV-OS-E301 and API RP 2SK with their nominal areas / strengths;
 //! - `miner`: Palmgren-Miner damage from rainflow cycles, histograms and tension series;

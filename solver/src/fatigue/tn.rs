@@ -176,7 +176,7 @@ mod tests {
 
     #[test]
     fn dnv_curves_follow_the_standard_parameters() {
-        // 60.4 mm spiral strand (DESIGN §5), 1 MN range: s = 1e6 / (π 0.0604²/4) = 349.0 MPa.
+        // 60.4 mm spiral strand of the paper case, 1 MN range: s = 1e6 / (π 0.0604²/4) = 349.0 MPa.
         let area = rope_nominal_area_m2(0.0604);
         let curve = TnCurve::Dnv {
             component: DnvComponent::SpiralRope,

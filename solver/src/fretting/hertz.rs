@@ -38,7 +38,7 @@ pub struct ElasticMaterial {
 }
 
 impl Default for ElasticMaterial {
-    /// Wire steel, as in the paper case (DESIGN §5: E = 210 GPa, ν = 0.3).
+    /// Wire steel, as in the paper case (`docs/paper-campaign.md`: E = 210 GPa, ν = 0.3).
     fn default() -> Self {
         Self {
             youngs_modulus_pa: 210e9,

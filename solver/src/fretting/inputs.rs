@@ -1,5 +1,5 @@
 //! Per-sea-state damage inputs of one (sea state, seed, hot spot): what a strand job stores and
-//! the lifetime aggregation sums (DESIGN §4.5).
+//! the lifetime aggregation sums (`docs/damage.md`).
 //!
 //! From the contact records of the strand stage ([`ContactRecord`]) and the hot-spot tension
 //! history that drove it, [`sea_state_damage_inputs`] gives

@@ -1,4 +1,4 @@
-//! Fretting statistics of inter-wire contacts (DESIGN §4.5).
+//! Fretting statistics of inter-wire contacts (`docs/damage.md`).
 //!
 //! - [`reversals`]: peak / valley extraction with a hysteresis gate;
 //! - [`rainflow`]: batch rainflow counting, ASTM E1049-85 §5.4.4 (half cycles kept) and §5.4.5

@@ -1,5 +1,5 @@
 //! What the strand stage hands to the fretting statistics: one record per inter-wire contact,
-//! and the contact classes the damage inputs are reported in (DESIGN §4.5).
+//! and the contact classes the damage inputs are reported in (`docs/damage.md`).
 //!
 //! A contact class is a layer interface × an angular position around the strand cross-section
 //! relative to the bending plane. With the strand frame of [`crate::strand::loading`] (bending

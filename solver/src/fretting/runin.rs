@@ -1,6 +1,6 @@
-//! Run-in detection: where the mean slip of a contact stops drifting (DESIGN §4.5).
+//! Run-in detection: where the mean slip of a contact stops drifting (`docs/damage.md`).
 //!
-//! The strand needs a run-in before its slip pattern stabilises: in the seed's Fig. 22 the
+//! The strand needs a run-in before its slip pattern stabilises: in the paper's Fig. 22 the
 //! mean slip drifts for about the first 100 s of the sea state. The history is cut into
 //! consecutive windows of `window_samples`; the reference is the mean over the final
 //! `reference_fraction` of the record and the scale its standard deviation σ. The run-in ends at

@@ -1,4 +1,5 @@
-//! One coupled time step of the floater and its lines, t_n → t_{n+1} = t_n + h (DESIGN §4.3).
+//! One coupled time step of the floater and its lines, t_n → t_{n+1} = t_n + h
+//! (`docs/global-stage.md`).
 //!
 //! The floater unknown is its acceleration ν̇_{n+1} (generalised-α with the lines' h and ρ∞).
 //! A step is a sequence of passes:

@@ -1,4 +1,4 @@
-//! Coupled implicit dynamics of the floater and its lines (DESIGN §4.2-4.3): the time loop.
+//! Coupled implicit dynamics of the floater and its lines (`docs/global-stage.md`): the time loop.
 //!
 //! Both the floater and every line use the generalised-α method with the same step h and
 //! spectral radius ρ∞ (see [`crate::floater::dynamics`] and [`crate::mooring::dynamics`]); one

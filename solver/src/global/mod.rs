@@ -1,7 +1,8 @@
-//! The coupled global stage (DESIGN §4.1-4.3, §5): the floating wind turbine (rigid body with
-//! strip-theory hydrodynamics, or a prescribed motion) and its catenary lines in an irregular
-//! JONSWAP sea, integrated together in one implicit generalised-α scheme, producing rope tension
-//! T(t) and curvature κ(t) at the hot spots, envelopes along every line and floater motions.
+//! The coupled global stage (the paper's Sec. 3; `docs/global-stage.md`): the floating wind turbine
+//! (rigid body with strip-theory hydrodynamics, or a prescribed motion) and its catenary lines in
+//! an irregular JONSWAP sea, integrated together in one implicit generalised-α scheme, producing
+//! rope tension T(t) and curvature κ(t) at the hot spots, envelopes along every line and floater
+//! motions.
 //!
 //! Data flow: [`case::CaseSpec`] (JSON) → [`system::GlobalModel`] (validated, sea realised,
 //! thrust from the wind law, waves cut off at the highest frequency the run resolves:

@@ -1,6 +1,6 @@
 //! Seabed contact per unit length: a flat seabed at z = −depth resisting the penetration
 //! g = −depth − z by a penalty spring and a damper, with optional regularised Coulomb friction
-//! on the horizontal velocity (the penalty approach of the seed paper's line–seabed contact,
+//! on the horizontal velocity (the penalty approach of the paper's line–seabed contact,
 //! Sec. 3.1, with the stiffness of the campaign file).
 //!
 //! To let Newton's method converge when nodes touch down or lift off within a step, the spring

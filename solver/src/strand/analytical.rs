@@ -14,9 +14,9 @@
 //!    wire tension T₂ = E π R₂² ξ₂, bending moment G₂ = E (π R₂⁴/4) Δκ₂, twisting moment
 //!    H₂ = G (π R₂⁴/2) Δτ₂, shear N₂ = H₂ κ₂ − G₂ τ₂ (κ₂ = cos²α₂/r₂, τ₂ = sin α₂ cos α₂/r₂);
 //!    strand force F = E π R₁² ε + m (T₂ sin α₂ + N₂ cos α₂).
-//! (2) Helical wire of a bent strand (seed Sec. 2.2 and [11] therein): with no slip, the axial
-//!    force of a wire at angular position φ varies by ΔF = EA cos²β R κ sin φ; it starts to slip
-//!    at κ_b = μ sin β T / (EA cos²β R) (DESIGN §6).
+//! (2) Helical wire of a bent strand (the paper's Sec. 2.2 and [11] therein): with no slip, the
+//!    axial force of a wire at angular position φ varies by ΔF = EA cos²β R κ sin φ; it starts to
+//!    slip at κ_b = μ sin β T / (EA cos²β R) (`docs/verification.md`).
 
 use std::f64::consts::PI;
 

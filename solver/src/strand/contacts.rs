@@ -1,4 +1,4 @@
-//! Geometric detection of the fixed contact pairs of a strand (DESIGN §4.4).
+//! Geometric detection of the fixed contact pairs of a strand (the paper's Sec. 2.2).
 //!
 //! - Trellis contacts between adjacent helical layers k, k+1 of opposite hand: wire i of layer k
 //!   (θ = aᵢ + ωₖ z) and wire j of layer k+1 (θ = bⱼ + ωₖ₊₁ z) are radially aligned where

@@ -1,4 +1,4 @@
-//! End coupling of the helical wires to the core end sections (seed Sec. 2.2), by penalty.
+//! End coupling of the helical wires to the core end sections (the paper's Sec. 2.2), by penalty.
 //!
 //! An end node of a helical wire follows the rigid motion of its plane end section
 //! ([`super::loading::SectionMotion`]) except for its radial displacement and its rotation about

@@ -3,12 +3,12 @@
 //! A wire of a layer of helix radius R, lay angle β (from the strand axis z) and hand h (+1 right
 //! / Z, −1 left / S) with phase φ has the centreline
 //!   x(z) = (−R sin θ, R cos θ, z),  θ(z) = φ + ω z,  ω = h tan β / R  (rad/m),
-//! parametrised by the axial coordinate z. θ is the DESIGN §2 angular position for bending about
-//! y towards +x: θ = +π/2 at the outer arc (−x), 0 on the neutral axis (+y), −π/2 at the inner
-//! arc (+x); θ increases counter-clockwise about +z. Arc length s = z / cos β; unit tangent
-//! t = (−R ω cos θ, −R ω sin θ, 1) cos β; principal normal n = (sin θ, −cos θ, 0) (towards the
-//! axis); binormal b = t × n; curvature κ = sin²β / R, torsion τ = h sin β cos β / R.
-//! The core is the straight helix R = 0 (θ = φ, t = e_z).
+//! parametrised by the axial coordinate z. θ is the angular position of the strand frame
+//! (ARCHITECTURE.md, Conventions) for bending about y towards +x: θ = +π/2 at the outer arc (−x), 0
+//! on the neutral axis (+y), −π/2 at the inner arc (+x); θ increases counter-clockwise about +z.
+//! Arc length s = z / cos β; unit tangent t = (−R ω cos θ, −R ω sin θ, 1) cos β; principal normal n
+//! = (sin θ, −cos θ, 0) (towards the axis); binormal b = t × n; curvature κ = sin²β / R, torsion τ
+//! = h sin β cos β / R. The core is the straight helix R = 0 (θ = φ, t = e_z).
 
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};

@@ -1,5 +1,5 @@
 //! Imposed strand kinematics: axial strain ε and curvature κ with a fixed bending axis
-//! (seed Sec. 2.2; DESIGN §2 strand frame).
+//! (the paper's Sec. 2.2; the strand frame of ARCHITECTURE.md, Conventions).
 //!
 //! The strand axis is z; bending is about y with κ > 0 bending the axis towards +x. A material
 //! point of reference coordinates X = (X, Y, Z) belongs to the cross section at Z, which moves

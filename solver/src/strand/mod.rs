@@ -1,4 +1,4 @@
-//! Spiral-strand geometry for the detailed strand model (DESIGN §4.4).
+//! Spiral-strand geometry for the detailed strand model (the paper's Sec. 2).
 //!
 //! - [`profile`]: the serde profile (core wire, layers, material, model length), its validation
 //!   (radial stacking, lateral clearance, lay angle, counts) into a resolved [`profile::Strand`];
@@ -11,7 +11,7 @@
 //! - [`bending`]: section force and moment from the wire forces, EI_min / EI_max bounds;
 //! - [`loading`]: imposed section motion from (ε, κ) and the two-stage load path;
 //! - `ends`: penalty ties of the helical wire ends to the core end sections;
-//! - `periodic`: periodic multi-point constraints of the wire ends (seed Eqs. 12-13);
+//! - `periodic`: periodic multi-point constraints of the wire ends (the paper's Eqs. 12-13);
 //! - [`model`]: the FE model (beams, contacts, ties, DOFs, pattern);
 //! - `error`: the errors of building the model ([`error::StrandModelError`], also at its
 //!   historical path `model::StrandModelError`);
@@ -23,7 +23,7 @@
 //!   that turn a load history into the same records in seconds.
 //!
 //! Strand frame: axis along z, angular position θ in the x-y plane (θ = +π/2 outer arc for
-//! bending about y with κ > 0 towards +x is the DESIGN convention). Units: m, rad, N, Pa.
+//! bending about y with κ > 0 towards +x: ARCHITECTURE.md, Conventions). Units: m, rad, N, Pa.
 
 pub mod analytical;
 pub mod bending;

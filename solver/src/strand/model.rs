@@ -1,6 +1,6 @@
-//! The strand finite-element model (DESIGN §4.4, seed Sec. 2.2): every wire a chain of
+//! The strand finite-element model (the paper's Sec. 2.2): every wire a chain of
 //! corotational beams on the mesh nodes ([`super::mesh`]), a small-sliding frictional contact
-//! element (seed Eqs. 1-11, [`crate::contact`]) at every detected contact, the core wire's
+//! element (the paper's Eqs. 1-11, [`crate::contact`]) at every detected contact, the core wire's
 //! nodes fully imposed from (ε, κ) ([`super::loading`]) and the helical wires' end nodes tied to
 //! the core end sections by penalty (`super::ends`, [`EndKind::PenaltyTies`]) or to the
 //! reference wires by the periodic constraints of `super::periodic` ([`EndKind::Periodic`]).
@@ -43,10 +43,10 @@ pub const PRECONDITIONER_REUSE_MARGIN: usize = 10;
 /// How the helical wire ends are held.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum EndKind {
-    /// Penalty ties to the core end sections (the 1+6+1 benchmark, seed Sec. 2.2).
+    /// Penalty ties to the core end sections (the 1+6+1 benchmark, the paper's Sec. 2.2).
     #[default]
     PenaltyTies,
-    /// Periodic multi-point constraints by elimination (seed Sec. 2.3, Eqs. 12-13): the far
+    /// Periodic multi-point constraints by elimination (the paper's Sec. 2.3, Eqs. 12-13): the far
     /// ends follow the start ends in position and the section in rotation.
     Periodic,
     /// As [`EndKind::Periodic`], with the far ends following the start ends in rotation too
@@ -87,7 +87,7 @@ impl Default for StrandModelParameters {
 impl StrandModelParameters {
     /// The defaults with a penalty normal law of stiffness ε_N (N/m), an elastic-slip
     /// regularised Coulomb law with elastic slip γ_e (m), and the given end conditions: the
-    /// contact regularisation of the seed's Sec. 2.2 (its 'vs_analytical' set is ε_N = 2e8 N/m,
+    /// contact regularisation of the paper's Sec. 2.2 (its 'vs_analytical' set is ε_N = 2e8 N/m,
     /// γ_e = 1e-7 m).
     pub fn penalty_contact(
         normal_penalty_n_per_m: f64,

@@ -1,13 +1,13 @@
-//! Periodic end conditions of the strand model (seed Sec. 2.3, Eqs. 12-13), applied by
+//! Periodic end conditions of the strand model (the paper's Sec. 2.3, Eqs. 12-13), applied by
 //! elimination.
 //!
 //! The core wire is fully imposed by the section motion (ε, κ) ([`super::loading`]), so its
 //! points C are known functions of the load, with positions x_C = c(z) and rotations R_C = R(z).
-//! Under a constant (ε, κ) the state of a wire point depends only on its layer and its angle θ
-//! from the bending axis (seed Sec. 2.3): the relative position R(z)ᵀ (x − c(z)) of every point
-//! at the same θ in a layer is the same up to the rotation about the strand axis that carries
-//! one angle to the other. In every helical layer, wire 0 is the reference wire; its phase puts
-//! its z = 0 end at the outer arc (θ = π/2, the profile's default phase).
+//! Under a constant (ε, κ) the state of a wire point depends only on its layer and its angle θ from
+//! the bending axis (the paper's Sec. 2.3): the relative position R(z)ᵀ (x − c(z)) of every point
+//! at the same θ in a layer is the same up to the rotation about the strand axis that carries one
+//! angle to the other. In every helical layer, wire 0 is the reference wire; its phase puts its
+//! z = 0 end at the outer arc (θ = π/2, the profile's default phase).
 //! - A reference-wire end at the outer arc, Q, is anchored: it keeps its place in the cross
 //!   section and the section's rotation, x_Q = map(X_Q), Λ_Q = R(z_Q) (fully prescribed).
 //! - Every other far end P (z = L) follows the start ends S (z = 0) of its layer at the angles
@@ -27,7 +27,7 @@
 //!   of interfaces 2-5 within 50 mm of the seam by 19-44 % over the rest of the model, and the
 //!   rotation tie by 1-7 % (`docs/notes/2026-11-29-seam-rotation-ties.md`).
 //!
-//! Why start ends and not, as in the seed, the point R of the reference wire at the angle θ_P:
+//! Why start ends and not, as in the paper, the point R of the reference wire at the angle θ_P:
 //! the tie's reaction is the end force of P's wire (the wire tension), and a tie to an interior
 //! point of the reference wire applies it there as a point load that the infinite strand does
 //! not have. Where a far end and a start end of a wire share their angle and their point R, the
@@ -40,16 +40,16 @@
 //! and in bending the error is that of the cubic interpolation of the sin θ stick field,
 //! O((2π/n)⁴) for a layer of n wires. A layer that closes on itself over the model length
 //! (far end at a start end's angle: the outer layer, model length = its lay length) ties
-//! every far end to the start end at its angle, the seed's tie.
+//! every far end to the start end at its angle, the paper's tie.
 //!
 //! Because C_P, C_S are prescribed, the constraint is affine in the unknowns:
 //!   x_P = c(z_P) + Σ_S w_S A_S (x_S − c(z_S)) + R(z_P) e₀,   A_S = R(z_P) T(θ_P − θ_S) R(z_S)ᵀ,
 //! so its linearisation δx_P = Σ_S w_S A_S δx_S is exact: the eliminated system
 //! K_red = Tᵀ K T, r_red = Tᵀ r (T the map from the reduced unknowns to the extended ones) is
 //! the consistent tangent of the reduced problem, symmetric where the contact tangent is, and
-//! Newton keeps its quadratic convergence (the seed's partial linearisation is not needed). No
-//! interior outer-arc point is coupled (seed Sec. 2.3: it created artefacts). The rotation tie
-//! is not affine: its spins are δθ_P = Σ_S H(φ_P) w_S A_S H(φ_S)⁻¹ δθ_S (H the tangent
+//! Newton keeps its quadratic convergence (the paper's partial linearisation is not needed). No
+//! interior outer-arc point is coupled (the paper's Sec. 2.3: it created artefacts). The rotation
+//! tie is not affine: its spins are δθ_P = Σ_S H(φ_P) w_S A_S H(φ_S)⁻¹ δθ_S (H the tangent
 //! operator of the exponential map, [`tangent_operator`]), and Tᵀ K T leaves out the term of
 //! its second derivative times the far ends' moment residuals, which are small beside the
 //! wires' bending stiffness.

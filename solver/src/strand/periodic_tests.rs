@@ -324,7 +324,7 @@ fn element_work_on_threads_assembles_the_same_system_to_the_bit() {
     assert!(sequential.1.iter().any(|v| *v != 0.0));
 }
 
-/// In a periodic strand the wire force depends on the angular position only (seed Fig. 8).
+/// In a periodic strand the wire force depends on the angular position only (the paper's Fig. 8).
 /// Checked on the 1+6 strand (the benchmark's first layer over two of its lay lengths), which
 /// has the screw symmetry the periodic constraints assume; the single outer wire of the 1+6+1
 /// loads the six wires at 18 isolated crossings and breaks it.

@@ -10,12 +10,12 @@
 //! comments and are ignored by [`profiles_from_json`].
 //!
 //! Geometry: wire i of layer k follows the helix θ(z) = φₖ + 2π i/nₖ + hₖ z tan βₖ / Rₖ
-//! (`super::helix`; θ = π/2 is the outer arc) with
-//! hₖ = +1 (right hand) or −1 (left hand); lay length Lₖ = 2π Rₖ / tan βₖ. Layers stack
-//! radially in contact, Rₖ = Rₖ₋₁ + rₖ₋₁ + rₖ with R₀ = 0, r₀ the core radius (DESIGN §4.4): at a
-//! trellis crossing the two axes are radially aligned, so this is exact for crossed helices.
-//! Lateral clearance inside a layer is the exact minimum distance between the axes of
-//! neighbouring wires minus 2r (`super::clearance`); a negative value is an overlap.
+//! (`super::helix`; θ = π/2 is the outer arc) with hₖ = +1 (right hand) or −1 (left hand); lay
+//! length Lₖ = 2π Rₖ / tan βₖ. Layers stack radially in contact, Rₖ = Rₖ₋₁ + rₖ₋₁ + rₖ with R₀ = 0,
+//! r₀ the core radius (as the paper's strand is built, `docs/paper-campaign.md`): at a trellis
+//! crossing the two axes are radially aligned, so this is exact for crossed helices. Lateral
+//! clearance inside a layer is the exact minimum distance between the axes of neighbouring wires
+//! minus 2r (`super::clearance`); a negative value is an overlap.
 
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -58,7 +58,7 @@ pub struct ProfileLoading {
     pub curvatures_per_m: Vec<f64>,
 }
 
-/// A contact regularisation set (seed Sec. 2.2).
+/// A contact regularisation set (the paper's Sec. 2.2).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Regularisation {
@@ -85,8 +85,8 @@ pub struct StrandProfile {
     /// Layers, innermost first.
     pub layers: Option<Vec<LayerSpec>>,
     /// Lateral overlap of neighbouring wires accepted without error (m, default 0). Same-layer
-    /// contact is not modelled (seed Sec. 2.1); the seed's 1+6+1 benchmark, with equal wires
-    /// on R = 2r, overlaps by about 72 µm and needs it.
+    /// contact is not modelled (the paper's Sec. 2.1); the paper's 1+6+1 benchmark, with equal
+    /// wires on R = 2r, overlaps by about 72 µm and needs it.
     #[serde(default)]
     pub lateral_overlap_tolerance_m: Option<f64>,
     /// Load case carried with the profile (benchmark entries).

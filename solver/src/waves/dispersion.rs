@@ -7,9 +7,9 @@
 //! x ≈ k₀d / tanh((k₀d)^¾)^⅔ (within 1.5 % everywhere) raised to the nearest point where F ≥ 0,
 //! which covers the deep (x → k₀d) and shallow (x → √(k₀d)) limits alike.
 //!
-//! Units: ω in rad/s, d in m, k in rad/m. The module uses g = 9.81 m/s² (`GRAVITY`): the
-//! DESIGN §6 reference k = 0.04026863 rad/m for T = 10 s, d = 100 m is reproduced with 9.81
-//! (k = 0.040268631), not with standard gravity 9.80665 (k = 0.040282317, 3.4e-4 higher).
+//! Units: ω in rad/s, d in m, k in rad/m. The module uses g = 9.81 m/s² (`GRAVITY`): the reference
+//! k = 0.04026863 rad/m for T = 10 s, d = 100 m (`docs/verification.md`) is reproduced with 9.81 (k
+//! = 0.040268631), not with standard gravity 9.80665 (k = 0.040282317, 3.4e-4 higher).
 
 use super::error::{positive, WavesError};
 

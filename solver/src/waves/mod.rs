@@ -1,6 +1,7 @@
 //! Sea states: the JONSWAP spectrum (DNV-RP-C205), finite-depth dispersion, seeded random
 //! realisations, Airy kinematics with Wheeler stretching, precomputed kinematics at fixed points,
-//! steady wind loads on the rotor and the wave scatter diagram of a site.
+//! steady wind loads on the rotor and the wave scatter diagram of a site, also as directional
+//! diagrams built from a sea-state time series.
 //!
 //! Every consumer of water kinematics (Morison loads on lines and floater members) goes through
 //! [`SeaKinematics`], so a still sea, a regular wave or an irregular realisation are
@@ -11,13 +12,15 @@
 //! ([`PointKinematicsSeries`]: FFT precomputation at fixed points), `table`
 //! ([`PlaneKinematicsTable`]: FFT precomputation on a vertical-plane grid around a moving body),
 //! `fft`, `wind` (rotor loads,
-//! wind speed per sea state), `scatter` (scatter-diagram tables), `sea` (the shared trait) and
+//! wind speed per sea state), `scatter` (scatter-diagram tables), `climate` (directional scatter
+//! tables from a hindcast or buoy series), `sea` (the shared trait) and
 //! `error`. Gravity is `dispersion::GRAVITY` = 9.81 m/s² throughout.
 
 mod error;
 mod sea;
 
 mod chebyshev;
+pub mod climate;
 pub mod dispersion;
 pub mod fft;
 pub(crate) mod kinematics;

@@ -227,7 +227,7 @@ mod tests {
 
     #[test]
     fn peak_density_matches_dnv_formula_reference_for_gamma_one_and_three_point_three() {
-        // DESIGN §6: Hs = 2 m, Tp = 10 s.
+        // DNV-RP-C205 §3.5.5 (`docs/verification.md`): Hs = 2 m, Tp = 10 s.
         let s1 = Jonswap::new(2.0, 10.0, PeakEnhancement::Given(1.0)).unwrap();
         let s33 = Jonswap::new(2.0, 10.0, PeakEnhancement::Given(3.3)).unwrap();
         let wp = s1.peak_omega_rad_s();

@@ -5,7 +5,8 @@
 //! and last wind speeds) the turbine produces; outside it is parked with feathered blades and the
 //! rotor load is taken as zero (the drag of a parked rotor is neglected).
 //!
-//! Paper case: the NREL 5 MW reference turbine scaled to 3.6 MW by the factor 0.72 (DESIGN §5).
+//! Paper case (`docs/paper-campaign.md`): the NREL 5 MW reference turbine scaled to 3.6 MW by the
+//! factor 0.72.
 //! Thrust: the NREL 5 MW table of `campaigns/data/paper_case_lines.json` (rotor thrust in kN at
 //! 3…25 m/s). Torque: the NREL 5 MW aerodynamic rotor torque built from the published turbine and
 //! controller constants of Jonkman et al. (2009), NREL/TP-500-38060: rotor radius 63 m

@@ -1,4 +1,4 @@
-//! The six-layer strand of the seed (profile `paper_six_layer`, 121 wires over the outer lay
+//! The six-layer strand of the paper (profile `paper_six_layer`, 121 wires over the outer lay
 //! length) with periodic ends: model size, one tension step (axial stiffness against the
 //! straight-strand estimates) and bending steps at increasing curvature (section moment against
 //! EI_min / EI_max), with the wall-time split of every step.
@@ -55,7 +55,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .ok_or("profile paper_six_layer missing")?
         .validate()?;
     let t = Instant::now();
-    // contact regularisation: the paper campaign's set (ε_N of the seed's Sec. 2.2
+    // contact regularisation: the paper campaign's set (ε_N of the paper's Sec. 2.2
     // 'vs_analytical', γ_e of its 'vs_surface_model') unless
     // STRAND_CONTACT=penalty_n_per_m,elastic_slip_m says otherwise
     let (normal, tangential) = match std::env::var("STRAND_CONTACT") {

@@ -11,7 +11,7 @@
 //! - `outer_helix_axial_force.svg`: FE force against θ per case with the stick solution
 //!   T₀ + EA cos²β R κ sin θ and the friction-limited (full slip) solution, the triangle wave
 //!   T₀ + (π/2) μ T₀ sin β · tri(θ) (|dF/ds| = μ q with q = T₀ sin²β/R and dθ/ds = sin β/R,
-//!   [`slip_force_variation`]), as the seed's Fig. 4.
+//!   [`slip_force_variation`]), as the paper's Fig. 4.
 //!
 //! With `--load LOAD.csv` the same profile is driven through a load history instead
 //! ([`super::strand_history`]).

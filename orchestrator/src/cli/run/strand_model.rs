@@ -41,7 +41,7 @@ pub(crate) struct ModelArgs {
 /// Contact laws of a run (`--contact-laws`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub(crate) enum ContactLawsArg {
-    /// Penalty normal law and elastic-slip regularised Coulomb law (seed Sec. 2.1).
+    /// Penalty normal law and elastic-slip regularised Coulomb law (the paper's Sec. 2.1).
     Regularised,
     /// Hertz / line-contact normal laws and the Cattaneo–Mindlin tangential law with memory.
     ContactMechanics,
@@ -63,11 +63,11 @@ impl ModelArgs {
 /// End conditions of the helical wires (`--ends`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub(crate) enum Ends {
-    /// Periodic constraints between the two ends (seed Sec. 2.3).
+    /// Periodic constraints between the two ends (the paper's Sec. 2.3).
     Periodic,
     /// Periodic constraints with the far ends following the start ends in rotation too.
     PeriodicRotations,
-    /// Penalty ties of the helical wire ends to the core end sections (seed Sec. 2.2).
+    /// Penalty ties of the helical wire ends to the core end sections (the paper's Sec. 2.2).
     PenaltyTies,
 }
 

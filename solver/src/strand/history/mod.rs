@@ -1,11 +1,11 @@
-//! A strand model driven through a load history (DESIGN §4.4, seed Sec. 3.3).
+//! A strand model driven through a load history (the paper's Sec. 3.3; `docs/strand-runs.md`).
 //!
 //! [`run_history`] takes samples (t, ε, κ) of the hot spot's imposed axial strain and curvature
 //! and:
 //! 1. validates them ([`validate_samples`]: finite, increasing time, ε ≥ 0, and a fibre strain
 //!    ε + |κ| D/2 at the strand's outer surface within [`HistoryOptions::max_fibre_strain`]),
 //!    refusing the first bad sample with its index;
-//! 2. initialises as the seed's Sec. 3.3, in three steps that limit the initial contact forces:
+//! 2. initialises as the paper's Sec. 3.3, in three steps that limit the initial contact forces:
 //!    a small tension ε_s = `initial_strain_fraction` · ε₀, then ε_s with the initial curvature
 //!    κ₀, then (ε₀, κ₀);
 //! 3. reduces the history to its turning points within `turning_point_tolerance` ([`reduce`])
@@ -217,7 +217,7 @@ impl Default for HistoryOptions {
                 linear_forcing: 0.01,
                 ..NewtonParams::default()
             },
-            // two orders of magnitude below the micrometre slips of interest (seed Fig. 22)
+            // two orders of magnitude below the micrometre slips of interest (the paper's Fig. 22)
             slip_gate_m: 1e-8,
             initial_strain_fraction: 0.1,
             // 0.8 × 1770 MPa / 200 GPa: proportional limit of grade-1770 rope wire (EN 10264-2)

@@ -1,4 +1,4 @@
-//! Contact samples of the whole model and the monitor channels of a history run (seed Figs.
+//! Contact samples of the whole model and the monitor channels of a history run (the paper's Figs.
 //! 19-22).
 //!
 //! Slip convention: the scalar slip of a contact is the total relative tangential displacement

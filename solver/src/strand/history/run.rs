@@ -302,7 +302,7 @@ pub fn run_history_from(
     })
 }
 
-/// The seed's three-step initialisation (Sec. 3.3): small tension, small tension with the
+/// The paper's three-step initialisation (Sec. 3.3): small tension, small tension with the
 /// initial curvature, initial tension and curvature.
 fn initialise(
     runner: &mut Runner<'_>,

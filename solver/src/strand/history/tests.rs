@@ -1,5 +1,5 @@
-//! History runs on the 1+6+1 benchmark strand (seed Sec. 2.2) with the seed's 'vs_analytical'
-//! regularisation (ε_N = 2e8 N/m, γ_e = 1e-7 m); slip onset of the outer helix near
+//! History runs on the 1+6+1 benchmark strand (the paper's Sec. 2.2) with the paper's
+//! 'vs_analytical' regularisation (ε_N = 2e8 N/m, γ_e = 1e-7 m); slip onset of the outer helix near
 //! κ_b ≈ 1.2e-2 1/m at ε = 1e-3 (campaigns/benchmarks/strand_1_6_1.json).
 
 use std::f64::consts::PI;

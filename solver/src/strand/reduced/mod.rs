@@ -1,5 +1,5 @@
 //! A reduced strand response, calibrated on the FE model, for the strand stage at campaign scale
-//! (the seed's aim of making "the large number of simulations required by a fatigue life
+//! (the paper's aim of making "the large number of simulations required by a fatigue life
 //! estimate" affordable, its abstract and Sec. 2.2).
 //!
 //! # Model
@@ -19,7 +19,7 @@
 //!   than to its force: where the tension, and with it `f_N`, is small, a contact's force is
 //!   small but the neighbours it leans on still give way (the sliding rate over the stick rate
 //!   is `1 + g k + r`, `k = μ f_N / γ_e`);
-//! - contact (the elastic-slip law of `crate::contact::laws`, seed Sec. 2.1): the slip
+//! - contact (the elastic-slip law of `crate::contact::laws`, the paper's Sec. 2.1): the slip
 //!   `s = s_e + s_p`, elastic part `s_e` with `f_T = (μ f_N / γ_e) s_e`, `|s_e| ≤ γ_e`, and an
 //!   irreversible part `s_p` that moves only while the contact slides;
 //! - normal force: `f_N(x, y)`, quadratic in the scaled loads, clipped at zero.
