@@ -11,7 +11,8 @@
 //! `scale_support::process_worker` (which retries its store calls through the retry helper).
 //!
 //! Needs root, `ip netns` and a PostgreSQL server (`MOORFRET_TEST_POSTGRES_URL`); otherwise
-//! prints why it is skipped.
+//! prints why it is skipped, or fails where `MOORFRET_REQUIRE_SERVICES` is set (as `.ci/run`
+//! does).
 
 mod scale_support;
 
@@ -21,12 +22,14 @@ use moorfret_store::{AttemptOutcome, Clock, JobState, Store, StoreOptions, TestP
 use scale_support::netns::{self, Forwarder, Host};
 use scale_support::pg_database::TempDatabase;
 use scale_support::process_worker::{self, fault_policy, WorkerProcess};
-use scale_support::{campaign, postgres_reachable, postgres_url, test_job, wait_until};
+use scale_support::{
+    campaign, postgres_reachable, postgres_url, skip_unless_required, test_job, wait_until,
+};
 
 fn main() {
     process_worker::run_if_requested();
     if let Some(reason) = netns::unavailable() {
-        eprintln!("SKIPPED (network faults): {reason}");
+        skip_unless_required("network namespaces", &reason);
         return;
     }
     let runtime = tokio::runtime::Builder::new_multi_thread()

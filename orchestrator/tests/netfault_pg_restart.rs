@@ -16,7 +16,7 @@
 //! and with the store-protocol worker of `scale_support::process_worker`.
 //!
 //! Needs root, `pg_ctlcluster` and a PostgreSQL server on this machine; otherwise prints why it
-//! is skipped. Other clients of the server see the restart too.
+//! is skipped, or fails where `MOORFRET_REQUIRE_SERVICES` is set (as `.ci/run` does). Other clients of the server see the restart too.
 
 mod scale_support;
 
@@ -29,7 +29,9 @@ use moorfret_store::{
 };
 use scale_support::pg_database::TempDatabase;
 use scale_support::process_worker::{self, fault_policy, WorkerProcess};
-use scale_support::{campaign, postgres_reachable, postgres_url, test_job, wait_until};
+use scale_support::{
+    campaign, postgres_reachable, postgres_url, skip_unless_required, test_job, wait_until,
+};
 use sqlx::{Connection, PgConnection};
 
 const JOBS: usize = 80;
@@ -72,7 +74,7 @@ fn local_cluster() -> Option<String> {
         .map(|s| s.lines().any(|l| l.starts_with("Uid:\t0\t")))
         .unwrap_or(false);
     if !uid_is_root {
-        eprintln!("SKIPPED (database restart): not running as root");
+        skip_unless_required("database restart", "not running as root");
         return None;
     }
     let versions: Vec<String> = std::fs::read_dir("/etc/postgresql")
@@ -87,9 +89,9 @@ fn local_cluster() -> Option<String> {
     match (versions.as_slice(), has_tool) {
         ([version], true) => Some(version.clone()),
         _ => {
-            eprintln!(
-                "SKIPPED (database restart): need `pg_ctlcluster` and exactly one local cluster \
-                 (found {versions:?})"
+            skip_unless_required(
+                "database restart",
+                &format!("need `pg_ctlcluster` and exactly one local cluster (found {versions:?})"),
             );
             None
         }

@@ -16,7 +16,8 @@
 //!
 //! The workers are `moorfret worker` (the same loop as `moorfret-worker`) of this build, named
 //! to the script by `MOORFRET_WORKER`. Needs root, Debian's `slurm-wlm` and `munge`, and the
-//! PostgreSQL server of the other store tests; otherwise prints `SKIPPED: <reason>` and passes.
+//! PostgreSQL server of the other store tests; otherwise prints `SKIPPED (…): <reason>` and passes,
+//! or fails where `MOORFRET_REQUIRE_SERVICES` is set (as `.ci/run` does).
 //! All three scenarios live in one test so that only one cluster runs at a time; the daemons
 //! are stopped when the cluster is dropped, on panic too.
 
@@ -34,7 +35,7 @@ use moorfret_store::{
 };
 use scale_support::pg_database::TempDatabase;
 use scale_support::slurm::{self, SlurmCluster, TaskInfo, KILL_WAIT_S};
-use scale_support::{campaign, postgres_reachable, postgres_url, test_job};
+use scale_support::{campaign, postgres_reachable, postgres_url, skip_unless_required, test_job};
 
 /// Signal lead of the time-limit scenario, s (the allocation is Slurm's minimum, 60 s).
 const SHORT_LEAD_S: i64 = 20;
@@ -60,7 +61,7 @@ fn now_ms() -> i64 {
 #[test]
 fn worker_arrays_run_campaigns_under_a_real_slurm_cluster() {
     if let Some(reason) = slurm::unavailable() {
-        say(&format!("SKIPPED: Slurm cluster test: {reason}"));
+        skip_unless_required("Slurm cluster", &reason);
         return;
     }
     let runtime = tokio::runtime::Builder::new_multi_thread()
@@ -70,9 +71,7 @@ fn worker_arrays_run_campaigns_under_a_real_slurm_cluster() {
         .expect("tokio runtime");
     let admin = postgres_url();
     if !runtime.block_on(postgres_reachable(&admin)) {
-        say(&format!(
-            "SKIPPED: Slurm cluster test: no PostgreSQL server answers at {admin}"
-        ));
+        // `postgres_reachable` has said why, or failed where the services are required.
         return;
     }
     let started = Instant::now();

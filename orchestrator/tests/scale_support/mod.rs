@@ -172,8 +172,16 @@ pub mod slurm;
 /// Says why the PostgreSQL half of a test is skipped; fails instead where the environment
 /// requires the services (`MOORFRET_REQUIRE_SERVICES`, set by `.ci/run`).
 fn skip_postgres(reason: &str) {
+    skip_unless_required("PostgreSQL", reason);
+}
+
+/// Says, past the test harness's capture, why the part of a test that needs `service` is
+/// skipped; panics instead where the environment requires the services
+/// (`MOORFRET_REQUIRE_SERVICES`, set by `.ci/run`), so that CI cannot pass by skipping.
+pub fn skip_unless_required(service: &str, reason: &str) {
     if std::env::var_os("MOORFRET_REQUIRE_SERVICES").is_some() {
-        panic!("PostgreSQL is required here (MOORFRET_REQUIRE_SERVICES is set): {reason}");
+        panic!("{service} is required here (MOORFRET_REQUIRE_SERVICES is set): {reason}");
     }
-    eprintln!("SKIPPED (PostgreSQL): {reason}");
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "SKIPPED ({service}): {reason}");
 }
