@@ -359,20 +359,49 @@ impl StrandSpec {
         })
     }
 
-    /// The solver settings of a strand job's history run.
+    /// The solver settings of a strand job's history run ([`HistorySettings::options`]).
     pub fn history_options(&self) -> HistoryOptions {
+        HistorySettings {
+            threads: self.threads,
+            turning_point_tolerance: self.turning_point_tolerance,
+            turning_point_scale: self
+                .turning_point_scale
+                .map(|s| [s.strain, s.curvature_per_m]),
+            checkpoint_interval_segments: self.checkpoint_every_segments,
+        }
+        .options()
+    }
+}
+
+/// The settings of a strand history run that a campaign's strand settings and the options of
+/// `moorfret run strand` give; everything else is the solver's default. The one way both build
+/// their [`HistoryOptions`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HistorySettings {
+    /// Threads of the element kernels and the sparse solves.
+    pub threads: usize,
+    /// Turning-point tolerance (the solver's default when `None`).
+    pub turning_point_tolerance: Option<f64>,
+    /// Lower bounds of the tolerance's scales, strain and curvature (1/m) (the solver's default
+    /// when `None`).
+    pub turning_point_scale: Option<[f64; 2]>,
+    /// History segments between two checkpoints handed to the observer (0: none).
+    pub checkpoint_interval_segments: usize,
+}
+
+impl HistorySettings {
+    /// The solver's history options (not validated: [`HistoryOptions::validated`]).
+    pub fn options(&self) -> HistoryOptions {
         let defaults = HistoryOptions::default();
         HistoryOptions {
-            checkpoint_interval_segments: self.checkpoint_every_segments,
+            checkpoint_interval_segments: self.checkpoint_interval_segments,
             threads: self.threads,
             turning_point_tolerance: self
                 .turning_point_tolerance
                 .unwrap_or(defaults.turning_point_tolerance),
             turning_point_scale: self
                 .turning_point_scale
-                .map_or(defaults.turning_point_scale, |s| {
-                    [s.strain, s.curvature_per_m]
-                }),
+                .unwrap_or(defaults.turning_point_scale),
             ..defaults
         }
     }

@@ -485,7 +485,7 @@ fn demo_sea_state_runs_through_both_real_stages() {
         assert!(results
             .artifacts
             .iter()
-            .any(|a| a.role == "contact_records"));
+            .any(|a| a.role == moorfret_store::ArtifactRole::ContactRecords));
         // one class row per (layer interface, angular position) the contacts fall in
         let mut classes: Vec<(i64, String)> = results
             .contacts
@@ -958,7 +958,7 @@ fn auto_fidelity_campaign_survives_a_killed_driver() {
             assert!(results
                 .artifacts
                 .iter()
-                .all(|a| a.role != "contact_records"));
+                .all(|a| a.role != moorfret_store::ArtifactRole::ContactRecords));
             assert!(results.result["contact_records_sha256"].is_null());
         }
         // counted: FE for one sea state, reduced for the other; the FE one is compared

@@ -16,6 +16,7 @@ use sha2::{Digest, Sha256};
 
 use super::error::StoreError;
 use super::model::JobArtifact;
+use super::types::ArtifactRole;
 
 const TEMP_PREFIX: &str = ".tmp-";
 
@@ -78,12 +79,12 @@ impl ArtifactStore {
     }
 
     /// Stores `bytes`; returns its reference (with `role` for the job's result).
-    pub fn put(&self, role: &str, bytes: &[u8]) -> Result<JobArtifact, StoreError> {
+    pub fn put(&self, role: ArtifactRole, bytes: &[u8]) -> Result<JobArtifact, StoreError> {
         let sha256 = hex::encode(Sha256::digest(bytes));
         let relative = Self::relative_path(&sha256);
         let path = self.dir.join(&relative);
         let reference = JobArtifact {
-            role: role.to_owned(),
+            role,
             sha256: sha256.clone(),
             size_bytes: i64::try_from(bytes.len()).unwrap_or(i64::MAX),
             path: relative.to_string_lossy().into_owned(),

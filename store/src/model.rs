@@ -9,8 +9,8 @@ use serde_json::Value;
 
 use super::results::{ClassDamageInput, DamageInput};
 use super::types::{
-    AttemptId, AttemptOutcome, CampaignId, CampaignState, FailureClass, JobId, JobKind, JobState,
-    LeaseToken, SeaStateId, WorkerId,
+    ArtifactRole, AttemptId, AttemptOutcome, CampaignId, CampaignState, FailureClass, JobId,
+    JobKind, JobState, LeaseToken, SeaStateId, WorkerId,
 };
 
 /// A campaign to create: its name and resolved specification.
@@ -156,8 +156,8 @@ pub struct ContactStatistics {
 /// An artifact produced by a job.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct JobArtifact {
-    /// Role of the artifact for the job (`tension_history`, `checkpoint`, …).
-    pub role: String,
+    /// Role of the artifact for the job.
+    pub role: ArtifactRole,
     /// sha256 (hex) of its content.
     pub sha256: String,
     /// Size in bytes.

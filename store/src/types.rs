@@ -234,6 +234,93 @@ text_enum!(
     }
 );
 
+/// What an artifact is to the job that stored it: the text of `job_artifacts.role`. The stored
+/// texts are those of earlier versions, so existing stores read; a text this version does not
+/// know (another build's, a test's) is kept as it is ([`ArtifactRole::Other`]).
+#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum ArtifactRole {
+    /// A global job's T(t), κ(t) series of hot spot `i` (`moorfret_solver::global::series`),
+    /// `hot_spot_<i>_series`.
+    HotSpotSeries(usize),
+    /// A strand job's per-contact records (JSON), `contact_records`.
+    ContactRecords,
+    /// A strand job's checkpoint (its pointer file names the newest), `checkpoint`.
+    Checkpoint,
+    /// A calibration job's reduced strand response, `reduced_strand`.
+    ReducedStrand,
+    /// Any other text, as stored.
+    Other(String),
+}
+
+impl ArtifactRole {
+    const SERIES_PREFIX: &'static str = "hot_spot_";
+    const SERIES_SUFFIX: &'static str = "_series";
+
+    /// The stored text.
+    pub fn as_str(&self) -> std::borrow::Cow<'static, str> {
+        use std::borrow::Cow;
+        match self {
+            Self::HotSpotSeries(i) => {
+                Cow::Owned(format!("{}{i}{}", Self::SERIES_PREFIX, Self::SERIES_SUFFIX))
+            }
+            Self::ContactRecords => Cow::Borrowed("contact_records"),
+            Self::Checkpoint => Cow::Borrowed("checkpoint"),
+            Self::ReducedStrand => Cow::Borrowed("reduced_strand"),
+            Self::Other(text) => Cow::Owned(text.clone()),
+        }
+    }
+
+    /// The role of a stored text (never fails: an unknown text is [`ArtifactRole::Other`]).
+    pub fn parse(text: &str) -> Self {
+        match text {
+            "contact_records" => Self::ContactRecords,
+            "checkpoint" => Self::Checkpoint,
+            "reduced_strand" => Self::ReducedStrand,
+            _ => text
+                .strip_prefix(Self::SERIES_PREFIX)
+                .and_then(|t| t.strip_suffix(Self::SERIES_SUFFIX))
+                .filter(|i| i.bytes().all(|b| b.is_ascii_digit()))
+                .and_then(|i| i.parse().ok())
+                .filter(|&i: &usize| Self::HotSpotSeries(i).as_str() == text)
+                .map_or_else(|| Self::Other(text.to_owned()), Self::HotSpotSeries),
+        }
+    }
+
+    /// The hot spot of a series artifact.
+    pub fn hot_spot_series(&self) -> Option<usize> {
+        match self {
+            Self::HotSpotSeries(i) => Some(*i),
+            _ => None,
+        }
+    }
+}
+
+impl fmt::Display for ArtifactRole {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.as_str())
+    }
+}
+
+impl FromStr for ArtifactRole {
+    type Err = std::convert::Infallible;
+
+    fn from_str(text: &str) -> Result<Self, Self::Err> {
+        Ok(Self::parse(text))
+    }
+}
+
+impl Serialize for ArtifactRole {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&self.as_str())
+    }
+}
+
+impl<'de> Deserialize<'de> for ArtifactRole {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        Ok(Self::parse(&String::deserialize(d)?))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -263,5 +350,37 @@ mod tests {
             }
             other => panic!("unexpected {other:?}"),
         }
+    }
+
+    #[test]
+    fn artifact_roles_read_and_write_their_stored_texts() {
+        for (role, text) in [
+            (ArtifactRole::HotSpotSeries(0), "hot_spot_0_series"),
+            (ArtifactRole::HotSpotSeries(12), "hot_spot_12_series"),
+            (ArtifactRole::ContactRecords, "contact_records"),
+            (ArtifactRole::Checkpoint, "checkpoint"),
+            (ArtifactRole::ReducedStrand, "reduced_strand"),
+        ] {
+            assert_eq!(role.as_str(), text);
+            assert_eq!(ArtifactRole::parse(text), role);
+            let json = serde_json::to_string(&role).unwrap();
+            assert_eq!(json, format!("\"{text}\""));
+            assert_eq!(serde_json::from_str::<ArtifactRole>(&json).unwrap(), role);
+        }
+        // texts of no known role are kept as they are, to be written back unchanged
+        for text in [
+            "hotspots.csv",
+            "hot_spot_x_series",
+            "hot_spot_01_series",
+            "hot_spot__series",
+        ] {
+            assert_eq!(ArtifactRole::parse(text), ArtifactRole::Other(text.into()));
+            assert_eq!(ArtifactRole::parse(text).as_str(), text);
+        }
+        assert_eq!(
+            ArtifactRole::parse("hot_spot_3_series").hot_spot_series(),
+            Some(3)
+        );
+        assert_eq!(ArtifactRole::Checkpoint.hot_spot_series(), None);
     }
 }

@@ -10,11 +10,13 @@ use std::time::Duration;
 
 use moorfret_solver::fretting::AngularPosition;
 use moorfret_store::{
+    ArtifactRole, AttemptOutcome, CampaignId, ClassDamageInput, FailureClass, WorkerId,
+};
+use moorfret_store::{
     ArtifactStore, ClaimFilter, Clock, DamageInput, FailureDisposition, FailureKind,
     HotSpotSummary, JobFailure, JobKind, JobResults, JobState, ManualClock, NewCampaign,
     NewSeaState, PlannedJob, QueuePolicy, Store, StoreError, StoreOptions, TestPayload, WorkerInfo,
 };
-use moorfret_store::{AttemptOutcome, CampaignId, ClassDamageInput, FailureClass, WorkerId};
 use serde_json::json;
 
 const T0_MS: i64 = 1_700_000_000_000;
@@ -1543,12 +1545,12 @@ fn artifacts_round_trip_and_identical_content_is_stored_once() {
     let dir = tempfile::tempdir().unwrap();
     let store = ArtifactStore::open(dir.path().join("artifacts")).unwrap();
     let bytes: Vec<u8> = (0..100_000_u32).flat_map(|i| i.to_le_bytes()).collect();
-    let first = store.put("tension_history", &bytes).unwrap();
-    let second = store.put("curvature_history", &bytes).unwrap();
+    let first = store.put(ArtifactRole::HotSpotSeries(0), &bytes).unwrap();
+    let second = store.put(ArtifactRole::HotSpotSeries(1), &bytes).unwrap();
     assert_eq!(first.sha256, second.sha256);
     assert_eq!(first.size_bytes, 400_000);
     // sha256 of the empty input (FIPS 180-4 test vector).
-    let empty = store.put("empty", b"").unwrap();
+    let empty = store.put(ArtifactRole::ContactRecords, b"").unwrap();
     assert_eq!(
         empty.sha256,
         "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855"
@@ -1579,7 +1581,9 @@ fn corrupted_artifact_is_refused_on_read_and_repaired_by_a_new_write() {
     let dir = tempfile::tempdir().unwrap();
     let store = ArtifactStore::beside_database(&dir.path().join("c.sqlite")).unwrap();
     assert!(store.dir().ends_with("c.sqlite.artifacts"));
-    let reference = store.put("checkpoint", b"solver state").unwrap();
+    let reference = store
+        .put(ArtifactRole::Checkpoint, b"solver state")
+        .unwrap();
     let path = store.dir().join(&reference.path);
     std::fs::write(&path, b"solver stat\0").unwrap();
     match store.get(&reference.sha256) {
@@ -1589,7 +1593,9 @@ fn corrupted_artifact_is_refused_on_read_and_repaired_by_a_new_write() {
         }
         other => panic!("expected ArtifactCorrupt, got {other:?}"),
     }
-    store.put("checkpoint", b"solver state").unwrap();
+    store
+        .put(ArtifactRole::Checkpoint, b"solver state")
+        .unwrap();
     assert_eq!(store.get(&reference.sha256).unwrap(), b"solver state");
 }
 
@@ -1598,7 +1604,7 @@ fn interrupted_writes_leave_only_temporaries_which_are_never_read() {
     let dir = tempfile::tempdir().unwrap();
     let store = ArtifactStore::open(dir.path()).unwrap();
     let bytes = vec![7_u8; 4096];
-    let reference = store.put("series", &bytes).unwrap();
+    let reference = store.put(ArtifactRole::HotSpotSeries(0), &bytes).unwrap();
     // A writer killed before its rename leaves a partial temporary beside the real files.
     let shard = store.dir().join(&reference.sha256[..2]);
     std::fs::write(shard.join(".tmp-killed"), &bytes[..100]).unwrap();
@@ -1616,7 +1622,7 @@ fn concurrent_writers_and_readers_never_see_a_partial_artifact() {
     std::thread::scope(|scope| {
         for _ in 0..4 {
             scope.spawn(|| {
-                let reference = store.put("big", &bytes).unwrap();
+                let reference = store.put(ArtifactRole::ReducedStrand, &bytes).unwrap();
                 assert_eq!(reference.sha256, sha256);
             });
         }

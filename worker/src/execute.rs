@@ -4,8 +4,9 @@
 
 use tokio::runtime::Handle;
 
+use crate::context::StageContext;
 use crate::failure::permanent;
-use crate::gate::{extra_seed_gate, GateContext};
+use crate::gate::extra_seed_gate;
 use crate::{global_stage, reduced_stage, strand_stage};
 use moorfret_campaign::{CalibratePayload, CampaignInputs, GlobalPayload, StrandPayload};
 use moorfret_store::{
@@ -35,16 +36,15 @@ pub fn execute(
     let need_inputs = || {
         inputs.ok_or_else(|| permanent(FailureClass::BadCampaign, "campaign inputs are missing"))
     };
-    let gate = |inputs, global, hot_spot| {
-        let ctx = GateContext {
-            inputs,
-            lease,
-            store,
-            retry,
-            rt,
-        };
-        extra_seed_gate(&ctx, global, hot_spot)
+    let context = |inputs| StageContext {
+        inputs,
+        lease,
+        store,
+        retry,
+        artifacts,
+        rt,
     };
+    let gate = |inputs, global, hot_spot| extra_seed_gate(&context(inputs), global, hot_spot);
     match lease.kind {
         #[cfg(feature = "test-support")]
         JobKind::Test => run_test(lease),
@@ -65,19 +65,11 @@ pub fn execute(
                     return Ok(ended);
                 }
             }
-            strand_stage::run_strand(need_inputs()?, &payload, lease, store, retry, artifacts, rt)
+            strand_stage::run_strand(&context(need_inputs()?), &payload)
         }
         JobKind::Calibrate => {
             let payload: CalibratePayload = decode(lease)?;
-            reduced_stage::run_calibrate(
-                need_inputs()?,
-                &payload,
-                lease,
-                store,
-                retry,
-                artifacts,
-                rt,
-            )
+            reduced_stage::run_calibrate(&context(need_inputs()?), &payload)
         }
         JobKind::StrandReduced => {
             let payload: StrandPayload = decode(lease)?;
@@ -87,7 +79,7 @@ pub fn execute(
                     return Ok(ended);
                 }
             }
-            reduced_stage::run_strand_reduced(need_inputs()?, &payload, store, retry, artifacts, rt)
+            reduced_stage::run_strand_reduced(&context(need_inputs()?), &payload)
         }
     }
 }

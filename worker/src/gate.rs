@@ -19,32 +19,15 @@
 use std::collections::BTreeMap;
 
 use serde_json::{json, Value};
-use tokio::runtime::Handle;
 
+use crate::context::StageContext;
 use crate::failure::transient;
 use moorfret_campaign::fidelity::{select_fe_sea_states, ClassDamageRate, Selection};
 use moorfret_campaign::seeds::select_extra_seed_sea_states;
-use moorfret_campaign::{CampaignInputs, GlobalPayload, StrandPayload};
-use moorfret_store::{
-    FailureClass, JobFailure, JobId, JobKind, JobRecord, JobResults, JobState, Lease, RetryPolicy,
-    Store,
-};
+use moorfret_campaign::{GlobalPayload, StrandPayload};
+use moorfret_store::{FailureClass, JobFailure, JobId, JobKind, JobRecord, JobResults, JobState};
 
-/// What a gated job needs to read and settle.
-pub(crate) struct GateContext<'a> {
-    /// The campaign's inputs.
-    pub inputs: &'a CampaignInputs,
-    /// The running job.
-    pub lease: &'a Lease,
-    /// The store.
-    pub store: &'a Store,
-    /// How store calls are retried.
-    pub retry: &'a RetryPolicy,
-    /// The runtime the store calls run on.
-    pub rt: &'a Handle,
-}
-
-impl GateContext<'_> {
+impl StageContext<'_> {
     /// The class rows of the campaign's done jobs of `kind` with seed index below the first
     /// seeds, per hot spot.
     fn first_seed_rows(
@@ -114,7 +97,7 @@ impl GateContext<'_> {
 /// The FE selection of an `auto` campaign for hot spot `hot_spot_index`, from the reduced
 /// first-seed results; the unselected FE jobs of that hot spot that still wait are settled.
 pub(crate) fn auto_fe_selection(
-    ctx: &GateContext<'_>,
+    ctx: &StageContext<'_>,
     hot_spot_index: usize,
 ) -> Result<Selection, JobFailure> {
     let rows = ctx.first_seed_rows(JobKind::StrandReduced)?;
@@ -155,7 +138,7 @@ pub(crate) fn unselected_fe_result(payload: &StrandPayload, selection: &Selectio
 }
 
 /// The extra-seed selections of every hot spot (`moorfret_campaign::seeds`).
-fn extra_seed_selections(ctx: &GateContext<'_>) -> Result<Vec<Selection>, JobFailure> {
+fn extra_seed_selections(ctx: &StageContext<'_>) -> Result<Vec<Selection>, JobFailure> {
     let Some(rule) = &ctx.inputs.spec.simulation.extra_seeds else {
         return Err(crate::failure::permanent(
             FailureClass::BadPayload,
@@ -207,7 +190,7 @@ fn unselected_extra_result(
 /// strand job): `Some(results)` to end with when its sea state is not selected, `None` to run.
 /// Either way the campaign's unselected extra-seed jobs that still wait are settled.
 pub(crate) fn extra_seed_gate(
-    ctx: &GateContext<'_>,
+    ctx: &StageContext<'_>,
     global: &GlobalPayload,
     hot_spot: Option<usize>,
 ) -> Result<Option<JobResults>, JobFailure> {

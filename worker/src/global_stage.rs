@@ -8,19 +8,15 @@
 
 use moorfret_solver::floater::prescribed::PrescribedMotion;
 use moorfret_solver::global::results::SeriesSummary;
-use moorfret_solver::global::{run, FloaterInput, GlobalModel, RunParams};
+use moorfret_solver::global::{run, FloaterInput, GlobalModel, HotSpotSeries, RunParams};
 use serde_json::json;
 
 use crate::failure::{permanent, transient};
-use crate::series::HotSpotSeries;
 use moorfret_campaign::payload::FloaterContent;
 use moorfret_campaign::{CampaignInputs, GlobalPayload};
-use moorfret_store::{ArtifactStore, FailureClass, HotSpotSummary, JobFailure, JobResults};
-
-/// Role of the series artifact of hot spot `index`.
-pub fn series_role(index: usize) -> String {
-    format!("hot_spot_{index}_series")
-}
+use moorfret_store::{
+    ArtifactRole, ArtifactStore, FailureClass, HotSpotSummary, JobFailure, JobResults,
+};
 
 /// Runs one global job.
 pub fn run_global(
@@ -62,7 +58,10 @@ pub fn run_global(
             curvature_per_m: h.curvature_per_m.clone(),
         };
         let artifact = artifacts
-            .put(&series_role(index), series.to_csv().as_bytes())
+            .put(
+                ArtifactRole::HotSpotSeries(index),
+                series.to_csv().as_bytes(),
+            )
             .map_err(|e| transient(FailureClass::ArtifactIo, e))?;
         out.hot_spots.push(HotSpotSummary {
             hot_spot_index: index as i64,

@@ -25,20 +25,18 @@ use moorfret_solver::strand::reduced::{
     calibrate, model_key, run_reduced, CalibrationOptions, LoadRange, ReducedStrand,
 };
 use serde_json::json;
-use tokio::runtime::Handle;
 
+use crate::context::StageContext;
 use crate::failure::{permanent, transient};
+use crate::strand::AxialStiffness;
 use crate::strand_stage::{
     axial_stiffness, campaign_strand, model_parameters, series_of, strand_load, strand_results,
-    upstream_series, AxialStiffness, Upstream,
+    upstream_series, Upstream,
 };
 use moorfret_campaign::{CalibratePayload, CampaignInputs, StrandPayload};
 use moorfret_store::{
-    ArtifactStore, FailureClass, JobArtifact, JobFailure, JobResults, Lease, RetryPolicy, Store,
+    ArtifactRole, ArtifactStore, FailureClass, JobArtifact, JobFailure, JobResults,
 };
-
-/// Artifact role of a calibration.
-const CALIBRATION_ROLE: &str = "reduced_strand";
 
 /// Logs the progress of the calibration's FE run about once a minute.
 struct ProgressLog {
@@ -73,14 +71,10 @@ fn calibration_options(inputs: &CampaignInputs) -> CalibrationOptions {
 
 /// Runs one calibration job (module docs).
 pub fn run_calibrate(
-    inputs: &CampaignInputs,
+    ctx: &StageContext<'_>,
     payload: &CalibratePayload,
-    lease: &Lease,
-    store: &Store,
-    retry: &RetryPolicy,
-    artifacts: &ArtifactStore,
-    rt: &Handle,
 ) -> Result<JobResults, JobFailure> {
+    let (inputs, lease, artifacts) = (ctx.inputs, ctx.lease, ctx.artifacts);
     let strand = campaign_strand(inputs)?;
     let params = model_parameters(inputs);
     let model = StrandModel::new(&strand, &params)
@@ -88,7 +82,7 @@ pub fn run_calibrate(
     let stiffness = axial_stiffness(inputs, payload.hot_spot_index, artifacts, Some(&model))?;
     let mut loads: Option<LoadRange> = None;
     for key in &payload.global_cache_keys {
-        let series = series_of(key, payload.hot_spot_index, store, retry, artifacts, rt)?;
+        let series = series_of(ctx, key, payload.hot_spot_index)?;
         let load = strand_load(inputs, series, stiffness)?;
         if let Some(r) = LoadRange::of(&load.samples) {
             loads = Some(loads.map_or(r, |l| l.union(r)));
@@ -101,7 +95,7 @@ pub fn run_calibrate(
         )
     })?;
     if let Some(first) = &payload.check_of {
-        let (bytes, kept) = calibration_of(first, store, retry, artifacts, rt)?;
+        let (bytes, kept) = calibration_of(ctx, first)?;
         if kept.range.covers(&loads) {
             tracing::info!(job = %lease.job, global_jobs = payload.global_cache_keys.len(),
                 "every global job's load lies within the first calibration's range: kept");
@@ -161,7 +155,7 @@ pub fn run_calibrate(
 /// Stores a calibration as a content-addressed artifact.
 fn put_calibration(artifacts: &ArtifactStore, bytes: &[u8]) -> Result<JobArtifact, JobFailure> {
     artifacts
-        .put(CALIBRATION_ROLE, bytes)
+        .put(ArtifactRole::ReducedStrand, bytes)
         .map_err(|e| transient(FailureClass::ArtifactIo, e))
 }
 
@@ -177,7 +171,7 @@ fn calibration_result(
     json!({
         "hot_spot_index": payload.hot_spot_index,
         "global_jobs": payload.global_cache_keys.len(),
-        "axial_stiffness": stiffness,
+        "axial_stiffness": stiffness.job_result(),
         "load_range": loads,
         "calibrated_range": calibration.range,
         "design_strain_floor": design_strain_floor(&calibration.range),
@@ -189,18 +183,15 @@ fn calibration_result(
 /// The calibration of a reduced job's hot spot, from its calibration job's artifact: the
 /// artifact's bytes and the validated calibration.
 fn calibration_of(
+    ctx: &StageContext<'_>,
     key: &str,
-    store: &Store,
-    retry: &RetryPolicy,
-    artifacts: &ArtifactStore,
-    rt: &Handle,
 ) -> Result<(Vec<u8>, ReducedStrand), JobFailure> {
     let upstream = Upstream {
         what: "calibration",
         cache_key: key,
-        role: CALIBRATION_ROLE,
+        role: &ArtifactRole::ReducedStrand,
     };
-    let bytes = upstream.artifact(store, retry, artifacts, rt)?;
+    let bytes = upstream.artifact(ctx)?;
     let reduced =
         ReducedStrand::from_json(&bytes).map_err(|e| permanent(FailureClass::BadArtifact, e))?;
     Ok((bytes, reduced))
@@ -208,21 +199,18 @@ fn calibration_of(
 
 /// Runs one reduced strand job (module docs).
 pub fn run_strand_reduced(
-    inputs: &CampaignInputs,
+    ctx: &StageContext<'_>,
     payload: &StrandPayload,
-    store: &Store,
-    retry: &RetryPolicy,
-    artifacts: &ArtifactStore,
-    rt: &Handle,
 ) -> Result<JobResults, JobFailure> {
+    let (inputs, artifacts) = (ctx.inputs, ctx.artifacts);
     let key = payload.calibration_cache_key.as_deref().ok_or_else(|| {
         permanent(
             FailureClass::BadPayload,
             "a strand_reduced job needs calibration_cache_key",
         )
     })?;
-    let (_, reduced) = calibration_of(key, store, retry, artifacts, rt)?;
-    let series = upstream_series(payload, store, retry, artifacts, rt)?;
+    let (_, reduced) = calibration_of(ctx, key)?;
+    let series = upstream_series(ctx, payload)?;
     let stiffness = axial_stiffness(inputs, payload.hot_spot_index, artifacts, None)?;
     let load = strand_load(inputs, series, stiffness)?;
     let strand = campaign_strand(inputs)?;

@@ -25,75 +25,56 @@
 //! starts over.
 //! Slack samples (T < 0) are loaded as ε = 0 and counted in the job result.
 
-use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use moorfret_solver::fretting::{
     sea_state_damage_inputs, ContactRecord, SeaStateInputs, TensionHistory,
 };
-use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
-use moorfret_solver::strand::history::stiffness::{
-    measure_axial_stiffness_n, samples_from_tension, SlackTension,
-};
-use moorfret_solver::strand::history::{
-    run_history_from, HistoryObserver, HistoryResult, LoadSample,
-};
+use moorfret_solver::global::HotSpotSeries;
+use moorfret_solver::strand::history::stiffness::{samples_from_tension, SlackTension};
+use moorfret_solver::strand::history::{HistoryResult, LoadSample};
 use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::Strand;
-use serde::Serialize;
 use serde_json::json;
-use tokio::runtime::Handle;
 
+use crate::context::StageContext;
 use crate::failure::{permanent, transient};
-use crate::gate::{auto_fe_selection, unselected_fe_result, GateContext};
-use crate::global_stage::series_role;
-use crate::series::HotSpotSeries;
+use crate::gate::{auto_fe_selection, unselected_fe_result};
+use crate::strand::checkpoint::{CheckpointTarget, Checkpoints};
+use crate::strand::{
+    measured_ea_n, run_fe, AxialStiffness, LazyModel, RefusedCheckpoint, StiffnessError,
+    StiffnessRequest, StiffnessSource,
+};
 use moorfret_campaign::resolve::hot_spot_line_type;
 use moorfret_campaign::spec::StrandContactLaws;
-use moorfret_campaign::stiffness::{
-    replace_file, AxialStiffnessRule, StiffnessCache, STIFFNESS_STRAIN,
-};
+use moorfret_campaign::stiffness::{AxialStiffnessRule, STIFFNESS_STRAIN};
 use moorfret_campaign::{CampaignInputs, StrandPayload};
 use moorfret_store::{
-    damage_rows, ArtifactStore, ContactStatistics, FailureClass, JobFailure, JobResults, Lease,
-    RetryPolicy, Store,
+    damage_rows, ArtifactRole, ArtifactStore, ContactStatistics, FailureClass, JobFailure,
+    JobResults,
 };
 
 /// Loads the hot-spot series of the strand job's global job. The store reads are retried
 /// under `retry` while the database is unreachable, as the worker loop's calls are.
 pub fn upstream_series(
+    ctx: &StageContext<'_>,
     payload: &StrandPayload,
-    store: &Store,
-    retry: &RetryPolicy,
-    artifacts: &ArtifactStore,
-    rt: &Handle,
 ) -> Result<HotSpotSeries, JobFailure> {
-    series_of(
-        &payload.global_cache_key,
-        payload.hot_spot_index,
-        store,
-        retry,
-        artifacts,
-        rt,
-    )
+    series_of(ctx, &payload.global_cache_key, payload.hot_spot_index)
 }
 
 /// Loads the series of hot spot `hot_spot_index` of the done global job of `global_cache_key`.
 pub fn series_of(
+    ctx: &StageContext<'_>,
     global_cache_key: &str,
     hot_spot_index: usize,
-    store: &Store,
-    retry: &RetryPolicy,
-    artifacts: &ArtifactStore,
-    rt: &Handle,
 ) -> Result<HotSpotSeries, JobFailure> {
-    let role = series_role(hot_spot_index);
     let upstream = Upstream {
         what: "global",
         cache_key: global_cache_key,
-        role: &role,
+        role: &ArtifactRole::HotSpotSeries(hot_spot_index),
     };
-    let bytes = upstream.artifact(store, retry, artifacts, rt)?;
+    let bytes = upstream.artifact(ctx)?;
     let text = String::from_utf8(bytes).map_err(|e| permanent(FailureClass::BadArtifact, e))?;
     HotSpotSeries::from_csv(&text).map_err(|e| permanent(FailureClass::BadArtifact, e))
 }
@@ -106,19 +87,16 @@ pub(crate) struct Upstream<'a> {
     /// Its cache key.
     pub cache_key: &'a str,
     /// The artifact's role.
-    pub role: &'a str,
+    pub role: &'a ArtifactRole,
 }
 
 impl Upstream<'_> {
     /// The artifact's bytes. The store reads are retried under `retry` while the database is
     /// unreachable, as the worker loop's calls are.
-    pub(crate) fn artifact(
-        &self,
-        store: &Store,
-        retry: &RetryPolicy,
-        artifacts: &ArtifactStore,
-        rt: &Handle,
-    ) -> Result<Vec<u8>, JobFailure> {
+    pub(crate) fn artifact(&self, ctx: &StageContext<'_>) -> Result<Vec<u8>, JobFailure> {
+        let StageContext {
+            store, retry, rt, ..
+        } = *ctx;
         let what = self.what;
         let source = rt
             .block_on(retry.run("look up upstream job", || {
@@ -137,81 +115,16 @@ impl Upstream<'_> {
         let artifact = results
             .artifacts
             .iter()
-            .find(|a| a.role == self.role)
+            .find(|a| a.role == *self.role)
             .ok_or_else(|| {
                 permanent(
                     FailureClass::UpstreamMissing,
                     format!("job {source} has no {}", self.role),
                 )
             })?;
-        artifacts
+        ctx.artifacts
             .get(&artifact.sha256)
             .map_err(|e| transient(FailureClass::ArtifactIo, e))
-    }
-}
-
-/// Writes checkpoints to the artifact store, at most every `interval` of wall time.
-struct CheckpointWriter<'a> {
-    artifacts: &'a ArtifactStore,
-    pointer: Option<PathBuf>,
-    interval: Duration,
-    last: Instant,
-    written: usize,
-}
-
-impl CheckpointWriter<'_> {
-    fn write(&mut self, checkpoint: &HistoryCheckpoint) -> Result<(), String> {
-        let Some(pointer) = &self.pointer else {
-            return Ok(());
-        };
-        let bytes = checkpoint.to_bytes().map_err(|e| e.to_string())?;
-        let artifact = self
-            .artifacts
-            .put("checkpoint", &bytes)
-            .map_err(|e| e.to_string())?;
-        // a worker whose lease was swept away may still be writing the same job's pointer
-        // while its new claimant does: `replace_file` gives each its own temporary file
-        replace_file(pointer, artifact.sha256.as_bytes()).map_err(|e| e.to_string())?;
-        self.written += 1;
-        Ok(())
-    }
-}
-
-impl HistoryObserver for CheckpointWriter<'_> {
-    fn checkpoint(&mut self, checkpoint: &HistoryCheckpoint) {
-        if self.last.elapsed() < self.interval {
-            return;
-        }
-        self.last = Instant::now();
-        if let Err(e) = self.write(checkpoint) {
-            // A missed checkpoint costs only recomputation after a crash.
-            tracing::warn!(error = %e, "strand checkpoint not written");
-        }
-    }
-}
-
-/// The newest checkpoint named by `pointer`: `None` when there is none, or when it cannot be
-/// read (missing or damaged artifact, format of another build), which is logged: the job then
-/// starts over.
-fn read_checkpoint(artifacts: &ArtifactStore, pointer: &Path) -> Option<HistoryCheckpoint> {
-    let sha = match std::fs::read_to_string(pointer) {
-        Ok(sha) => sha,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return None,
-        Err(e) => {
-            tracing::warn!(pointer = %pointer.display(), error = %e, "checkpoint pointer not readable; starting over");
-            return None;
-        }
-    };
-    let read = artifacts
-        .get(sha.trim())
-        .map_err(|e| e.to_string())
-        .and_then(|bytes| HistoryCheckpoint::from_bytes(&bytes).map_err(|e| e.to_string()));
-    match read {
-        Ok(checkpoint) => Some(checkpoint),
-        Err(e) => {
-            tracing::warn!(pointer = %pointer.display(), error = %e, "checkpoint not readable; starting over");
-            None
-        }
     }
 }
 
@@ -248,23 +161,9 @@ fn contact_row(hot_spot_index: usize, index: usize, c: &ContactRecord) -> Contac
     }
 }
 
-/// The EA of a strand job's tension → strain conversion under the campaign's rule
-/// (`moorfret_campaign::stiffness`), with the line type's beside it.
-#[derive(Debug, Clone, Copy, Serialize)]
-pub(crate) struct AxialStiffness {
-    /// The rule applied.
-    pub rule: AxialStiffnessRule,
-    /// EA of ε = T / EA and of the fretting stress's metallic area EA / E (N).
-    pub ea_n: f64,
-    /// EA of the global line type at the hot spot (N).
-    pub line_type_ea_n: f64,
-    /// EA measured on the strand model (N), under the `strand_model` rule.
-    pub strand_model_ea_n: Option<f64>,
-}
-
-/// The EA of hot spot `hot_spot_index` (module docs). Under the `strand_model` rule it is read
-/// from the artifact directory's cache or measured on `model` (built here when `None`) and
-/// cached.
+/// The EA of hot spot `hot_spot_index` under the campaign's rule (module docs). Under the
+/// `strand_model` rule it is read from the artifact directory's cache or measured on `model`
+/// (built here when `None`) and cached ([`measured_ea_n`]).
 pub(crate) fn axial_stiffness(
     inputs: &CampaignInputs,
     hot_spot_index: usize,
@@ -279,54 +178,40 @@ pub(crate) fn axial_stiffness(
     let rule = inputs.spec.strand.axial_stiffness_rule();
     if rule == AxialStiffnessRule::LineType {
         return Ok(AxialStiffness {
-            rule,
             ea_n: line_type_ea_n,
-            line_type_ea_n,
-            strand_model_ea_n: None,
+            source: StiffnessSource::LineType,
+            measured_at_strain: None,
+            campaign: Some((rule, line_type_ea_n)),
+            estimates: None,
         });
     }
     let strand = campaign_strand(inputs)?;
     let params = model_parameters(inputs);
     let options = inputs.spec.strand.history_options();
-    let cache = StiffnessCache::new(
-        artifacts.dir(),
-        &strand,
-        &params,
-        STIFFNESS_STRAIN,
-        &options.initialisation_newton(),
-    );
-    let (ea_n, source) = match cache.get() {
-        Some(ea) => (ea, "cached"),
-        None => {
-            let built;
-            let model = match model {
-                Some(m) => m,
-                None => {
-                    built = StrandModel::new(&strand, &params)
-                        .map_err(|e| permanent(FailureClass::InvalidStrand, e))?;
-                    &built
-                }
-            };
-            let ea = measure_axial_stiffness_n(model, STIFFNESS_STRAIN, &options).map_err(|e| {
-                permanent(
-                    FailureClass::StrandHistory,
-                    format!("measuring the axial stiffness EA of the strand model: {e}"),
-                )
-            })?;
-            if let Err(e) = cache.put(ea, STIFFNESS_STRAIN) {
-                tracing::warn!(error = %e, file = %cache.file().display(), "EA not cached");
-            }
-            (ea, "measured")
-        }
+    let request = StiffnessRequest {
+        cache_dir: Some(artifacts.dir()),
+        strain: STIFFNESS_STRAIN,
+        options: &options,
+        refresh: false,
     };
+    let mut lazy = LazyModel::with_model(&strand, &params, model);
+    let (ea_n, source) = measured_ea_n(&mut lazy, &request).map_err(|e| match e {
+        StiffnessError::Model(e) => permanent(FailureClass::InvalidStrand, e),
+        e @ StiffnessError::Measure(_) => permanent(FailureClass::StrandHistory, e),
+    })?;
     // whether this job measured EA is logged, not stored: a job's result does not depend on
     // which job measured first, nor on a resume
-    tracing::info!(ea_n, source, "axial stiffness EA of the strand model");
-    Ok(AxialStiffness {
-        rule,
+    tracing::info!(
         ea_n,
-        line_type_ea_n,
-        strand_model_ea_n: Some(ea_n),
+        source = source.as_str(),
+        "axial stiffness EA of the strand model"
+    );
+    Ok(AxialStiffness {
+        ea_n,
+        source,
+        measured_at_strain: Some(STIFFNESS_STRAIN),
+        campaign: Some((rule, line_type_ea_n)),
+        estimates: None,
     })
 }
 
@@ -383,23 +268,12 @@ pub(crate) fn campaign_strand(inputs: &CampaignInputs) -> Result<Strand, JobFail
 /// campaign's reduced results whether its sea state is selected (settling the unselected FE
 /// jobs of its hot spot, [`crate::gate`]), and ends at once, with no result rows, if it is not.
 pub fn run_strand(
-    inputs: &CampaignInputs,
+    ctx: &StageContext<'_>,
     payload: &StrandPayload,
-    lease: &Lease,
-    store: &Store,
-    retry: &RetryPolicy,
-    artifacts: &ArtifactStore,
-    rt: &Handle,
 ) -> Result<JobResults, JobFailure> {
+    let (inputs, artifacts) = (ctx.inputs, ctx.artifacts);
     let selection = if payload.if_selected {
-        let ctx = GateContext {
-            inputs,
-            lease,
-            store,
-            retry,
-            rt,
-        };
-        let selection = auto_fe_selection(&ctx, payload.hot_spot_index)?;
+        let selection = auto_fe_selection(ctx, payload.hot_spot_index)?;
         if !selection.contains(payload.global.sea_state_index as i64) {
             return Ok(JobResults {
                 result: unselected_fe_result(payload, &selection),
@@ -410,45 +284,43 @@ pub fn run_strand(
     } else {
         None
     };
-    let series = upstream_series(payload, store, retry, artifacts, rt)?;
+    let series = upstream_series(ctx, payload)?;
     let strand = campaign_strand(inputs)?;
     let model = StrandModel::new(&strand, &model_parameters(inputs))
         .map_err(|e| permanent(FailureClass::InvalidStrand, e))?;
     let stiffness = axial_stiffness(inputs, payload.hot_spot_index, artifacts, Some(&model))?;
     let load = strand_load(inputs, series, stiffness)?;
     let options = inputs.spec.strand.history_options();
-    let pointer = lease
+    let target = ctx
+        .lease
         .cache_key
         .as_ref()
-        .map(|k| artifacts.dir().join("checkpoints").join(k));
-    let resume = pointer.as_ref().and_then(|p| read_checkpoint(artifacts, p));
-    let mut writer = CheckpointWriter {
-        artifacts,
-        pointer,
-        interval: Duration::from_secs_f64(inputs.spec.strand.checkpoint_interval_s),
-        last: Instant::now(),
-        written: 0,
-    };
-    if let Some(cp) = &resume {
-        tracing::info!(job = %lease.job, segment = cp.next_segment,
-            segments = cp.kept_samples.len().saturating_sub(1),
-            "strand job resumes from its checkpoint");
-    }
-    let samples = &load.samples;
-    let mut resumed = resume.is_some();
-    let result = match run_history_from(&model, samples, &options, resume.as_ref(), &mut writer) {
-        Ok(r) => r,
-        // A checkpoint from another build or input is not used: start over.
-        Err(moorfret_solver::strand::history::HistoryError::Checkpoint { reason })
-            if resume.is_some() =>
-        {
-            tracing::warn!(job = %lease.job, %reason, "checkpoint refused; starting over");
-            resumed = false;
-            run_history_from(&model, samples, &options, None, &mut writer)
-                .map_err(|e| permanent(FailureClass::StrandHistory, e))?
-        }
-        Err(e) => return Err(permanent(FailureClass::StrandHistory, e)),
-    };
+        .map(|k| CheckpointTarget::Artifacts {
+            artifacts,
+            pointer: artifacts.dir().join("checkpoints").join(k),
+        });
+    // a checkpoint that cannot be read is logged and the job starts over
+    let resume = target.as_ref().and_then(|t| {
+        t.read().unwrap_or_else(|e| {
+            tracing::warn!(pointer = %t.path().display(), error = %e,
+                "checkpoint not readable; starting over");
+            None
+        })
+    });
+    let mut writer = Checkpoints::new(
+        target,
+        Duration::from_secs_f64(inputs.spec.strand.checkpoint_interval_s),
+    );
+    let run = run_fe(
+        &model,
+        &load.samples,
+        &options,
+        resume.as_ref(),
+        RefusedCheckpoint::StartOver,
+        &mut writer,
+    )
+    .map_err(|e| permanent(FailureClass::StrandHistory, e))?;
+    let (result, resumed) = (run.result, run.resumed);
     let mut results = strand_results(inputs, payload, &strand, &load, &result, artifacts)?;
     results.result["fidelity"] = json!("fe");
     results.result["resumed_from_checkpoint"] = json!(resumed);
@@ -474,7 +346,7 @@ pub(crate) fn strand_results(
             .map_err(|e| permanent(FailureClass::SerialiseResults, e))?;
         Some(
             artifacts
-                .put("contact_records", &records)
+                .put(ArtifactRole::ContactRecords, &records)
                 .map_err(|e| transient(FailureClass::ArtifactIo, e))?,
         )
     } else {
@@ -508,7 +380,7 @@ pub(crate) fn strand_results(
             "seed_index": payload.global.seed_index,
             "samples": load.samples.len(),
             "slack_samples": load.slack_samples,
-            "axial_stiffness": load.axial_stiffness,
+            "axial_stiffness": load.axial_stiffness.job_result(),
             "contacts": result.contacts.len(),
             "contact_records_sha256": artifact.as_ref().map(|a| a.sha256.clone()),
             "effective_duration_s": damage.effective_duration_s,
@@ -601,7 +473,11 @@ fn damage_inputs(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use moorfret_solver::strand::history::stiffness::straight_strand_stiffness;
+    use moorfret_campaign::stiffness::StiffnessCache;
+    use moorfret_solver::strand::history::stiffness::{
+        measure_axial_stiffness_n, straight_strand_stiffness,
+    };
+    use std::path::Path;
 
     /// The `strand_model` rule measures EA on the campaign's strand model once per artifact
     /// directory (the solver's measurement, to the bit) and the next job reads it back;
@@ -616,9 +492,14 @@ mod tests {
         let artifacts = ArtifactStore::open(dir.path()).unwrap();
 
         let line = axial_stiffness(&inputs, 0, &artifacts, None).unwrap();
-        assert_eq!(line.rule, AxialStiffnessRule::LineType);
+        assert_eq!(line.campaign, Some((AxialStiffnessRule::LineType, 3.6e8)));
         assert_eq!(line.ea_n, 3.6e8);
-        assert_eq!(line.strand_model_ea_n, None);
+        assert_eq!(line.strand_model_ea_n(), None);
+        assert_eq!(
+            line.job_result(),
+            json!({ "rule": "line_type", "ea_n": 3.6e8, "line_type_ea_n": 3.6e8,
+                    "strand_model_ea_n": null })
+        );
 
         inputs.spec.strand.axial_stiffness = Some(AxialStiffnessRule::StrandModel);
         let strand = campaign_strand(&inputs).unwrap();
@@ -633,8 +514,12 @@ mod tests {
         assert_eq!(cache.get(), None);
         let first = axial_stiffness(&inputs, 0, &artifacts, None).unwrap();
         assert_eq!(cache.get(), Some(first.ea_n));
-        assert_eq!(first.line_type_ea_n, 3.6e8);
-        assert_eq!(first.strand_model_ea_n, Some(first.ea_n));
+        assert_eq!(first.source, StiffnessSource::Measured);
+        assert_eq!(
+            first.campaign,
+            Some((AxialStiffnessRule::StrandModel, 3.6e8))
+        );
+        assert_eq!(first.strand_model_ea_n(), Some(first.ea_n));
         let estimate = straight_strand_stiffness(&strand).simple_n;
         let relative = (first.ea_n - estimate) / estimate;
         assert!(
@@ -650,25 +535,15 @@ mod tests {
         cache.put(2.0 * first.ea_n, STIFFNESS_STRAIN).unwrap();
         let second = axial_stiffness(&inputs, 0, &artifacts, Some(&model)).unwrap();
         assert_eq!(second.ea_n, 2.0 * first.ea_n);
+        assert_eq!(second.source, StiffnessSource::Cached);
+        assert_eq!(
+            second.job_result(),
+            json!({ "rule": "strand_model", "ea_n": second.ea_n, "line_type_ea_n": 3.6e8,
+                    "strand_model_ea_n": second.ea_n })
+        );
 
         let e = axial_stiffness(&inputs, 3, &artifacts, None).unwrap_err();
         assert_eq!(e.error_class, FailureClass::BadPayload);
         assert!(e.message.contains("hot spot index"), "{}", e.message);
-    }
-
-    #[test]
-    fn no_checkpoint_without_a_pointer_or_with_a_pointer_to_an_unreadable_one() {
-        let dir = tempfile::tempdir().unwrap();
-        let artifacts = ArtifactStore::open(dir.path()).unwrap();
-        let pointer = dir.path().join("checkpoints").join("key");
-        assert!(read_checkpoint(&artifacts, &pointer).is_none());
-        std::fs::create_dir_all(pointer.parent().unwrap()).unwrap();
-        // a pointer to an artifact that is not there
-        std::fs::write(&pointer, "ab".repeat(32)).unwrap();
-        assert!(read_checkpoint(&artifacts, &pointer).is_none());
-        // a pointer to an artifact that is no checkpoint
-        let other = artifacts.put("contact_records", b"[]").unwrap();
-        std::fs::write(&pointer, &other.sha256).unwrap();
-        assert!(read_checkpoint(&artifacts, &pointer).is_none());
     }
 }

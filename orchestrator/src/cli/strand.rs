@@ -25,13 +25,14 @@ use moorfret_solver::strand::reduced::compare::{
 };
 use moorfret_solver::strand::reduced::LoadRange;
 
-use super::run::strand_history::{
-    read_load, samples_of, LazyModel, LoadTable, Observer, StiffnessArgs,
-};
+use super::run::strand_history::{samples_of, Observer, StiffnessArgs};
 use super::run::strand_model::{load_strand, ModelArgs};
 use super::run::strand_reduced::{
     calibration_for, range_of, write_calibration, CalibrationRequest,
 };
+use moorfret_solver::global::series::LoadTable;
+use moorfret_worker::strand::load::{read_load, table_strain};
+use moorfret_worker::strand::LazyModel;
 
 /// The reduced strand response on its own.
 #[derive(Debug, Subcommand)]
@@ -356,16 +357,16 @@ fn shared_load(given: Option<&Path>, a: &RunOutput, b: &RunOutput) -> anyhow::Re
     let table = read_load(path, a.slack_as_zero, a.hot_spot)
         .context("the load of the compared runs (--load to give it)")?;
     for run in [a, b] {
-        if run.samples != table.time_s().len() {
+        if run.samples != table.time_s.as_slice().len() {
             bail!(
                 "{}: {} samples, but a run was driven through {}",
                 path.display(),
-                table.time_s().len(),
+                table.time_s.as_slice().len(),
                 run.samples
             );
         }
     }
-    let time = table.time_s();
+    let time = table.time_s.as_slice();
     if time.len() < 2 {
         bail!("{}: fewer than two samples", path.display());
     }
@@ -395,9 +396,7 @@ fn damage_inputs_with(
         .ea_n
         .unwrap_or_else(|| straight_strand_stiffness(strand).simple_n);
     let config = spec.fretting_config(strand, ea_n);
-    let tension: Vec<f64> = load
-        .table
-        .strain(run.ea_n)?
+    let tension: Vec<f64> = table_strain(&load.table, run.ea_n)?
         .iter()
         .map(|e| e * ea_n)
         .collect();

@@ -4,10 +4,11 @@ use std::collections::BTreeMap;
 
 use anyhow::Context;
 use moorfret_solver::fretting::{AngularPosition, CycleHistogram};
+use moorfret_solver::global::HotSpotSeries;
 
 use crate::query::{self, Table};
 use moorfret_store::{
-    ArtifactStore, JobKind, JobState, LifetimeClassDamage, SeaStateStatus, Store,
+    ArtifactRole, ArtifactStore, JobKind, JobState, LifetimeClassDamage, SeaStateStatus, Store,
 };
 
 /// The contact class with the largest annual `fretting_max` damage.
@@ -38,13 +39,11 @@ pub struct SlipHistogram {
 
 /// Hot-spot series of one global job.
 #[derive(Debug, Clone, PartialEq)]
-pub struct HotSpotSeries {
+pub struct GlobalJobSeries {
     /// Sea state index of the job.
     pub sea_state_index: i64,
-    /// Time (s).
-    pub time_s: Vec<f64>,
-    /// Per hot spot: (tension N, curvature 1/m).
-    pub hot_spots: Vec<(Vec<f64>, Vec<f64>)>,
+    /// Per hot spot, in the order of their indices.
+    pub hot_spots: Vec<HotSpotSeries>,
 }
 
 /// One contact class under both fretting laws, with its cycles per regime over the year.
@@ -96,7 +95,7 @@ pub struct ReportData {
     /// Slip histograms per hot spot and layer interface.
     pub histograms: Vec<SlipHistogram>,
     /// Hot-spot series, if an artifact holds them.
-    pub series: Option<HotSpotSeries>,
+    pub series: Option<GlobalJobSeries>,
     /// Lifetime table (`query lifetime`).
     pub lifetime: Table,
     /// Per contact class: both fretting laws and the regimes, most damaged class first.
@@ -427,7 +426,7 @@ async fn hot_spot_series(
     campaign: moorfret_store::CampaignId,
     artifacts: &ArtifactStore,
     fretting_share: &BTreeMap<i64, f64>,
-) -> anyhow::Result<Option<HotSpotSeries>> {
+) -> anyhow::Result<Option<GlobalJobSeries>> {
     let states = store.sea_state_status(campaign).await?;
     let mut jobs: Vec<_> = store
         .jobs_of_campaign(campaign)
@@ -435,7 +434,7 @@ async fn hot_spot_series(
         .into_iter()
         .filter(|j| j.kind == JobKind::Global && j.state == JobState::Done)
         .collect();
-    let mut best: Option<(f64, HotSpotSeries)> = None;
+    let mut best: Option<(f64, GlobalJobSeries)> = None;
     jobs.sort_by_key(|j| j.id.0);
     for job in jobs {
         let index = states
@@ -448,25 +447,22 @@ async fn hot_spot_series(
         }
         let results = store.results_of(job.id).await?;
         // One artifact per hot spot (`hot_spot_<i>_series`) or one for all (`hotspots.csv`).
-        let mut parts: Vec<(usize, &str, &str)> = results
+        let mut parts: Vec<(usize, &str, &ArtifactRole)> = results
             .artifacts
             .iter()
-            .filter_map(|a| {
-                let i = a.role.strip_prefix("hot_spot_")?.strip_suffix("_series")?;
-                Some((i.parse().ok()?, a.sha256.as_str(), a.role.as_str()))
-            })
+            .filter_map(|a| Some((a.role.hot_spot_series()?, a.sha256.as_str(), &a.role)))
             .collect();
         parts.sort();
         if parts.is_empty() {
             if let Some(a) = results
                 .artifacts
                 .iter()
-                .find(|a| a.role.contains("hotspots"))
+                .find(|a| matches!(&a.role, ArtifactRole::Other(text) if text.contains("hotspots")))
             {
-                parts.push((0, a.sha256.as_str(), a.role.as_str()));
+                parts.push((0, a.sha256.as_str(), &a.role));
             }
         }
-        let mut series: Option<HotSpotSeries> = None;
+        let mut series: Option<GlobalJobSeries> = None;
         for (_, sha, role) in parts {
             // A missing or damaged artifact is an error, not an absent plot.
             let bytes = artifacts.get(sha).with_context(|| {
@@ -476,10 +472,18 @@ async fn hot_spot_series(
                     artifacts.dir().display()
                 )
             })?;
-            let part = parse_hotspots_csv(&bytes, index)?;
+            let text = std::str::from_utf8(&bytes)
+                .with_context(|| format!("artifact {role} ({sha}) of job {}", job.id))?;
+            let part = HotSpotSeries::all_from_csv(text)
+                .with_context(|| format!("artifact {role} ({sha}) of job {}", job.id))?;
             match &mut series {
-                None => series = Some(part),
-                Some(s) => s.hot_spots.extend(part.hot_spots),
+                None => {
+                    series = Some(GlobalJobSeries {
+                        sea_state_index: index,
+                        hot_spots: part,
+                    })
+                }
+                Some(s) => s.hot_spots.extend(part),
             }
         }
         let Some(series) = series else {
@@ -488,39 +492,4 @@ async fn hot_spot_series(
         best = Some((share, series));
     }
     Ok(best.map(|(_, s)| s))
-}
-
-/// Parses a hot-spot series CSV: `time_s` then (tension N, curvature 1/m) column pairs, as
-/// `run global` writes `hotspots.csv` (all hot spots) and a global job its
-/// `hot_spot_<i>_series` artifacts (one hot spot each).
-pub(crate) fn parse_hotspots_csv(
-    bytes: &[u8],
-    sea_state_index: i64,
-) -> anyhow::Result<HotSpotSeries> {
-    let mut reader = csv::Reader::from_reader(bytes);
-    let header = reader.headers().context("hot-spot series header")?.clone();
-    if header.get(0) != Some("time_s") || header.len() % 2 != 1 {
-        anyhow::bail!("hot-spot series: expected columns time_s, tension_n_i, curvature_per_m_i");
-    }
-    let n = (header.len() - 1) / 2;
-    let mut series = HotSpotSeries {
-        sea_state_index,
-        time_s: Vec::new(),
-        hot_spots: vec![(Vec::new(), Vec::new()); n],
-    };
-    for (line, record) in reader.records().enumerate() {
-        let record = record.with_context(|| format!("hot-spot series line {}", line + 2))?;
-        let value = |k: usize| -> anyhow::Result<f64> {
-            record
-                .get(k)
-                .and_then(|t| t.trim().parse().ok())
-                .with_context(|| format!("hot-spot series line {}, column {}", line + 2, k + 1))
-        };
-        series.time_s.push(value(0)?);
-        for (i, (t, k)) in series.hot_spots.iter_mut().enumerate() {
-            t.push(value(1 + 2 * i)?);
-            k.push(value(2 + 2 * i)?);
-        }
-    }
-    Ok(series)
 }

@@ -4,7 +4,7 @@ use std::collections::BTreeMap;
 
 use plotters::prelude::*;
 
-use super::data::{HotSpotSeries, SlipHistogram};
+use super::data::{GlobalJobSeries, SlipHistogram};
 use crate::plot::{bounds, panel, plot_err};
 use moorfret_store::SeaStateStatus;
 
@@ -172,28 +172,28 @@ pub(crate) fn histogram_svg(h: &SlipHistogram) -> anyhow::Result<String> {
 }
 
 /// Tension (kN) and curvature (1/m) of every hot spot of one global job.
-pub(crate) fn series_svg(series: &HotSpotSeries) -> anyhow::Result<String> {
+pub(crate) fn series_svg(series: &GlobalJobSeries) -> anyhow::Result<String> {
     let mut svg = String::new();
     {
         let n = series.hot_spots.len().max(1);
         let root = SVGBackend::with_string(&mut svg, (900, 260 * 2 * n as u32)).into_drawing_area();
         root.fill(&WHITE).map_err(plot_err)?;
         let areas = root.split_evenly((2 * n, 1));
-        for (i, (tension, curvature)) in series.hot_spots.iter().enumerate() {
-            let kn: Vec<f64> = tension.iter().map(|t| t * 1e-3).collect();
+        for (i, h) in series.hot_spots.iter().enumerate() {
+            let kn: Vec<f64> = h.tension_n.iter().map(|t| t * 1e-3).collect();
             panel(
                 &areas[2 * i],
                 &format!("hot spot {i}: tension"),
                 "T (kN)",
-                &series.time_s,
+                &h.time_s,
                 &kn,
             )?;
             panel(
                 &areas[2 * i + 1],
                 &format!("hot spot {i}: curvature"),
                 "κ (1/m)",
-                &series.time_s,
-                curvature,
+                &h.time_s,
+                &h.curvature_per_m,
             )?;
         }
         root.present().map_err(plot_err)?;

@@ -24,6 +24,7 @@ pub(crate) mod resolution;
 pub mod results;
 pub mod run;
 pub mod sea;
+pub mod series;
 pub mod system;
 
 pub use case::CaseSpec;
@@ -32,4 +33,5 @@ pub use params::DynamicsParams;
 pub use resolution::{CutOffLimit, WaveCutOff, WaveResolution};
 pub use results::{GlobalResult, GlobalSummary};
 pub use run::{run, RunParams};
+pub use series::HotSpotSeries;
 pub use system::{FloaterInput, GlobalModel};

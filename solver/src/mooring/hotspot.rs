@@ -102,7 +102,7 @@ impl Envelope {
 
 /// Sampled history at one hot spot.
 #[derive(Debug, Clone, PartialEq)]
-pub struct HotSpotSeries {
+pub struct HotSpotRecord {
     /// Arc length from the fairlead (m).
     pub arc_length_m: f64,
     /// Tension samples (N).
@@ -111,7 +111,7 @@ pub struct HotSpotSeries {
     pub curvature_per_m: Vec<f64>,
 }
 
-impl HotSpotSeries {
+impl HotSpotRecord {
     /// max − min of the tension samples (N).
     pub fn tension_range_n(&self) -> f64 {
         range(&self.tension_n)
@@ -140,7 +140,7 @@ pub struct LineOutputs {
     /// Fairlead tension |F| (N) at the sample times.
     pub fairlead_tension_n: Vec<f64>,
     /// Hot-spot histories.
-    pub hot_spots: Vec<HotSpotSeries>,
+    pub hot_spots: Vec<HotSpotRecord>,
     /// Envelopes along the line, from `record_from_s` on.
     pub envelope: Envelope,
 }
@@ -197,7 +197,7 @@ impl LineRecorder {
                 fairlead_tension_n: Vec::new(),
                 hot_spots: arc_lengths_m
                     .iter()
-                    .map(|&s| HotSpotSeries {
+                    .map(|&s| HotSpotRecord {
                         arc_length_m: s,
                         tension_n: Vec::new(),
                         curvature_per_m: Vec::new(),

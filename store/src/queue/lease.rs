@@ -368,7 +368,7 @@ impl Queue {
             .map_err(StoreError::db(OP))?;
             sqlx::query("INSERT INTO job_artifacts (job_id, role, sha256) VALUES ($1, $2, $3)")
                 .bind(lease.job.0)
-                .bind(&artifact.role)
+                .bind(artifact.role.as_str().into_owned())
                 .bind(&artifact.sha256)
                 .execute(&mut *tx)
                 .await

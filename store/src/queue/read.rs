@@ -8,7 +8,9 @@ use crate::model::{
     JobResults, LifetimeDamage,
 };
 use crate::results::DamageInput;
-use crate::types::{AttemptId, AttemptOutcome, CampaignId, JobId, JobState, WorkerId};
+use crate::types::{
+    ArtifactRole, AttemptId, AttemptOutcome, CampaignId, JobId, JobState, WorkerId,
+};
 use serde_json::Value;
 use sqlx::Row;
 
@@ -175,7 +177,7 @@ impl Queue {
         .map_err(db(OP))?;
         for row in rows {
             results.artifacts.push(JobArtifact {
-                role: row.try_get("role").map_err(db(OP))?,
+                role: ArtifactRole::parse(&row.try_get::<String, _>("role").map_err(db(OP))?),
                 sha256: row.try_get("sha256").map_err(db(OP))?,
                 size_bytes: row.try_get("size_bytes").map_err(db(OP))?,
                 path: row.try_get("path").map_err(db(OP))?,

@@ -19,7 +19,7 @@ use moorfret_solver::floater::prescribed::PrescribedMotion;
 use moorfret_solver::floater::FloaterSpec;
 use moorfret_solver::global::case::FloaterSource;
 use moorfret_solver::global::{
-    run, CaseSpec, FloaterInput, GlobalError, GlobalModel, GlobalResult, RunParams,
+    run, CaseSpec, FloaterInput, GlobalError, GlobalModel, GlobalResult, HotSpotSeries, RunParams,
 };
 use moorfret_solver::text::Num;
 
@@ -214,21 +214,16 @@ pub(crate) fn write_outputs(result: &GlobalResult, dir: &Path) -> anyhow::Result
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
 
     let path = dir.join("hotspots.csv");
-    let mut w = create(&path)?;
-    let mut header = vec!["time_s".to_string()];
-    for i in 0..result.hot_spots.len() {
-        header.push(format!("tension_n_{i}"));
-        header.push(format!("curvature_per_m_{i}"));
-    }
-    writeln!(w, "{}", header.join(","))?;
-    for (j, t) in result.time_s.iter().enumerate() {
-        write!(w, "{t}")?;
-        for h in &result.hot_spots {
-            write!(w, ",{},{}", h.tension_n[j], h.curvature_per_m[j])?;
-        }
-        writeln!(w)?;
-    }
-    w.flush()
+    let series: Vec<HotSpotSeries> = result
+        .hot_spots
+        .iter()
+        .map(|h| HotSpotSeries {
+            time_s: result.time_s.clone(),
+            tension_n: h.tension_n.clone(),
+            curvature_per_m: h.curvature_per_m.clone(),
+        })
+        .collect();
+    std::fs::write(&path, HotSpotSeries::table_csv(&series))
         .with_context(|| format!("writing {}", path.display()))?;
 
     let path = dir.join("fairleads.csv");

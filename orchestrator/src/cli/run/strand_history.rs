@@ -37,27 +37,26 @@ use crate::cli::output::outln;
 use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, bail, Context};
 use clap::Args;
 use moorfret_campaign::fatigue::RunInDetection;
-use moorfret_campaign::spec::{DEFAULT_CHECKPOINT_SEGMENTS, MAX_STRAND_THREADS};
-use moorfret_campaign::stiffness::{replace_file, StiffnessCache, STIFFNESS_STRAIN};
-use moorfret_solver::contact::NormalLaw;
+use moorfret_campaign::spec::{HistorySettings, DEFAULT_CHECKPOINT_SEGMENTS, MAX_STRAND_THREADS};
+use moorfret_campaign::stiffness::STIFFNESS_STRAIN;
 use moorfret_solver::fretting::ContactRecord;
+use moorfret_solver::global::series::{LoadKind, LoadTable};
 use moorfret_solver::strand::history::checkpoint::HistoryCheckpoint;
 use moorfret_solver::strand::history::monitors::{MonitorChannel, MonitorGroup, MonitorTarget};
 use moorfret_solver::strand::history::reduce::reduce_history_on_scale;
-use moorfret_solver::strand::history::stiffness::{
-    contact_compliant_stiffness_n, measure_axial_stiffness_n, samples_from_tension,
-    straight_strand_stiffness, SlackTension,
-};
 use moorfret_solver::strand::history::{
-    run_history_from, validate_samples, HistoryError, HistoryObserver, HistoryOptions,
-    HistoryProgress, HistoryResult, HistoryStats, LoadSample,
+    validate_samples, HistoryError, HistoryObserver, HistoryOptions, HistoryProgress,
+    HistoryResult, HistoryStats, LoadSample,
 };
-use moorfret_solver::strand::model::{StrandModel, StrandModelParameters};
+use moorfret_solver::strand::model::StrandModel;
+use moorfret_worker::strand::checkpoint::{CheckpointTarget, Checkpoints};
+use moorfret_worker::strand::load::{self as strand_load, read_load, StiffnessOptions};
+use moorfret_worker::strand::{run_fe, AxialStiffness, LazyModel, RefusedCheckpoint};
 use serde::Serialize;
 
 use super::strand_model::{load_strand, ModelArgs, ModelSizes};
@@ -66,7 +65,6 @@ use super::strand_reduced::{
     ReducedArgs,
 };
 use moorfret_orchestrator::plot::{strand_history_svgs, LoadPlot};
-use moorfret_solver::strand::profile::Strand;
 use moorfret_solver::strand::reduced::design::design_strain_floor;
 use moorfret_solver::strand::reduced::run_reduced;
 
@@ -143,223 +141,11 @@ pub(crate) struct StiffnessArgs {
     pub(crate) no_cache: bool,
 }
 
-/// The strand model, built on first use: a reduced run with a cached calibration and a cached
-/// EA never builds it.
-pub(crate) struct LazyModel<'a> {
-    strand: &'a Strand,
-    params: &'a StrandModelParameters,
-    model: Option<StrandModel>,
-}
-
-impl<'a> LazyModel<'a> {
-    pub(crate) fn new(strand: &'a Strand, params: &'a StrandModelParameters) -> Self {
-        Self {
-            strand,
-            params,
-            model: None,
-        }
-    }
-
-    /// The model, built now if it was not yet.
-    pub(crate) fn get(&mut self) -> anyhow::Result<&StrandModel> {
-        if self.model.is_none() {
-            self.model = Some(StrandModel::new(self.strand, self.params)?);
-        }
-        self.model
-            .as_ref()
-            .ok_or_else(|| anyhow!("strand model not built"))
-    }
-
-    /// The model if it is built.
-    fn built(&self) -> Option<&StrandModel> {
-        self.model.as_ref()
-    }
-}
-
-/// What the second column of the load file holds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum LoadKind {
-    Tension,
-    Strain,
-}
-
-impl LoadKind {
-    fn column(self) -> &'static str {
-        match self {
-            Self::Tension => "tension_n",
-            Self::Strain => "axial_strain",
-        }
-    }
-}
-
-/// The load file as read: times, tension or strain, curvatures.
-#[derive(Debug)]
-pub(crate) struct LoadTable {
-    kind: LoadKind,
-    time_s: Vec<f64>,
-    value: Vec<f64>,
-    curvature_per_m: Vec<f64>,
-}
-
-impl LoadTable {
-    /// Sample times (s).
-    pub(crate) fn time_s(&self) -> &[f64] {
-        &self.time_s
-    }
-
-    /// The axial strain of every sample: as given, or T / `ea_n` for a tension history (slack
-    /// samples, admitted by `--slack-as-zero`, as zero strain).
-    pub(crate) fn strain(&self, ea_n: Option<f64>) -> anyhow::Result<Vec<f64>> {
-        match (self.kind, ea_n) {
-            (LoadKind::Strain, _) => Ok(self.value.clone()),
-            (LoadKind::Tension, Some(ea)) => {
-                let (samples, _) = samples_from_tension(
-                    &self.time_s,
-                    &self.value,
-                    &self.curvature_per_m,
-                    ea,
-                    1,
-                    SlackTension::AsZero,
-                )?;
-                Ok(samples.iter().map(|s| s.strain).collect())
-            }
-            (LoadKind::Tension, None) => bail!("a tension history needs the EA of its run"),
-        }
-    }
-}
-
-/// "LOAD.csv sample i (line l), column c".
-fn at(path: &Path, index: usize, column: &str) -> String {
-    format!(
-        "{}: sample {index} (line {}), column {column}",
-        path.display(),
-        index + 2
-    )
-}
-
-/// Reads and checks the load file (module docs); the error names the sample and the column.
-pub(crate) fn read_load(
-    path: &Path,
-    slack_as_zero: bool,
-    hot_spot: usize,
-) -> anyhow::Result<LoadTable> {
-    let mut reader = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_path(path)
-        .with_context(|| format!("reading load history {}", path.display()))?;
-    let header = reader
-        .headers()
-        .with_context(|| format!("reading the header of {}", path.display()))?
-        .clone();
-    // column index of time, load value, curvature
-    let mut columns: [Option<usize>; 3] = [None; 3];
-    let mut kind: Option<LoadKind> = None;
-    // hot spots of a global run's series (`tension_n_K`, `curvature_per_m_K`)
-    let mut hot_spots: Vec<usize> = Vec::new();
-    for (i, name) in header.iter().enumerate() {
-        let indexed = |prefix: &str| -> Option<usize> { name.strip_prefix(prefix)?.parse().ok() };
-        let (name, hot_spot_column) = match (indexed("tension_n_"), indexed("curvature_per_m_")) {
-            (Some(k), _) => ("tension_n", Some(k)),
-            (None, Some(k)) => ("curvature_per_m", Some(k)),
-            (None, None) => (name, None),
-        };
-        if let Some(k) = hot_spot_column {
-            if !hot_spots.contains(&k) {
-                hot_spots.push(k);
-            }
-            if k != hot_spot {
-                continue;
-            }
-        }
-        let slot = match name {
-            "time_s" => 0,
-            "tension_n" | "axial_strain" => {
-                let k = if name == "tension_n" {
-                    LoadKind::Tension
-                } else {
-                    LoadKind::Strain
-                };
-                if let Some(other) = kind.filter(|&o| o != k) {
-                    bail!(
-                        "{}: column {name}: the file already has {}; give tension_n or \
-                         axial_strain, not both",
-                        path.display(),
-                        other.column()
-                    );
-                }
-                kind = Some(k);
-                1
-            }
-            "curvature_per_m" => 2,
-            _ => bail!(
-                "{}: unknown column {name:?} (expected time_s, tension_n or axial_strain, \
-                 curvature_per_m)",
-                path.display()
-            ),
-        };
-        if columns[slot].replace(i).is_some() {
-            bail!("{}: column {name} appears twice", path.display());
-        }
-    }
-    let names = ["time_s", "tension_n or axial_strain", "curvature_per_m"];
-    for (slot, name) in names.iter().enumerate() {
-        if columns[slot].is_none() {
-            if !hot_spots.is_empty() && slot > 0 {
-                bail!(
-                    "{}: no hot spot {hot_spot} (--hot-spot); the file has hot spots {hot_spots:?}",
-                    path.display()
-                );
-            }
-            bail!("{}: missing column {name}", path.display());
-        }
-    }
-    let kind = kind.unwrap_or(LoadKind::Tension);
-    let columns = columns.map(|c| c.unwrap_or(0));
-    let column_names = ["time_s", kind.column(), "curvature_per_m"];
-    let mut table = LoadTable {
-        kind,
-        time_s: Vec::new(),
-        value: Vec::new(),
-        curvature_per_m: Vec::new(),
-    };
-    for (index, record) in reader.records().enumerate() {
-        let record = record
-            .with_context(|| format!("{}: sample {index} (line {})", path.display(), index + 2))?;
-        let mut v = [0.0; 3];
-        for (slot, x) in v.iter_mut().enumerate() {
-            let name = column_names[slot];
-            let text = record.get(columns[slot]).unwrap_or("");
-            *x = text
-                .parse::<f64>()
-                .map_err(|_| anyhow!("{}: {text:?} is not a number", at(path, index, name)))?;
-            if !x.is_finite() {
-                bail!("{}: {x} is not a finite number", at(path, index, name));
-            }
-        }
-        if kind == LoadKind::Tension && v[1] < 0.0 && !slack_as_zero {
-            bail!(
-                "{}: negative tension {} N (slack); pass --slack-as-zero to load slack samples \
-                 as zero strain",
-                at(path, index, "tension_n"),
-                v[1]
-            );
-        }
-        table.time_s.push(v[0]);
-        table.value.push(v[1]);
-        table.curvature_per_m.push(v[2]);
-    }
-    if table.time_s.is_empty() {
-        bail!("{}: no samples", path.display());
-    }
-    Ok(table)
-}
-
 /// Progress bar on a terminal (log lines otherwise) and checkpoint writer.
 pub(crate) struct Observer {
     bar: Option<indicatif::ProgressBar>,
     next_log: usize,
-    checkpoint: Option<PathBuf>,
-    written: usize,
+    checkpoints: Checkpoints<'static>,
     done: usize,
     stop_after: Option<usize>,
 }
@@ -370,8 +156,7 @@ impl Observer {
         Self {
             bar: progress_bar(),
             next_log: 0,
-            checkpoint: None,
-            written: 0,
+            checkpoints: Checkpoints::new(None, Duration::ZERO),
             done: 0,
             stop_after: None,
         }
@@ -382,11 +167,6 @@ impl Observer {
         if let Some(b) = &self.bar {
             b.finish_and_clear();
         }
-    }
-
-    fn write(&self, path: &Path, checkpoint: &HistoryCheckpoint) -> anyhow::Result<()> {
-        let bytes = checkpoint.to_bytes()?;
-        replace_file(path, &bytes).with_context(|| format!("writing {}", path.display()))
     }
 }
 
@@ -408,14 +188,7 @@ impl HistoryObserver for Observer {
     }
 
     fn checkpoint(&mut self, checkpoint: &HistoryCheckpoint) {
-        let Some(path) = &self.checkpoint else {
-            return;
-        };
-        match self.write(path, checkpoint) {
-            Ok(()) => self.written += 1,
-            // a missed checkpoint costs only recomputation after an interruption
-            Err(e) => tracing::warn!("strand checkpoint not written: {e:#}"),
-        }
+        self.checkpoints.offer(checkpoint);
     }
 
     fn should_stop(&mut self) -> bool {
@@ -433,24 +206,6 @@ pub(crate) fn progress_bar() -> Option<indicatif::ProgressBar> {
         );
         b
     })
-}
-
-/// The EA used for a tension history.
-#[derive(Debug, Serialize)]
-pub(crate) struct AxialStiffness {
-    /// EA used (N).
-    pub(crate) ea_n: f64,
-    /// "measured" (by this run), "cached" (measured by an earlier run on the same model) or
-    /// "given" (`--axial-stiffness-n`).
-    source: &'static str,
-    /// Strain of the tension step that measured it on the model, or null when it was given.
-    measured_at_strain: Option<f64>,
-    /// Straight-strand estimates for comparison (N): wire tensions only, with Costello's
-    /// bending and twisting terms, and the latter with the helix radii shortened by the contact
-    /// penetrations (penalty normal law only).
-    straight_strand_simple_n: f64,
-    straight_strand_costello_n: f64,
-    straight_strand_contact_compliant_n: Option<f64>,
 }
 
 #[derive(Debug, Default, Serialize)]
@@ -479,6 +234,7 @@ struct Summary<'a> {
     slack_as_zero: bool,
     samples: usize,
     slack_samples: usize,
+    #[serde(serialize_with = "stiffness_summary")]
     axial_stiffness: Option<AxialStiffness>,
     turning_point_tolerance: f64,
     turning_point_scale: [f64; 2],
@@ -490,6 +246,14 @@ struct Summary<'a> {
     run_in: serde_json::Value,
     peaks_by_interface: BTreeMap<String, InterfacePeaks>,
     wall_time_s: f64,
+}
+
+/// The `axial_stiffness` of the summary ([`AxialStiffness::summary`]).
+fn stiffness_summary<S: serde::Serializer>(
+    stiffness: &Option<AxialStiffness>,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    stiffness.as_ref().map(AxialStiffness::summary).serialize(s)
 }
 
 /// The strand model of a run as its summary names it: profile file, regularisation, ends.
@@ -630,133 +394,42 @@ fn peaks_by_interface(contacts: &[ContactRecord]) -> BTreeMap<String, InterfaceP
     out
 }
 
-/// EA for a tension history: given (`--axial-stiffness-n`), from the cache, or measured on
-/// `model` (and cached); with its source and the measuring strain (none when given).
-fn axial_stiffness_n(
-    lazy: &mut LazyModel<'_>,
-    args: &StiffnessArgs,
-    options: &HistoryOptions,
-) -> anyhow::Result<(f64, &'static str, Option<f64>)> {
-    if let Some(ea) = args.axial_stiffness_n {
-        if !(ea.is_finite() && ea > 0.0) {
-            bail!("--axial-stiffness-n {ea}: the axial stiffness must be finite and > 0 N");
-        }
-        return Ok((ea, "given", None));
-    }
-    let strain = args.stiffness_strain;
-    let cache = cache_root(args.cache_dir.as_deref()).map(|dir| {
-        StiffnessCache::new(
-            &dir,
-            lazy.strand,
-            lazy.params,
-            strain,
-            &options.initialisation_newton(),
-        )
-    });
-    if let Some(ea) = cache
-        .as_ref()
-        .filter(|_| !args.no_cache)
-        .and_then(StiffnessCache::get)
-    {
-        return Ok((ea, "cached", Some(strain)));
-    }
-    let ea = measure_axial_stiffness_n(lazy.get()?, strain, options)
-        .context("measuring the axial stiffness EA of the strand model")?;
-    if let Some(c) = &cache {
-        // a cache that cannot be written only costs a measurement next time
-        if let Err(e) = c.put(ea, strain) {
-            tracing::warn!(error = %e, file = %c.file().display(), "EA not cached");
-        }
-    }
-    Ok((ea, "measured", Some(strain)))
-}
-
-/// The load samples of `table` on `model`, with the EA used and the slack sample count.
+/// The load samples of `table` on the model of `lazy` under the stiffness options `args`
+/// ([`moorfret_worker::strand::load::samples_of`]), with the EA used, printed, and the slack
+/// sample count.
 pub(crate) fn samples_of(
     table: &LoadTable,
     lazy: &mut LazyModel<'_>,
     args: &StiffnessArgs,
     options: &HistoryOptions,
 ) -> anyhow::Result<(Vec<LoadSample>, Option<AxialStiffness>, usize)> {
-    match table.kind {
-        LoadKind::Strain => {
-            let samples = (0..table.time_s.len())
-                .map(|i| LoadSample {
-                    time_s: table.time_s[i],
-                    strain: table.value[i],
-                    curvature_per_m: table.curvature_per_m[i],
-                })
-                .collect();
-            Ok((samples, None, 0))
-        }
-        LoadKind::Tension => {
-            let estimate = straight_strand_stiffness(lazy.strand);
-            let (ea, source, measured_at_strain) = axial_stiffness_n(lazy, args, options)?;
-            let how = match measured_at_strain {
-                Some(strain) => format!("{source} on the model at ε = {strain}"),
-                None => source.to_string(),
-            };
-            // the estimate needs the model's contacts: left out when the model is not built
-            let compliant = match (lazy.params.contact.normal, lazy.built()) {
-                (NormalLaw::Penalty { stiffness_n_per_m }, Some(model)) => {
-                    Some(contact_compliant_stiffness_n(model, stiffness_n_per_m))
-                }
-                _ => None,
-            };
-            outln!(
-                "axial stiffness EA = {ea:.6e} N ({how}; straight strand {:.6e} N, \
-                 Costello-corrected {:.6e} N{})",
-                estimate.simple_n,
-                estimate.corrected_n,
-                compliant.map_or(String::new(), |c| format!(
+    let cache_dir = cache_root(args.cache_dir.as_deref());
+    let stiffness = StiffnessOptions {
+        given_ea_n: args.axial_stiffness_n,
+        strain: args.stiffness_strain,
+        cache_dir: cache_dir.as_deref(),
+        refresh: args.no_cache,
+    };
+    let (samples, ea, slack) = strand_load::samples_of(table, lazy, &stiffness, options)?;
+    if let Some((ea, estimates)) = ea.as_ref().and_then(|ea| Some((ea, ea.estimates?))) {
+        let how = match ea.measured_at_strain {
+            Some(strain) => format!("{} on the model at ε = {strain}", ea.source.as_str()),
+            None => ea.source.as_str().to_string(),
+        };
+        outln!(
+            "axial stiffness EA = {:.6e} N ({how}; straight strand {:.6e} N, \
+             Costello-corrected {:.6e} N{})",
+            ea.ea_n,
+            estimates.simple_n,
+            estimates.costello_n,
+            estimates
+                .contact_compliant_n
+                .map_or(String::new(), |c| format!(
                     ", with the contacts' compliance {c:.6e} N"
                 ))
-            )?;
-            // Negative tensions were refused by `read_load` unless `--slack-as-zero`.
-            let (samples, slack) = samples_from_tension(
-                &table.time_s,
-                &table.value,
-                &table.curvature_per_m,
-                ea,
-                1,
-                SlackTension::AsZero,
-            )?;
-            let stiffness = AxialStiffness {
-                ea_n: ea,
-                source,
-                measured_at_strain,
-                straight_strand_simple_n: estimate.simple_n,
-                straight_strand_costello_n: estimate.corrected_n,
-                straight_strand_contact_compliant_n: compliant,
-            };
-            Ok((samples, Some(stiffness), slack))
-        }
+        )?;
     }
-}
-
-/// A refused sample in the words of the load file: its line and column.
-fn refused(path: &Path, kind: LoadKind, e: HistoryError) -> anyhow::Error {
-    match e {
-        HistoryError::InvalidSample {
-            index,
-            field,
-            value,
-            reason,
-            ..
-        } => {
-            let column = match field {
-                "strain" => kind.column(),
-                other => other,
-            };
-            let shown = if field == "strain" && kind == LoadKind::Tension {
-                format!("strain T/EA = {value:e}")
-            } else {
-                format!("{value}")
-            };
-            anyhow!("{}: {shown}: {reason}", at(path, index, column))
-        }
-        other => anyhow!(other),
-    }
+    Ok((samples, ea, slack))
 }
 
 /// Runs the history mode of `moorfret run strand`: the model of `args` through `load` with the
@@ -775,22 +448,21 @@ pub(super) fn execute(
     if fidelity == Fidelity::Fe {
         lazy.get()?;
     }
-    let mut options = HistoryOptions {
+    let options = HistorySettings {
+        threads: usize::from(h.threads),
+        turning_point_tolerance: h.turning_point_tolerance,
+        turning_point_scale: match h.turning_point_scale.as_deref() {
+            Some(&[e, k]) => Some([e, k]),
+            _ => None,
+        },
         checkpoint_interval_segments: if h.checkpoint.is_some() || h.stop_after_segments.is_some() {
             h.checkpoint_every
         } else {
             0
         },
-        threads: usize::from(h.threads),
-        ..HistoryOptions::default()
-    };
-    if let Some(t) = h.turning_point_tolerance {
-        options.turning_point_tolerance = t;
     }
-    if let Some([e, k]) = h.turning_point_scale.as_deref() {
-        options.turning_point_scale = [*e, *k];
-    }
-    let options = options.validated()?;
+    .options()
+    .validated()?;
     let (samples, stiffness, slack_samples) =
         samples_of(&table, &mut lazy, &h.stiffness, &options)?;
     if fidelity == Fidelity::Reduced {
@@ -809,15 +481,12 @@ pub(super) fn execute(
         return run.execute(&mut lazy);
     }
     let model = lazy.get()?;
-    validate_samples(model, &samples, &options).map_err(|e| refused(load, table.kind, e))?;
+    validate_samples(model, &samples, &options)
+        .map_err(|e| strand_load::refused(load, table.kind, e))?;
     let resume = match (&h.checkpoint, h.resume) {
-        (Some(path), true) if path.exists() => {
-            let bytes =
-                std::fs::read(path).with_context(|| format!("reading {}", path.display()))?;
-            let cp = HistoryCheckpoint::from_bytes(&bytes)
-                .with_context(|| format!("reading checkpoint {}", path.display()))?;
-            Some(cp)
-        }
+        (Some(path), true) => CheckpointTarget::File(path.clone())
+            .read()
+            .map_err(|e| anyhow!("reading checkpoint {}: {e}", path.display()))?,
         _ => None,
     };
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
@@ -826,24 +495,24 @@ pub(super) fn execute(
     let mut observer = Observer {
         bar,
         next_log: 0,
-        checkpoint: h.checkpoint.clone(),
-        written: 0,
+        checkpoints: Checkpoints::new(
+            h.checkpoint.clone().map(CheckpointTarget::File),
+            Duration::ZERO,
+        ),
         done: 0,
         stop_after: h.stop_after_segments,
     };
-    if let Some(cp) = &resume {
-        tracing::info!(
-            "resuming from segment {} of checkpoint {}",
-            cp.next_segment,
-            h.checkpoint.as_deref().unwrap_or(Path::new("")).display()
-        );
-    }
-    let result = run_history_from(model, &samples, &options, resume.as_ref(), &mut observer);
-    if let Some(b) = &observer.bar {
-        b.finish_and_clear();
-    }
-    let result = match result {
-        Ok(r) => r,
+    let run = run_fe(
+        model,
+        &samples,
+        &options,
+        resume.as_ref(),
+        RefusedCheckpoint::Fail,
+        &mut observer,
+    );
+    observer.finish();
+    let result = match run {
+        Ok(run) => run.result,
         Err(HistoryError::Checkpoint { reason }) if resume.is_some() => bail!(
             "checkpoint {} does not belong to this profile and load history ({reason}); \
              remove it or run without --resume",
@@ -871,7 +540,7 @@ pub(super) fn execute(
         turning_point_tolerance: options.turning_point_tolerance,
         turning_point_scale: options.turning_point_scale,
         resumed_from_checkpoint: resume.is_some(),
-        checkpoints_written: observer.written,
+        checkpoints_written: observer.checkpoints.written(),
         history: &result.stats,
         run_in: run_in_of(&result),
         peaks_by_interface: peaks_by_interface(&result.contacts),
