@@ -528,14 +528,21 @@ fn the_tension_to_strain_rule_is_stored_with_the_campaign() {
     );
 }
 
-/// Another program's SQLite database (rollback journal, one table of its own) at `path`.
-fn foreign_database(path: &Path) {
+/// Another program's SQLite database (one table of its own) at `path`, in WAL mode if `wal`
+/// (else with a rollback journal).
+fn foreign_database(path: &Path, wal: bool) {
+    use sqlx::sqlite::SqliteJournalMode;
     use sqlx::{ConnectOptions, Connection};
     let rt = tokio::runtime::Runtime::new().unwrap();
     rt.block_on(async {
         let mut conn = sqlx::sqlite::SqliteConnectOptions::new()
             .filename(path)
             .create_if_missing(true)
+            .journal_mode(if wal {
+                SqliteJournalMode::Wal
+            } else {
+                SqliteJournalMode::Delete
+            })
             .connect()
             .await
             .unwrap();
@@ -568,12 +575,18 @@ fn names_in(dir: &Path) -> Vec<String> {
 fn a_file_that_is_not_a_moorfret_store_is_never_written() {
     let dir = campaign_copy();
     let foreign = dir.path().join("other.sqlite");
-    foreign_database(&foreign);
+    foreign_database(&foreign, false);
+    let foreign_wal = dir.path().join("other-wal.sqlite");
+    foreign_database(&foreign_wal, true);
     let empty = dir.path().join("empty.sqlite");
     std::fs::write(&empty, b"").unwrap();
     let demo = dir.path().join("demo.json").to_string_lossy().into_owned();
     let out = dir.path().join("report-out").to_string_lossy().into_owned();
-    for (db, why) in [(&foreign, "another program's"), (&empty, "empty")] {
+    for (db, why) in [
+        (&foreign, "another program's"),
+        (&foreign_wal, "another program's"),
+        (&empty, "empty"),
+    ] {
         let listing = names_in(dir.path());
         let before = std::fs::read(db).unwrap();
         let db_text = db.to_string_lossy().into_owned();
@@ -614,24 +627,54 @@ fn a_file_that_is_not_a_moorfret_store_is_never_written() {
     }
 }
 
-/// A worker given a mistyped store path refuses with exit 1 and creates neither a store nor
-/// the missing directories.
+/// Every command but `campaign launch` given a mistyped store path refuses with exit 1, naming
+/// the path, and creates nothing: neither a store nor its `.artifacts` directory, the missing
+/// directories of the path or the report's output directory.
 #[test]
-fn a_worker_with_a_mistyped_store_path_creates_nothing() {
+fn a_mistyped_store_path_is_refused_and_creates_nothing() {
     let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("report-out").to_string_lossy().into_owned();
     for typo in [
         dir.path().join("typo.sqlite"),
         dir.path().join("no/such/dir/typo.sqlite"),
     ] {
-        let out = Command::new(env!("CARGO_BIN_EXE_moorfret"))
-            .args(["worker", "--exit-when-idle", "--db"])
-            .arg(&typo)
-            .output()
-            .unwrap();
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{stderr}");
-        assert!(stderr.contains("no such database file"), "{stderr}");
-        assert_eq!(names_in(dir.path()), Vec::<String>::new(), "{stderr}");
+        let typo_text = typo.to_string_lossy().into_owned();
+        for args in [
+            vec!["query", "lifetime", "--campaign", "demo"],
+            vec!["query", "damage-inputs", "--campaign", "demo"],
+            vec!["report", "demo", "--out", &out],
+            vec!["campaign", "status"],
+            vec!["campaign", "status", "demo", "--json"],
+            vec!["campaign", "cancel", "demo"],
+            vec!["campaign", "resume", "demo", "--workers", "1"],
+            vec!["worker", "--exit-when-idle"],
+            vec!["worker"],
+        ] {
+            for db in [typo_text.clone(), format!("sqlite://{typo_text}")] {
+                let result = Command::new(env!("CARGO_BIN_EXE_moorfret"))
+                    .args(&args)
+                    .args(["--db", &db])
+                    .current_dir(dir.path())
+                    .output()
+                    .unwrap();
+                let stderr = String::from_utf8_lossy(&result.stderr);
+                assert_eq!(
+                    result.status.code(),
+                    Some(1),
+                    "{args:?} --db {db}: {stderr}"
+                );
+                assert!(stderr.contains(&typo_text), "{args:?}: {stderr}");
+                assert!(
+                    stderr.contains("no such database file"),
+                    "{args:?}: {stderr}"
+                );
+                assert_eq!(
+                    names_in(dir.path()),
+                    Vec::<String>::new(),
+                    "{args:?} --db {db}: {stderr}"
+                );
+            }
+        }
     }
 }
 

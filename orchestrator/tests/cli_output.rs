@@ -17,7 +17,33 @@ async fn fixture_store() -> (tempfile::TempDir, std::path::PathBuf) {
     (dir, db)
 }
 
+/// A minimal output directory of a `run strand --load` run in `dir/run` (a strain history, no
+/// contact records): enough for `strand fretting` to print its table.
+fn strand_run(dir: &Path) -> std::path::PathBuf {
+    let run = dir.join("run");
+    std::fs::create_dir_all(&run).unwrap();
+    let load = dir.join("load.csv");
+    let mut text = String::from("time_s,axial_strain,curvature_per_m\n");
+    for i in 0..9 {
+        text.push_str(&format!(
+            "{},1e-3,{}\n",
+            0.25 * f64::from(i),
+            1e-3 * f64::from(i % 2)
+        ));
+    }
+    std::fs::write(&load, text).unwrap();
+    std::fs::write(run.join("contact_records.json"), "[]").unwrap();
+    let summary = serde_json::json!({ "load": load, "samples": 9 });
+    std::fs::write(run.join("summary.json"), summary.to_string()).unwrap();
+    run
+}
+
 fn commands(db: &Path, dir: &Path) -> Vec<Vec<String>> {
+    let run = strand_run(dir).to_string_lossy().into_owned();
+    let profile = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../campaigns/benchmarks/strand_1_6_1.json")
+        .to_string_lossy()
+        .into_owned();
     let db = db.to_string_lossy().into_owned();
     let out = dir.join("report").to_string_lossy().into_owned();
     let s = |v: &[&str]| v.iter().map(|a| (*a).to_owned()).collect::<Vec<_>>();
@@ -55,6 +81,7 @@ fn commands(db: &Path, dir: &Path) -> Vec<Vec<String>> {
             "--weight-n-per-m",
             "1000",
         ]),
+        s(&["strand", "fretting", &profile, &run]),
     ]
 }
 

@@ -16,7 +16,9 @@ pub(crate) fn supported_version() -> i64 {
 }
 
 /// Whether the database holds a moorfret store: its `schema_info` marker (written by the
-/// first migration) and its `campaigns` table. Reads only.
+/// first migration) and its `campaigns` table. Reads only. (SQLite asks on one connection of
+/// its own, `sqlite::holds_store`.)
+#[allow(dead_code)]
 pub(crate) async fn is_moorfret_store(pool: &Pool<Db>) -> Result<bool> {
     const OP: &str = "look for the store's tables";
     let mut conn = pool.acquire().await.map_err(StoreError::db(OP))?;

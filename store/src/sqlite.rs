@@ -42,21 +42,60 @@ pub(crate) use schema::{found_version, prepare_schema, supported_version};
 
 const SQLITE_HEADER: &[u8; 16] = b"SQLite format 3\0";
 
-/// A pool on the existing file `path`, opened without writing to it: no file is created and
-/// the journal mode is left as it is (switching to WAL writes the file's header).
-async fn connect_existing(path: &Path, max_connections: u32) -> Result<Pool<Db>> {
-    let options = SqliteConnectOptions::new()
+/// Connect options on the existing file `path`, which open it without writing to it: no file
+/// is created and the journal mode is left as it is (switching to WAL writes the file's
+/// header).
+fn existing_options(path: &Path) -> SqliteConnectOptions {
+    SqliteConnectOptions::new()
         .filename(path)
         .create_if_missing(false)
         .synchronous(SqliteSynchronous::Normal)
         .foreign_keys(true)
-        .busy_timeout(BUSY_TIMEOUT);
+        .busy_timeout(BUSY_TIMEOUT)
+}
+
+/// A pool on the existing file `path`, opened without writing to it.
+async fn connect_existing(path: &Path, max_connections: u32) -> Result<Pool<Db>> {
     SqlitePoolOptions::new()
         .max_connections(max_connections)
         .acquire_timeout(BUSY_TIMEOUT)
-        .connect_with(options)
+        .connect_with(existing_options(path))
         .await
         .map_err(|source| open_error(path, source))
+}
+
+/// Whether the SQLite file at `path` holds a moorfret store: its `schema_info` marker (written
+/// by the first migration) and its `campaigns` table. Read on one connection that is closed
+/// before the answer is returned, so that SQLite has removed the `-wal` and `-shm` files it
+/// made beside a WAL-mode database of another program by then (a pool closes its last
+/// connection on a thread of its own, which may outlive a process that exits at once).
+async fn holds_store(path: &Path) -> Result<bool> {
+    use sqlx::{ConnectOptions, Connection};
+    const OP: &str = "look for the store's tables";
+    let mut conn = existing_options(path)
+        .connect()
+        .await
+        .map_err(|source| open_error(path, source))?;
+    let mut ours = Ok(true);
+    for table in ["schema_info", "campaigns"] {
+        match sqlx::query_scalar::<_, i64>(DIALECT.table_exists_sql)
+            .bind(table)
+            .fetch_one(&mut conn)
+            .await
+        {
+            Ok(n) if n > 0 => {}
+            Ok(_) => {
+                ours = Ok(false);
+                break;
+            }
+            Err(source) => {
+                ours = Err(StoreError::db(OP)(source));
+                break;
+            }
+        }
+    }
+    conn.close().await.map_err(StoreError::db(OP))?;
+    ours
 }
 
 fn open_error(path: &Path, source: sqlx::Error) -> StoreError {
@@ -125,21 +164,13 @@ pub(crate) async fn open_if_present(path: &Path, max_connections: u32) -> Result
         Ok(_) => {}
     }
     check_header(path)?;
-    let pool = connect_existing(path, max_connections).await?;
-    let ours = match schema::is_moorfret_store(&pool).await {
-        Ok(ours) => ours,
-        Err(err) => {
-            pool.close().await;
-            return Err(err);
-        }
-    };
-    if !ours {
-        pool.close().await;
+    if !holds_store(path).await? {
         return Err(not_a_store(
             "an SQLite database without moorfret's tables, another program's (it was left as \
              it is; `campaign launch` creates a store where no file is)",
         ));
     }
+    let pool = connect_existing(path, max_connections).await?;
     // A newer schema is refused before the journal mode is touched.
     let checked = match schema::found_version(&pool).await {
         Ok(found) if found > supported_version() => Err(StoreError::SchemaTooNew {

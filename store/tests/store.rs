@@ -1425,6 +1425,78 @@ async fn newer_schema_is_refused_and_left_untouched(backend: Backend) {
     }
 }
 
+/// Names of the tables in PostgreSQL schema `schema`, sorted, and whether the schema exists.
+async fn postgres_tables(url: &str, schema: &str) -> (bool, Vec<String>) {
+    use sqlx::Connection;
+    let mut conn = sqlx::PgConnection::connect(url).await.unwrap();
+    let exists: i64 = sqlx::query_scalar(
+        "SELECT COUNT(*) FROM information_schema.schemata WHERE schema_name = $1",
+    )
+    .bind(schema)
+    .fetch_one(&mut conn)
+    .await
+    .unwrap();
+    let tables: Vec<String> = sqlx::query_scalar(
+        "SELECT table_name::text FROM information_schema.tables WHERE table_schema = $1 \
+         ORDER BY table_name",
+    )
+    .bind(schema)
+    .fetch_all(&mut conn)
+    .await
+    .unwrap();
+    conn.close().await.unwrap();
+    (exists > 0, tables)
+}
+
+/// Opening an existing store (every command but `campaign launch`) on a PostgreSQL schema
+/// that holds another program's table, or on a schema that does not exist, is refused and
+/// creates nothing: no moorfret table, no schema.
+#[tokio::test]
+async fn a_postgres_database_without_a_store_is_refused_untouched() {
+    use sqlx::Connection;
+    let url = postgres_url();
+    if !postgres_reachable(&url).await {
+        return;
+    }
+    let foreign = format!("t_{}", uuid::Uuid::new_v4().simple());
+    let missing = format!("t_{}", uuid::Uuid::new_v4().simple());
+    let mut conn = sqlx::PgConnection::connect(&url).await.unwrap();
+    for sql in [
+        format!("CREATE SCHEMA {foreign}"),
+        format!("CREATE TABLE {foreign}.notes (id BIGINT PRIMARY KEY, body TEXT)"),
+    ] {
+        sqlx::query(&sql).execute(&mut conn).await.unwrap();
+    }
+    for schema in [&foreign, &missing] {
+        let options = StoreOptions {
+            postgres_schema: Some(schema.clone()),
+            ..StoreOptions::default()
+        };
+        let before = postgres_tables(&url, schema).await;
+        match Store::open_existing(&url, options.clone()).await {
+            Err(StoreError::InvalidLocation { reason, .. }) => {
+                assert!(reason.contains("no moorfret store"), "{reason}");
+            }
+            other => panic!("{schema}: expected InvalidLocation, got {other:?}"),
+        }
+        assert!(
+            matches!(Store::open_if_present(&url, options).await, Ok(None)),
+            "{schema}"
+        );
+        assert_eq!(postgres_tables(&url, schema).await, before, "{schema}");
+    }
+    assert_eq!(
+        postgres_tables(&url, &foreign).await,
+        (true, vec!["notes".to_owned()])
+    );
+    assert!(!postgres_tables(&url, &missing).await.0);
+    sqlx::query(&format!("DROP SCHEMA {foreign} CASCADE"))
+        .execute(&mut conn)
+        .await
+        .unwrap();
+    conn.close().await.unwrap();
+}
+
 #[tokio::test]
 async fn opening_a_missing_path_creates_the_store_with_its_directories() {
     let dir = tempfile::tempdir().unwrap();

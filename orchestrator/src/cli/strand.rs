@@ -438,12 +438,12 @@ fn fretting(args: &FrettingArgs) -> anyhow::Result<()> {
     let run_in = (args.run_in_s / load.dt_s).round() as usize;
     let inputs = damage_inputs_with(&run, &load, &strand, run_in, &spec)?;
     let period = args.cycle_period_s;
-    println!(
+    outln!(
         "per contact class, damage rate (1/s) of the most damaged contact: contact stress \
          ({}), rope S-N per slip cycle; cycles per hour by regime (contact-stress law)",
         args.wire_surface
-    );
-    println!(
+    )?;
+    outln!(
         "{:<24} {:>8} {:>12} {:>12} {:>10} {:>10} {:>10}{}",
         "class",
         "p0_GPa",
@@ -457,7 +457,7 @@ fn fretting(args: &FrettingArgs) -> anyhow::Result<()> {
         } else {
             ""
         }
-    );
+    )?;
     let life = |rate: f64| match period {
         Some(p) if rate > 0.0 => format!("{:>14.3e}", 1.0 / (rate * p)),
         Some(_) => format!("{:>14}", "inf"),
@@ -466,7 +466,7 @@ fn fretting(args: &FrettingArgs) -> anyhow::Result<()> {
     let mut worst = (0.0_f64, 0.0_f64);
     for c in &inputs.classes {
         let r = &c.regime_cycles_per_hour;
-        println!(
+        outln!(
             "{:<24} {:>8.2} {:>12.3e} {:>12.3e} {:>10.1} {:>10.1} {:>10.1}{}{}",
             format!("{}/{}", c.class.interface, c.class.position.as_str()),
             c.peak_pressure_max_pa * 1e-9,
@@ -477,11 +477,11 @@ fn fretting(args: &FrettingArgs) -> anyhow::Result<()> {
             r.gross_slip,
             life(c.contact_stress_damage_rate_max_per_s),
             life(c.rope_tn_damage_rate_max_per_s),
-        );
+        )?;
         worst.0 = worst.0.max(c.contact_stress_damage_rate_max_per_s);
         worst.1 = worst.1.max(c.rope_tn_damage_rate_max_per_s);
     }
-    println!(
+    outln!(
         "most damaged contact: {:.3e} 1/s (contact stress), {:.3e} 1/s (rope S-N per slip cycle){}",
         worst.0,
         worst.1,
@@ -493,7 +493,7 @@ fn fretting(args: &FrettingArgs) -> anyhow::Result<()> {
             ),
             None => String::new(),
         }
-    );
+    )?;
     Ok(())
 }
 
