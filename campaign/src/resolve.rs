@@ -224,7 +224,17 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
             let field = "global.case_path: floater.rigid_body.spec_path";
             let (p, text, file) = read_file(base, field, &relative_to_campaign(spec_path))?;
             files.push(file);
-            let f = FloaterSpec::from_json_str(&text).map_err(|e| file_error(field, &p, e))?;
+            let f = FloaterSpec::from_json_str(&text).map_err(|e| {
+                // the field path at fault, which the floater's own reader does not give
+                match crate::spec::from_json_with_path::<FloaterSpec>(&text) {
+                    Err(with_path) if with_path.starts_with("field `") => file_error(
+                        field,
+                        &p,
+                        format!("not a valid floater description: {with_path}"),
+                    ),
+                    _ => file_error(field, &p, e),
+                }
+            })?;
             FloaterContent::RigidBody(Box::new(f))
         }
         FloaterSource::PrescribedMotion { csv_path } => {

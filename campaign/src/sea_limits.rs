@@ -6,16 +6,28 @@
 //! - its waves are steeper than DNV-RP-C205 §3.5.5.4 allows for a sea state (S_p = 2π Hs /
 //!   (g Tp²) above 1/15 for Tp ≤ 8 s, 1/25 for Tp ≥ 15 s, linear between): linear (Airy)
 //!   waves of that steepness break;
-//! - Hs exceeds 0.78 of the water depth (the depth-limited breaking height of McCowan);
+//! - Hs exceeds [`MAX_HS_OVER_DEPTH`] = 0.6 of the water depth: depth-induced breaking.
+//!   McCowan's limit H/d = 0.78 bounds a single (solitary) wave; the largest waves of a sea
+//!   state are about twice its Hs, and in the surf zone the saturated sea keeps
+//!   H_rms ≤ 0.42 d (Thornton & Guza 1983, J. Geophys. Res. 88(C10), 5925-5938), i.e.
+//!   Hs = √2 H_rms ≤ 0.59 d: a sea state of Hs above 0.6 d has broken before it reaches the
+//!   site;
 //! - the global stage's frequency cut-off (`moorfret_solver::global::resolution`: the time
 //!   step and the floater's kinematics table) keeps less than `simulation.min_wave_energy_kept`
-//!   (0.5 by default) of the JONSWAP spectrum's variance: the loads of the rest of the sea are
-//!   never computed, and a cell wholly above the cut-off would run in calm water.
+//!   (0.5 by default) of the JONSWAP spectrum's variance m0: the loads of the rest of the sea
+//!   are never computed, and a cell wholly above the cut-off would run in calm water.
 //!
 //! Such cells are refused, or left out of the plan with `scatter.cells_outside_model =
 //! "leave_out"` (named at launch, with their occurrence, which is then neither planned nor
-//! covered). The hot-spot series must also resolve the waves: the output and load intervals
-//! take at least [`MIN_SAMPLES_PER_PEAK_PERIOD`] samples per peak period of every planned cell.
+//! covered). A planned cell whose cut-off keeps less than [`FLAG_ENERGY_KEPT`] = 90 % of m0
+//! (its kept waves carry less than √0.9 = 95 % of its Hs) is flagged: named at launch and
+//! marked wherever its energy kept is shown (the `wave_energy_kept` of its stored sea state).
+//! The waves dropped are shorter than 16 m (ω above 1.98 rad/s through the floater's table)
+//! and load the moorings little, so the refusal threshold is lower than the flag: between the
+//! two, the computed loads are those of the sea's longer waves, and the user is told how much
+//! of the sea that is. The hot-spot series must also resolve the waves: the output and load
+//! intervals take at least [`MIN_SAMPLES_PER_PEAK_PERIOD`] samples per peak period of every
+//! planned cell.
 
 use moorfret_solver::global::case::FloaterSource;
 use moorfret_solver::global::WaveResolution;
@@ -26,10 +38,13 @@ use crate::payload::CampaignInputs;
 /// g (m/s²), as the wave model uses it.
 const GRAVITY: f64 = 9.81;
 
-/// Largest Hs over water depth (McCowan's breaking limit, H/d = 0.78).
-pub const MAX_HS_OVER_DEPTH: f64 = 0.78;
+/// Largest Hs over water depth: depth-induced breaking of a sea state (Thornton & Guza 1983,
+/// H_rms ≤ 0.42 d, Hs ≈ √2 H_rms; McCowan's 0.78 bounds single waves, not Hs).
+pub const MAX_HS_OVER_DEPTH: f64 = 0.6;
 /// Default least fraction of a cell's spectral variance below the cut-off.
 pub const DEFAULT_MIN_ENERGY_KEPT: f64 = 0.5;
+/// A planned cell whose cut-off keeps less of m0 than this is flagged.
+pub const FLAG_ENERGY_KEPT: f64 = 0.9;
 /// Least samples of the hot-spot series per peak period of a planned cell.
 pub const MIN_SAMPLES_PER_PEAK_PERIOD: f64 = 10.0;
 
@@ -62,6 +77,16 @@ pub struct CellLimits {
     pub hs_over_depth: f64,
     /// Why the model cannot carry the sea state (empty when it can).
     pub faults: Vec<String>,
+    /// What the model carries only in part, for a sea state planned all the same (empty when
+    /// nothing): a cut-off that keeps less than [`FLAG_ENERGY_KEPT`] of the energy.
+    pub flags: Vec<String>,
+}
+
+impl CellLimits {
+    /// Significant wave height of the waves the run keeps, Hs √(energy kept) (m).
+    pub fn kept_hs_m(&self) -> f64 {
+        self.hs_m * self.energy_kept.sqrt()
+    }
 }
 
 /// Checks the sea state (`hs_m`, `tp_s`) of `inputs`' campaign against the wave model's
@@ -97,8 +122,8 @@ pub fn check(inputs: &CampaignInputs, hs_m: f64, tp_s: f64) -> Result<CellLimits
     }
     if hs_over_depth > MAX_HS_OVER_DEPTH {
         faults.push(format!(
-            "Hs is {hs_over_depth:.2} of the water depth {depth} m, above the breaking limit \
-             {MAX_HS_OVER_DEPTH}"
+            "Hs is {hs_over_depth:.2} of the water depth {depth} m, above the depth-induced \
+             breaking limit {MAX_HS_OVER_DEPTH} of a sea state (Thornton & Guza)"
         ));
     }
     if energy_kept < min_kept {
@@ -109,6 +134,17 @@ pub fn check(inputs: &CampaignInputs, hs_m: f64, tp_s: f64) -> Result<CellLimits
             100.0 * min_kept
         ));
     }
+    let mut flags = Vec::new();
+    if energy_kept >= min_kept && energy_kept < FLAG_ENERGY_KEPT {
+        flags.push(format!(
+            "the wave cut-off {cut_off:.2} rad/s keeps {:.1} % of the spectrum's energy, less \
+             than {:.0} %: its loads are those of waves of Hs {:.2} m instead of {} m",
+            100.0 * energy_kept,
+            100.0 * FLAG_ENERGY_KEPT,
+            hs_m * energy_kept.sqrt(),
+            hs_m
+        ));
+    }
     Ok(CellLimits {
         hs_m,
         tp_s,
@@ -117,6 +153,7 @@ pub fn check(inputs: &CampaignInputs, hs_m: f64, tp_s: f64) -> Result<CellLimits
         steepness,
         hs_over_depth,
         faults,
+        flags,
     })
 }
 

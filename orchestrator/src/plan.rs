@@ -117,6 +117,7 @@ pub fn climate_sea_states(
             seeds: draw(seeds_per_sea_state),
             heading_deg: t.heading_deg,
             sector: t.sector.map(str::to_owned),
+            wave_energy_kept: None,
         })
         .collect();
     for state in &mut states {
@@ -518,12 +519,20 @@ pub fn campaign_sea_states(resolved: &ResolvedCampaign) -> Vec<NewSeaState> {
             sector: s.source.label.as_deref(),
         })
         .collect();
-    climate_sea_states(
+    let mut states = climate_sea_states(
         &climate,
         inputs.spec.simulation.seeds_per_sea_state,
         extra_seeds_per_sea_state(inputs),
         inputs.spec.seed,
-    )
+    );
+    // Resolution checked every planned cell in the same order (tables in turn, each row by
+    // row): each sea state stores the energy its wave cut-off keeps.
+    for (state, limits) in states.iter_mut().zip(resolved.planned_limits()) {
+        if state.hs_m == limits.hs_m && state.tp_s == limits.tp_s {
+            state.wave_energy_kept = Some(limits.energy_kept);
+        }
+    }
+    states
 }
 
 /// Stores `resolved` with its sea states and jobs in one transaction; returns the campaign and

@@ -465,6 +465,16 @@ fn paper_campaign_plans_every_non_zero_cell_of_the_scatter_diagram() {
     assert_eq!(states.len(), non_zero);
     assert_eq!(states.len(), 152);
     assert_eq!(resolved.planned_limits().count(), 152);
+    // its Tp 4 and 5 s cells keep about 64 % and 83 % of their energy: planned, and flagged
+    let flagged: Vec<_> = resolved
+        .planned_limits()
+        .filter(|l| !l.flags.is_empty())
+        .collect();
+    assert_eq!(flagged.len(), 5, "{flagged:?}");
+    for l in &flagged {
+        let expected = if l.tp_s == 4.0 { 0.64 } else { 0.83 };
+        assert!((l.energy_kept - expected).abs() < 0.01, "{l:?}");
+    }
     // cells are percent of the year: their sum, 43.517 % less the 0.005 % left out, is the
     // year fraction planned
     let covered: f64 = states.iter().map(|s| s.occurrence_fraction).sum();
@@ -882,5 +892,261 @@ fn a_json_type_error_names_the_field() {
         dir.path(),
         &db,
         &["field `simulation.duration_s`", "invalid type", "line"],
+    );
+}
+
+/// Hs above 0.6 of the water depth (a sea state that has broken on the bottom before reaching
+/// the site) is refused, even when gentle and wholly below the wave cut-off: Hs 65 m in the
+/// 100 m of `paper_case.json` at Tp 40 s (steepness 0.026, under DNV's 1/25). The limit used
+/// to be McCowan's 0.78, which bounds single waves, not Hs.
+#[test]
+fn hs_above_the_depth_limited_breaking_height_is_refused() {
+    let dir = campaign_copy();
+    let db = existing_store(dir.path());
+    scatter_of(
+        dir.path(),
+        &["11", "40"],
+        &["2\t2.5\t1\t0", "64.5\t65.5\t0\t1"],
+    );
+    assert_refused(
+        dir.path(),
+        &db,
+        &[
+            "scatter.path",
+            "cell Hs 64.5-65.5 m, Tp 40 s (row 2, period column 2)",
+            "Hs is 0.65 of the water depth 100 m",
+            "depth-induced breaking limit 0.6",
+        ],
+    );
+}
+
+/// Runs `moorfret ARGS…` and returns (exit code, stdout, stderr).
+fn moorfret(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_moorfret"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// A sea state whose wave cut-off keeps between half and 90 % of its energy (Tp 5 s: its waves
+/// above the floater table's 1.98 rad/s are dropped) is planned but flagged, and the energy
+/// every sea state keeps is stored with it: `query sea-states` reads it from the store and
+/// marks the flagged one, `campaign status` counts it with its share of the year, the report
+/// lists it. It used to be planned with a log line at most, and the energy kept recomputed.
+#[test]
+fn partly_kept_sea_states_are_flagged_and_their_energy_stored() {
+    let dir = campaign_copy();
+    scatter_of(dir.path(), &["11", "5"], &["0.5\t1\t1\t0.5"]);
+    let resolved = resolve(&dir.path().join("demo.json")).unwrap();
+    let limits: Vec<_> = resolved.planned_limits().cloned().collect();
+    assert_eq!(limits.len(), 2);
+    let (long, short) = (&limits[0], &limits[1]);
+    assert_eq!((long.hs_m, long.tp_s), (0.75, 11.0));
+    assert!(long.energy_kept > 0.99 && long.flags.is_empty(), "{long:?}");
+    assert_eq!((short.hs_m, short.tp_s), (0.75, 5.0));
+    assert!((0.5..0.9).contains(&short.energy_kept), "{short:?}");
+    assert!(short.faults.is_empty(), "{short:?}");
+    assert_eq!(short.flags.len(), 1, "{short:?}");
+    assert!(short.flags[0].contains("less than 90 %"), "{short:?}");
+    assert!(
+        (short.kept_hs_m() - 0.75 * short.energy_kept.sqrt()).abs() < 1e-12,
+        "{short:?}"
+    );
+
+    // planned without running: the sea states carry the energy their checks found
+    let db = dir
+        .path()
+        .join("plan.sqlite")
+        .to_string_lossy()
+        .into_owned();
+    let rt = tokio::runtime::Runtime::new().unwrap();
+    rt.block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        plan::create(&store, &resolved).await.unwrap();
+        store.close().await;
+    });
+    settle(&db);
+
+    let (code, stdout, stderr) = moorfret(&[
+        "query",
+        "sea-states",
+        "--campaign",
+        "demo",
+        "--db",
+        &db,
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let rows: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let rows = rows.as_array().unwrap();
+    assert_eq!(rows.len(), 2, "{stdout}");
+    for (row, limits, flagged) in [(&rows[0], long, false), (&rows[1], short, true)] {
+        assert_eq!(row["tp_s"].as_f64(), Some(limits.tp_s), "{stdout}");
+        assert_eq!(
+            row["wave_energy_kept"].as_f64(),
+            Some(limits.energy_kept),
+            "{stdout}"
+        );
+        assert_eq!(
+            row["wave_energy_flagged"].as_bool(),
+            Some(flagged),
+            "{stdout}"
+        );
+    }
+
+    let (code, stdout, stderr) = moorfret(&["campaign", "status", "demo", "--db", &db, "--json"]);
+    assert_eq!(code, 0, "{stderr}");
+    let status: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(
+        status["sea_states_energy_flagged"].as_u64(),
+        Some(1),
+        "{stdout}"
+    );
+    assert!(
+        (status["occurrence_energy_flagged"].as_f64().unwrap() - 0.005).abs() < 1e-15,
+        "{stdout}"
+    );
+    assert_eq!(
+        status["wave_energy_kept_min"].as_f64(),
+        Some(short.energy_kept),
+        "{stdout}"
+    );
+    let (code, stdout, stderr) = moorfret(&["campaign", "status", "demo", "--db", &db]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(
+        stdout.contains("1 sea state(s), 0.5000 % of the year, below 90 % (flagged)"),
+        "{stdout}"
+    );
+
+    let out = dir.path().join("report");
+    let out_text = out.to_string_lossy().into_owned();
+    let (code, _, stderr) = moorfret(&["report", "demo", "--out", &out_text, "--db", &db]);
+    assert_eq!(code, 0, "{stderr}");
+    let page = std::fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(page.contains("Wave energy kept per sea state"), "{page}");
+    assert!(
+        page.contains("1 sea state(s), 0.5000 % of the year, keep less than 90 %"),
+        "{page}"
+    );
+}
+
+/// The counts of `campaign launch|resume --workers` and `worker --poll-ms` take negative
+/// numbers as values and refuse them by the option's name (they were refused as unknown
+/// arguments), as `--workers 0` is refused (it silently ran one worker); nothing is written.
+#[test]
+fn negative_and_zero_counts_are_refused_by_the_option_name() {
+    let dir = campaign_copy();
+    let db = dir
+        .path()
+        .join("none.sqlite")
+        .to_string_lossy()
+        .into_owned();
+    let file = dir.path().join("demo.json").to_string_lossy().into_owned();
+    for (args, option, reason) in [
+        (
+            vec!["campaign", "launch", &file, "--db", &db, "--workers", "-1"],
+            "--workers",
+            "must be at least 1",
+        ),
+        (
+            vec!["campaign", "launch", &file, "--db", &db, "--workers", "0"],
+            "--workers",
+            "must be at least 1",
+        ),
+        (
+            vec!["campaign", "resume", "demo", "--db", &db, "--workers", "-3"],
+            "--workers",
+            "must be at least 1",
+        ),
+        (
+            vec!["worker", "--db", &db, "--poll-ms", "-1"],
+            "--poll-ms",
+            "must not be negative",
+        ),
+    ] {
+        let (code, _, stderr) = moorfret(&args);
+        assert_eq!(code, 2, "{args:?}: {stderr}");
+        assert!(stderr.contains(option), "{args:?}: {stderr}");
+        assert!(stderr.contains(reason), "{args:?}: {stderr}");
+        assert!(
+            !stderr.contains("unexpected argument"),
+            "{args:?}: {stderr}"
+        );
+        assert!(!Path::new(&db).exists(), "{args:?} created a store");
+    }
+}
+
+/// Every table of a directional climate is checked, cell by cell, before anything is stored:
+/// a sea state the wave model cannot carry in the third sector names that sector's table, its
+/// cell and why; a type error in a sector names the sector's field path.
+#[test]
+fn every_sector_is_checked_and_named() {
+    let good = "lower\tupper\t11\n2\t2.5\t100\n";
+    let bad = "lower\tupper\t11\t0.5\n2\t2.5\t90\t0\n0\t0.5\t0\t10\n";
+    let sectors = |third: serde_json::Value| {
+        serde_json::json!({ "sectors": [
+            {"label": "N", "heading_deg": 0.0, "share_percent": 30.0, "path": "data/n.tsv"},
+            {"label": "E", "heading_deg": 90.0, "share_percent": 30.0, "path": "data/e.tsv"},
+            third,
+        ]})
+    };
+    for (third, expected) in [
+        (
+            serde_json::json!(
+                {"label": "S", "heading_deg": 180.0, "share_percent": 40.0, "path": "data/s.tsv"}
+            ),
+            vec![
+                "scatter.sectors[2].path",
+                "cell Hs 0-0.5 m, Tp 0.5 s (row 2, period column 2)",
+                "keeps 0.0 %",
+            ],
+        ),
+        (
+            serde_json::json!(
+                {"label": "S", "heading_deg": 180.0, "share_percent": "40", "path": "data/s.tsv"}
+            ),
+            vec![
+                "field `scatter.sectors[2].share_percent`",
+                "invalid type",
+                "line",
+            ],
+        ),
+    ] {
+        let dir = campaign_copy();
+        let db = existing_store(dir.path());
+        for (name, table) in [("n", good), ("e", good), ("s", bad)] {
+            std::fs::write(dir.path().join(format!("data/{name}.tsv")), table).unwrap();
+        }
+        edit_json(&dir.path().join("demo.json"), |v| {
+            v["scatter"] = sectors(third);
+        });
+        assert_refused(dir.path(), &db, &expected);
+    }
+}
+
+/// A type error in the floater file the case names gives the field path too (it gave a line
+/// and column only).
+#[test]
+fn a_floater_type_error_names_the_field() {
+    let dir = campaign_copy();
+    let db = existing_store(dir.path());
+    edit_json(&dir.path().join("data/oc4_semi_floater.json"), |v| {
+        v["members"][2]["diameter_m"] = serde_json::json!("12");
+    });
+    assert_refused(
+        dir.path(),
+        &db,
+        &[
+            "floater.rigid_body.spec_path",
+            "field `members[2].diameter_m`",
+            "invalid type",
+            "line",
+        ],
     );
 }

@@ -381,6 +381,40 @@ fn negative_option_values_are_refused_by_range_naming_the_option() {
     }
 }
 
+/// `strand calibrate` takes negative numbers as values too (they were unknown arguments) and
+/// refuses them by range, naming the option, before any model is built.
+#[test]
+fn calibrate_refuses_negative_option_values_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("calibration.json");
+    for (args, named) in [
+        (["--margin", "-0.1"], "--margin -0.1: must lie in [0, 1]"),
+        (["--threads", "-2"], "--threads"),
+    ] {
+        let o = moorfret()
+            .args(["strand", "calibrate"])
+            .arg(profile())
+            .args([
+                "--strain-range",
+                "1e-4",
+                "2e-3",
+                "--curvature-range",
+                "-0.01",
+                "0.01",
+            ])
+            .args(args)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(!o.status.success(), "{args:?}");
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(!e.contains("unexpected argument"), "{args:?}: {e}");
+        assert!(e.contains(named), "{args:?}: {e}");
+        assert!(!out.exists(), "{args:?}");
+    }
+}
+
 #[test]
 fn bad_load_files_fail_naming_sample_and_column() {
     let header = "time_s,tension_n,curvature_per_m";

@@ -41,6 +41,10 @@ pub struct NewSeaState {
     pub heading_deg: f64,
     /// Directional sector of the climate it belongs to; `None` for a climate of one table.
     pub sector: Option<String>,
+    /// Fraction of its spectrum's variance m0 the global stage's wave cut-off keeps, computed
+    /// at planning (`None` when not computed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wave_energy_kept: Option<f64>,
 }
 
 /// A job of a plan. Dependencies refer to jobs earlier in the same plan.

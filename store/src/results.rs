@@ -374,6 +374,10 @@ pub struct SeaStateStatus {
     /// Directional sector; `None` for a climate of one table.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sector: Option<String>,
+    /// Fraction of the spectrum's variance the wave cut-off keeps, stored at planning; `None`
+    /// in stores written before it was stored.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wave_energy_kept: Option<f64>,
 }
 
 /// A `contact_statistics` row with its sea state.

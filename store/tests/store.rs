@@ -216,7 +216,44 @@ on_both_backends!(
     seed_spread_and_lifetime_band_of_known_seeds,
     settled_jobs_end_at_once_and_unblock_their_dependents,
     cancelling_a_finished_campaign_changes_nothing,
+    the_wave_energy_kept_is_stored_with_every_sea_state,
 );
+
+/// The energy each sea state's wave cut-off keeps is stored with it at planning (schema 7) and
+/// read back as stored; a sea state planned without it reads none.
+async fn the_wave_energy_kept_is_stored_with_every_sea_state(backend: Backend) {
+    let Some(ts) = open_store(backend, QueuePolicy::default()).await else {
+        return;
+    };
+    assert!(ts.store.supported_schema_version() >= 7);
+    let id = campaign(&ts.store, "energy").await;
+    let kept = [Some(0.8123456789012345), Some(1.0), None];
+    let states: Vec<NewSeaState> = kept
+        .iter()
+        .enumerate()
+        .map(|(i, &k)| NewSeaState {
+            index: i as i64,
+            hs_m: 1.0 + i as f64,
+            tp_s: 5.0 + i as f64,
+            occurrence_fraction: 0.1,
+            seeds: vec![i as u64],
+            heading_deg: 0.0,
+            sector: None,
+            wave_energy_kept: k,
+        })
+        .collect();
+    ts.store.insert_sea_states(id, &states).await.unwrap();
+    let read: Vec<Option<f64>> = ts
+        .store
+        .sea_state_status(id)
+        .await
+        .unwrap()
+        .iter()
+        .map(|s| s.wave_energy_kept)
+        .collect();
+    assert_eq!(read, kept);
+    ts.finish().await;
+}
 
 /// A campaign whose jobs are all finished has nothing to cancel: 0 jobs cancelled and its
 /// state as it was (it used to be marked cancelled).
@@ -943,6 +980,7 @@ async fn lifetime_view_reproduces_the_reference_annual_damage(backend: Backend) 
                     seeds: vec![11, 12],
                     heading_deg: 0.0,
                     sector: None,
+                    wave_energy_kept: None,
                 },
                 NewSeaState {
                     index: 1,
@@ -952,6 +990,7 @@ async fn lifetime_view_reproduces_the_reference_annual_damage(backend: Backend) 
                     seeds: vec![13, 14],
                     heading_deg: 0.0,
                     sector: None,
+                    wave_energy_kept: None,
                 },
             ],
         )
@@ -1066,6 +1105,7 @@ async fn seed_spread_and_lifetime_band_of_known_seeds(backend: Backend) {
                     seeds: vec![1, 2, 3],
                     heading_deg: 0.0,
                     sector: None,
+                    wave_energy_kept: None,
                 },
                 NewSeaState {
                     index: 1,
@@ -1075,6 +1115,7 @@ async fn seed_spread_and_lifetime_band_of_known_seeds(backend: Backend) {
                     seeds: vec![4],
                     heading_deg: 0.0,
                     sector: None,
+                    wave_energy_kept: None,
                 },
             ],
         )

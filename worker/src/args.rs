@@ -20,7 +20,7 @@ pub struct StoreArgs {
     #[arg(long)]
     pub artifacts: Option<PathBuf>,
     /// Lease length, ms (default 300 000); heartbeats come every tenth of it (at most 30 s).
-    #[arg(long, hide = true)]
+    #[arg(long, hide = true, allow_negative_numbers = true, value_parser = positive_ms)]
     pub lease_ms: Option<i64>,
 }
 
@@ -46,7 +46,7 @@ pub struct WorkerArgs {
     #[arg(long)]
     pub exit_when_idle: bool,
     /// Pause between claims when nothing is ready, ms.
-    #[arg(long, default_value_t = 500)]
+    #[arg(long, default_value_t = 500, allow_negative_numbers = true, value_parser = poll_ms)]
     pub poll_ms: u64,
     /// Wall time this worker may run, s (batch allocations): it never starts a job expected
     /// to take longer than what remains.
@@ -60,6 +60,25 @@ pub struct WorkerArgs {
     /// large ones.
     #[arg(long = "kind", value_name = "KIND", value_parser = parse_kind)]
     pub kinds: Vec<JobKind>,
+}
+
+/// A lease length: a whole number of milliseconds above 0 (negative numbers are read as values,
+/// so that they are refused by the option's name, not as unknown options).
+fn positive_ms(text: &str) -> Result<i64, String> {
+    match text.trim().parse::<i64>() {
+        Ok(n) if n > 0 => Ok(n),
+        Ok(n) => Err(format!("{n} ms: must be above 0")),
+        Err(_) => Err(format!("{text}: must be a whole number of milliseconds")),
+    }
+}
+
+/// A pause between claims: a whole number of milliseconds, 0 or more.
+fn poll_ms(text: &str) -> Result<u64, String> {
+    match text.trim().parse::<i64>() {
+        Ok(n) if n >= 0 => u64::try_from(n).map_err(|e| e.to_string()),
+        Ok(n) => Err(format!("{n} ms: must not be negative")),
+        Err(_) => Err(format!("{text}: must be a whole number of milliseconds")),
+    }
 }
 
 fn parse_kind(text: &str) -> Result<JobKind, String> {

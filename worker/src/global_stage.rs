@@ -18,6 +18,31 @@ use moorfret_store::{
     ArtifactRole, ArtifactStore, FailureClass, HotSpotSummary, JobFailure, JobResults,
 };
 
+/// A sea state whose realisation keeps far less of its spectrum's energy than the campaign
+/// allows (`simulation.min_wave_energy_kept`, the planning's check; a tenth of it as margin for
+/// the discrete band) fails at once, before its dynamics: its loads would not be computed, and
+/// a sea state with a failed job never counts as covered. Planning refuses such sea states;
+/// this keeps a campaign stored before it did from running one in calm water.
+fn check_energy_kept(inputs: &CampaignInputs, kept: f64) -> Result<(), JobFailure> {
+    let min_kept = inputs
+        .spec
+        .simulation
+        .min_wave_energy_kept
+        .unwrap_or(moorfret_campaign::sea_limits::DEFAULT_MIN_ENERGY_KEPT);
+    if kept < 0.9 * min_kept {
+        return Err(permanent(
+            FailureClass::InvalidCase,
+            format!(
+                "the wave cut-off keeps {:.1} % of the sea state's spectral energy, less than \
+                 simulation.min_wave_energy_kept {:.1} %: its loads would not be computed",
+                100.0 * kept,
+                100.0 * min_kept
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Runs one global job.
 pub fn run_global(
     inputs: &CampaignInputs,
@@ -34,6 +59,7 @@ pub fn run_global(
     };
     let model = GlobalModel::new(&case, floater, None)
         .map_err(|e| permanent(FailureClass::InvalidCase, e))?;
+    check_energy_kept(inputs, model.wave_cut_off.kept_m0_fraction)?;
     let params = RunParams {
         threads: inputs.spec.simulation.global_threads,
         ..RunParams::default()
@@ -99,4 +125,44 @@ pub fn run_global(
         "hot_spot_series_sha256": series_hashes,
     });
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    /// A sea state wholly above the wave cut-off (Tp 0.5 s), as a store planned before the
+    /// planning's checks may hold, fails at once instead of running in calm water with damage
+    /// 0; the demo's own sea state runs past the check.
+    #[test]
+    fn a_sea_state_above_the_cut_off_fails_before_its_dynamics() {
+        let demo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns/demo.json");
+        let inputs = moorfret_campaign::resolve(&demo).unwrap().inputs;
+        let dir = tempfile::tempdir().unwrap();
+        let artifacts = ArtifactStore::open(dir.path()).unwrap();
+        let payload = GlobalPayload {
+            sea_state_index: 0,
+            hs_m: 0.25,
+            tp_s: 0.5,
+            seed_index: 0,
+            seed: 7,
+            extra_seed: false,
+            heading_deg: None,
+        };
+        let failure = run_global(&inputs, &payload, &artifacts).unwrap_err();
+        assert_eq!(failure.kind, moorfret_store::FailureKind::Permanent);
+        assert_eq!(failure.error_class, FailureClass::InvalidCase);
+        assert!(
+            failure.message.contains("keeps 0.0 %")
+                && failure.message.contains("simulation.min_wave_energy_kept"),
+            "{}",
+            failure.message
+        );
+        assert!(dir.path().read_dir().unwrap().next().is_none());
+        // the check passes the demo's own sea states
+        assert!(check_energy_kept(&inputs, 0.99).is_ok());
+        assert!(check_energy_kept(&inputs, 0.46).is_ok());
+        assert!(check_energy_kept(&inputs, 0.44).is_err());
+    }
 }

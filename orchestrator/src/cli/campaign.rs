@@ -35,7 +35,7 @@ pub(crate) enum CampaignCommand {
         #[command(flatten)]
         store: StoreArgs,
         /// Local worker processes (default: the number of cores).
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true, value_parser = worker_count)]
         workers: Option<usize>,
         /// Leave the workers running the campaign to its end when this driver is stopped by
         /// SIGTERM, SIGINT or SIGHUP (by default they are stopped with it, their jobs returned
@@ -51,7 +51,7 @@ pub(crate) enum CampaignCommand {
         #[command(flatten)]
         store: StoreArgs,
         /// Local worker processes (default: the number of cores).
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true, value_parser = worker_count)]
         workers: Option<usize>,
         /// Leave the workers running the campaign to its end when this driver is stopped by
         /// SIGTERM, SIGINT or SIGHUP (by default they are stopped with it, their jobs returned
@@ -78,6 +78,16 @@ pub(crate) enum CampaignCommand {
         #[command(flatten)]
         store: StoreArgs,
     },
+}
+
+/// A number of local worker processes: a whole number of at least 1 (a negative number is
+/// read as a value, so that it is refused by `--workers`' name, not as an unknown option).
+fn worker_count(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<i64>() {
+        Ok(n) if n >= 1 => usize::try_from(n).map_err(|e| e.to_string()),
+        Ok(n) => Err(format!("{n} workers: must be at least 1")),
+        Err(_) => Err(format!("{text}: must be a whole number of at least 1")),
+    }
 }
 
 /// Runs a `campaign` subcommand.
@@ -230,8 +240,42 @@ async fn run_to_end(
     Ok(())
 }
 
+/// What the wave cut-offs of a campaign's sea states keep: the least energy kept, and the
+/// sea states flagged for keeping less than 90 % with their occurrence (`None` when the
+/// store holds no energy kept for them: planned before it was stored).
+pub(crate) struct EnergySummary {
+    least: f64,
+    flagged: usize,
+    occurrence_flagged: f64,
+}
+
+impl EnergySummary {
+    fn of(states: &[moorfret_store::SeaStateStatus]) -> Option<Self> {
+        let known: Vec<_> = states
+            .iter()
+            .filter_map(|s| s.wave_energy_kept.map(|k| (s.occurrence_fraction, k)))
+            .collect();
+        if known.is_empty() {
+            return None;
+        }
+        let flagged: Vec<_> = known
+            .iter()
+            .filter(|(_, k)| moorfret_orchestrator::query::energy_flagged(*k))
+            .collect();
+        Some(Self {
+            least: known.iter().map(|(_, k)| *k).fold(f64::INFINITY, f64::min),
+            flagged: flagged.len(),
+            occurrence_flagged: flagged.iter().map(|(o, _)| o).sum::<f64>() + 0.0,
+        })
+    }
+}
+
 /// The `--json` form of a campaign's status.
-pub(crate) fn status_json(record: &CampaignRecord, p: &CampaignProgress) -> serde_json::Value {
+pub(crate) fn status_json(
+    record: &CampaignRecord,
+    p: &CampaignProgress,
+    energy: Option<&EnergySummary>,
+) -> serde_json::Value {
     let jobs: serde_json::Map<String, serde_json::Value> = JobState::ALL
         .iter()
         .map(|s| (s.as_str().to_owned(), json!(p.count(*s))))
@@ -243,6 +287,9 @@ pub(crate) fn status_json(record: &CampaignRecord, p: &CampaignProgress) -> serd
         "jobs_total": p.jobs_total,
         "occurrence_planned": p.occurrence_planned,
         "occurrence_covered": p.occurrence_covered,
+        "wave_energy_kept_min": energy.map(|e| e.least),
+        "sea_states_energy_flagged": energy.map(|e| e.flagged),
+        "occurrence_energy_flagged": energy.map(|e| e.occurrence_flagged),
     })
 }
 
@@ -255,8 +302,9 @@ async fn status(args: &StoreArgs, name: Option<String>, as_json: bool) -> anyhow
     let mut out = Vec::new();
     for record in &records {
         let p = store.progress(record.id).await?;
+        let energy = EnergySummary::of(&store.sea_state_status(record.id).await?);
         if as_json {
-            out.push(status_json(record, &p));
+            out.push(status_json(record, &p, energy.as_ref()));
         } else {
             outln!(
                 "{} ({}): {} jobs: {} done, {} running, {} ready, {} blocked, {} failed, {} cancelled; occurrence covered {:.3} % of the year ({:.3} % planned)",
@@ -272,6 +320,16 @@ async fn status(args: &StoreArgs, name: Option<String>, as_json: bool) -> anyhow
                 100.0 * p.occurrence_covered,
                 100.0 * p.occurrence_planned
             )?;
+            if let Some(e) = &energy {
+                outln!(
+                    "  wave energy kept: at least {:.1} % per sea state; {} sea state(s), {:.4} % \
+                     of the year, below {:.0} % (flagged)",
+                    100.0 * e.least,
+                    e.flagged,
+                    100.0 * e.occurrence_flagged,
+                    100.0 * moorfret_campaign::sea_limits::FLAG_ENERGY_KEPT
+                )?;
+            }
         }
     }
     if as_json {
@@ -324,15 +382,23 @@ fn report_climate(resolved: &moorfret_campaign::ResolvedCampaign) {
             c.limits.faults.join("; ")
         );
     }
-    for l in resolved.planned_limits() {
-        if l.energy_kept < 0.95 {
-            tracing::info!(
-                "sea state Hs {} m, Tp {} s: the wave cut-off {:.2} rad/s keeps {:.1} % of its \
-                 spectral energy",
+    for (sector, l) in resolved
+        .sectors
+        .iter()
+        .flat_map(|s| s.planned_limits.iter().map(move |l| (s, l)))
+    {
+        if !l.flags.is_empty() {
+            tracing::warn!(
+                "sea state Hs {} m, Tp {} s{} flagged: {}",
                 l.hs_m,
                 l.tp_s,
-                l.cut_off_rad_s,
-                100.0 * l.energy_kept
+                sector
+                    .source
+                    .label
+                    .as_deref()
+                    .map(|l| format!(" (sector {l})"))
+                    .unwrap_or_default(),
+                l.flags.join("; ")
             );
         }
     }

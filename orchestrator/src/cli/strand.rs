@@ -50,6 +50,7 @@ pub(crate) enum StrandCommand {
 
 /// Arguments of `moorfret strand calibrate`.
 #[derive(Debug, Args)]
+#[command(allow_negative_numbers = true)]
 pub(crate) struct CalibrateArgs {
     /// The strand model.
     #[command(flatten)]

@@ -4,7 +4,8 @@
 //! - `damage-inputs`: `sea_state_class_damage_inputs`, one row per sea state × hot spot ×
 //!   contact class for one fretting measure (`fretting_max` by default, or `fretting_mean`);
 //! - `sea-states`: the sea states with their job counts, the fraction of their spectral energy
-//!   the wave cut-off keeps (`wave_energy_kept`, from the stored inputs), and per-hot-spot
+//!   the wave cut-off keeps (`wave_energy_kept`, stored at planning) and whether that flags it
+//!   (`wave_energy_flagged`: below 90 %), and per-hot-spot
 //!   damage rates of every other measure (T-N curves) from `sea_state_damage_inputs`;
 //! - `lifetime`: `lifetime_damage` (per hot spot and measure) and `lifetime_class_damage` (per
 //!   hot spot, contact class and fretting measure), annual damage with the covered occurrence
@@ -143,6 +144,12 @@ pub async fn run(
     }
 }
 
+/// Whether a sea state whose wave cut-off keeps `kept` of its energy is flagged: below
+/// [`moorfret_campaign::sea_limits::FLAG_ENERGY_KEPT`], as the planning judged it.
+pub fn energy_flagged(kept: f64) -> bool {
+    kept < moorfret_campaign::sea_limits::FLAG_ENERGY_KEPT
+}
+
 /// Sea states with job counts, and one column `<measure>_rate_per_s_hs<k>` per hot spot and
 /// per-hot-spot measure.
 async fn sea_states(store: &Store, campaign: CampaignId) -> anyhow::Result<Table> {
@@ -166,27 +173,46 @@ async fn sea_states(store: &Store, campaign: CampaignId) -> anyhow::Result<Table
         ],
         &states,
     )?;
-    // The fraction of each sea state's spectral energy the global stage's wave cut-off keeps,
-    // from the campaign's stored inputs (empty for a campaign stored without them).
-    let inputs = store
-        .campaigns()
-        .await?
-        .into_iter()
-        .find(|c| c.id == campaign)
-        .and_then(|c| {
-            serde_json::from_value::<moorfret_campaign::CampaignInputs>(c.spec["inputs"].clone())
+    // The fraction of each sea state's spectral energy the global stage's wave cut-off keeps:
+    // stored with the sea state at planning, or (stores written before it was stored)
+    // computed from the campaign's stored inputs; empty for a campaign stored without them.
+    let inputs = if states.iter().any(|s| s.wave_energy_kept.is_none()) {
+        store
+            .campaigns()
+            .await?
+            .into_iter()
+            .find(|c| c.id == campaign)
+            .and_then(|c| {
+                serde_json::from_value::<moorfret_campaign::CampaignInputs>(
+                    c.spec["inputs"].clone(),
+                )
                 .ok()
-        });
-    let kept = states
+            })
+    } else {
+        None
+    };
+    let kept: Vec<Option<f64>> = states
         .iter()
         .map(|s| {
-            inputs
-                .as_ref()
-                .and_then(|i| moorfret_campaign::sea_limits::check(i, s.hs_m, s.tp_s).ok())
-                .map_or(Value::Null, |l| Value::from(l.energy_kept))
+            s.wave_energy_kept.or_else(|| {
+                inputs
+                    .as_ref()
+                    .and_then(|i| moorfret_campaign::sea_limits::check(i, s.hs_m, s.tp_s).ok())
+                    .map(|l| l.energy_kept)
+            })
         })
         .collect();
-    table.push_column("wave_energy_kept".into(), kept);
+    let flagged = kept
+        .iter()
+        .map(|k| k.map_or(Value::Null, |k| Value::from(energy_flagged(k))))
+        .collect();
+    table.push_column(
+        "wave_energy_kept".into(),
+        kept.iter()
+            .map(|k| k.map_or(Value::Null, Value::from))
+            .collect(),
+    );
+    table.push_column("wave_energy_flagged".into(), flagged);
     for (hot_spot, measure) in &extra {
         let column = format!("{measure}_rate_per_s_hs{hot_spot}");
         let values = states

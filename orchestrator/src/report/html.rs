@@ -298,6 +298,59 @@ fn fidelity_section(data: &ReportData) -> String {
     body
 }
 
+/// The energy every sea state's wave cut-off keeps: the least, and the sea states flagged
+/// for keeping less than 90 % (`moorfret_campaign::sea_limits`), each with its occurrence.
+fn wave_energy_section(data: &ReportData) -> String {
+    let mut body = String::from("<h2>Wave energy kept per sea state</h2>\n");
+    let known: Vec<_> = data
+        .sea_states
+        .iter()
+        .filter_map(|s| s.wave_energy_kept.map(|k| (s, k)))
+        .collect();
+    if known.is_empty() {
+        body += "<p class=\"empty\">The energy kept is not stored for this campaign's sea \
+                 states (planned before it was stored; `moorfret query sea-states` computes \
+                 it).</p>\n";
+        return body;
+    }
+    let least = known.iter().map(|(_, k)| *k).fold(f64::INFINITY, f64::min);
+    let flagged: Vec<_> = known
+        .iter()
+        .filter(|(_, k)| crate::query::energy_flagged(*k))
+        .collect();
+    let share: f64 = flagged.iter().map(|(s, _)| s.occurrence_fraction).sum();
+    let _ = writeln!(
+        body,
+        "<p>The global stage keeps the wave components below its frequency cut-off (the time \
+         step and the floater's kinematics table); every sea state keeps at least {:.1} % of \
+         its spectrum's energy. {} sea state(s), {:.4} % of the year, keep less than {:.0} %: \
+         their loads are those of their longer waves only.</p>",
+        100.0 * least,
+        flagged.len(),
+        100.0 * share,
+        100.0 * moorfret_campaign::sea_limits::FLAG_ENERGY_KEPT
+    );
+    if flagged.is_empty() {
+        return body;
+    }
+    body += "<table>\n<tr><th>sea_state_index</th><th>hs_m</th><th>tp_s</th>\
+             <th>occurrence_fraction</th><th>wave_energy_kept</th><th>kept_hs_m</th></tr>\n";
+    for (s, k) in flagged {
+        let _ = writeln!(
+            body,
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{}</td></tr>",
+            s.sea_state_index,
+            number(s.hs_m),
+            number(s.tp_s),
+            number(s.occurrence_fraction),
+            k,
+            number(s.hs_m * k.sqrt())
+        );
+    }
+    body += "</table>\n";
+    body
+}
+
 /// The page of `data`.
 pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
     let name = escape(&data.name);
@@ -320,6 +373,7 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
         covered + 0.0
     );
     body += &design_section(data)?;
+    body += &wave_energy_section(data);
     body += "<h2>Scatter diagram: share of the annual damage per sea state</h2>\n";
     if data.fidelity.values().any(|f| f != "fe") {
         body += "<p>Every disc is a sea state; a thick blue ring marks the sea states whose \

@@ -120,8 +120,8 @@ pub(super) async fn insert_sea_state_rows(
         let id: i64 = sqlx::query_scalar(
             "INSERT INTO sea_states \
              (campaign_id, sea_state_index, hs_m, tp_s, occurrence_fraction, seeds_json, \
-              heading_deg, sector) \
-             VALUES ($1, $2, $3, $4, $5, $6, $7, $8) RETURNING id",
+              heading_deg, sector, wave_energy_kept) \
+             VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9) RETURNING id",
         )
         .bind(campaign.0)
         .bind(sea_state.index)
@@ -131,6 +131,7 @@ pub(super) async fn insert_sea_state_rows(
         .bind(seeds)
         .bind(sea_state.heading_deg)
         .bind(sea_state.sector.as_deref())
+        .bind(sea_state.wave_energy_kept)
         .fetch_one(&mut **tx)
         .await
         .map_err(StoreError::db(OP))?;

@@ -261,7 +261,7 @@ impl Queue {
         const OP: &str = "read sea states";
         let rows = sqlx::query(
             "SELECT s.id AS sea_state_id, s.sea_state_index, s.hs_m, s.tp_s, s.occurrence_fraction, \
-             s.heading_deg, s.sector, \
+             s.heading_deg, s.sector, s.wave_energy_kept, \
              (SELECT COUNT(*) FROM jobs j WHERE j.sea_state_id = s.id) AS jobs_total, \
              (SELECT COUNT(*) FROM jobs j WHERE j.sea_state_id = s.id AND j.state = 'done') \
                  AS jobs_done, \
@@ -286,6 +286,7 @@ impl Queue {
                     jobs_failed: get(row, "jobs_failed", OP)?,
                     heading_deg: get(row, "heading_deg", OP)?,
                     sector: get(row, "sector", OP)?,
+                    wave_energy_kept: get(row, "wave_energy_kept", OP)?,
                 })
             })
             .collect()

@@ -79,10 +79,19 @@ pub(crate) fn load_case(path: &Path) -> anyhow::Result<(CaseSpec, FloaterInput)>
     let floater = match &case.floater {
         FloaterSource::RigidBody { spec_path } => {
             let p = base.join(spec_path);
-            FloaterInput::RigidBody(Box::new(
-                FloaterSpec::from_json_str(&read(&p)?)
-                    .with_context(|| format!("in floater file {}", p.display()))?,
-            ))
+            let text = read(&p)?;
+            let spec = FloaterSpec::from_json_str(&text)
+                .map_err(|e| {
+                    // the field path at fault, which the floater's own reader does not give
+                    match moorfret_campaign::spec::from_json_with_path::<FloaterSpec>(&text) {
+                        Err(with_path) if with_path.starts_with("field `") => {
+                            anyhow::anyhow!("not a valid floater description: {with_path}")
+                        }
+                        _ => anyhow::Error::new(e),
+                    }
+                })
+                .with_context(|| format!("in floater file {}", p.display()))?;
+            FloaterInput::RigidBody(Box::new(spec))
         }
         FloaterSource::PrescribedMotion { csv_path } => {
             let p = base.join(csv_path);
