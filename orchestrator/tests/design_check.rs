@@ -482,6 +482,10 @@ async fn failed_and_skipped_sea_states_are_named_and_every_map_has_its_colour_ba
         return;
     };
     let shot = screenshot(&browser, &page_path, dir.path(), "report");
+    // MOORFRET_KEEP_SCREENSHOT=path keeps a copy for inspection.
+    if let Ok(keep) = std::env::var("MOORFRET_KEEP_SCREENSHOT") {
+        std::fs::write(keep, &shot).unwrap();
+    }
     // the same window on an empty page: what a blank screenshot weighs
     let blank_path = dir.path().join("blank.html");
     std::fs::write(&blank_path, "<!DOCTYPE html><html><body></body></html>").unwrap();

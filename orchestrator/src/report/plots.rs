@@ -86,9 +86,24 @@ where
     builder
         .margin_top(40)
         .margin_bottom(52)
-        .margin_left(4)
-        .set_label_area_size(LabelAreaPosition::Right, 56);
+        .margin_right(6)
+        .set_label_area_size(LabelAreaPosition::Left, 54);
     if log {
+        // a log axis labels powers of ten only: the ends are written above and below the bar
+        let (_, height) = area.dim_in_pixel();
+        let font = ("sans-serif", 12).into_font().color(&BLACK);
+        area.draw(&Text::new(
+            format!("max {}", tick(hi)),
+            (4, 24),
+            font.clone(),
+        ))
+        .map_err(plot_err)?;
+        area.draw(&Text::new(
+            format!("min {}", tick(lo)),
+            (4, height as i32 - 40),
+            font,
+        ))
+        .map_err(plot_err)?;
         let mut chart = builder
             .build_cartesian_2d(0.0..1.0, (lo..hi).log_scale())
             .map_err(plot_err)?;
@@ -96,7 +111,8 @@ where
             .configure_mesh()
             .disable_mesh()
             .disable_x_axis()
-            .y_labels(6)
+            .y_labels(8)
+            .y_label_style(("sans-serif", 12))
             .y_label_formatter(&|v| tick(*v))
             .draw()
             .map_err(plot_err)?;
@@ -115,7 +131,8 @@ where
             .configure_mesh()
             .disable_mesh()
             .disable_x_axis()
-            .y_labels(6)
+            .y_labels(8)
+            .y_label_style(("sans-serif", 12))
             .y_label_formatter(&|v| tick(*v))
             .draw()
             .map_err(plot_err)?;
@@ -144,7 +161,7 @@ pub(crate) fn value_map_svg(
     let mark_fe = fidelity.values().any(|f| f != "fe");
     let mut svg = String::new();
     {
-        let full = SVGBackend::with_string(&mut svg, (720, 480)).into_drawing_area();
+        let full = SVGBackend::with_string(&mut svg, (730, 480)).into_drawing_area();
         full.fill(&WHITE).map_err(plot_err)?;
         let (root, bar) = full.split_horizontally(640);
         let top = share.values().copied().fold(0.0, f64::max);
@@ -267,7 +284,7 @@ pub(crate) fn sector_maps_svg(
     for (label, heading) in sectors {
         let mut svg = String::new();
         {
-            let full = SVGBackend::with_string(&mut svg, (520, 400)).into_drawing_area();
+            let full = SVGBackend::with_string(&mut svg, (530, 400)).into_drawing_area();
             full.fill(&WHITE).map_err(plot_err)?;
             let (root, bar) = full.split_horizontally(440);
             colour_bar(&bar, lo, hi, true, tick)?;
