@@ -24,7 +24,7 @@ use crate::fatigue::interface_geometry;
 use crate::payload::{CampaignInputs, FloaterContent, SOLVER_VERSION};
 use crate::sea_limits::{self, CellLimits};
 use crate::sectors::ScatterSource;
-use crate::spec::{CampaignSpec, OutsideModel};
+use crate::spec::{CampaignSpec, OutsideModel, ScatterReading};
 use crate::stiffness::AxialStiffnessRule;
 use moorfret_solver::text::Num;
 
@@ -546,13 +546,36 @@ fn hot_spot_stiffness(spec: &CampaignSpec, case: &CaseSpec) -> Result<Vec<f64>, 
 }
 
 impl ResolvedCampaign {
-    /// The resolved spec as stored with the campaign, and its sha256.
+    /// The resolved spec as stored with the campaign, and its sha256. Cells left out of the
+    /// plan are kept under `left_out` (only when there are any: the stored form of a campaign
+    /// without them is unchanged), so that the report can name them.
     pub fn stored_spec(&self) -> (Value, String) {
-        let value = serde_json::json!({
+        let mut value = serde_json::json!({
             "inputs": self.inputs,
             "files": self.files,
             "solver_version": SOLVER_VERSION,
         });
+        let left_out: Vec<Value> = self
+            .left_out()
+            .map(|(s, c)| {
+                let occurrence = match s.source.reading {
+                    ScatterReading::JointPercent => c.value / 100.0,
+                    ScatterReading::Sector { share_percent } => {
+                        c.value / 100.0 * share_percent / 100.0
+                    }
+                };
+                serde_json::json!({
+                    "sector": s.source.label,
+                    "hs_m": c.limits.hs_m,
+                    "tp_s": c.limits.tp_s,
+                    "occurrence_fraction": occurrence,
+                    "reason": c.limits.faults.join("; "),
+                })
+            })
+            .collect();
+        if !left_out.is_empty() {
+            value["left_out"] = Value::Array(left_out);
+        }
         let text = value.to_string();
         (value, hex::encode(Sha256::digest(text.as_bytes())))
     }

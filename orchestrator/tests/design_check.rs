@@ -261,6 +261,241 @@ fn sectors_run_at_their_headings_and_the_design_check_reads_them() {
         2,
         "one wedge per sector"
     );
+    // one map per sector of occurrence and of damage, and one rose, each with its colour bar
+    assert_eq!(page.matches("sector-map occurrence").count(), 2);
+    assert_eq!(page.matches("sector-map damage").count(), 2);
+    assert!(page.contains("sector W (heading 0°): occurrence"));
+    assert!(page.contains("sector N (heading 90°): occurrence"));
+    assert_eq!(page.matches("class=\"fig map rose\"").count(), 1);
+    every_map_has_a_colour_bar(&page);
+    assert!(page.contains("Governing figure and sea state of each line"));
+    assert!(page.contains("Every sea state of the climate has its results."));
+}
+
+/// The figures of `page` marked as maps (`class="fig map…"`), each up to its `</svg>`.
+fn maps(page: &str) -> Vec<&str> {
+    page.match_indices("class=\"fig map")
+        .map(|(i, _)| {
+            let rest = &page[i..];
+            &rest[..rest.find("</svg>").expect("a map ends its svg")]
+        })
+        .collect()
+}
+
+/// Every map carries a colour bar: a column of at least 40 distinct colours (the bar's 48
+/// steps), more than the cells or discs of a map alone.
+fn every_map_has_a_colour_bar(page: &str) {
+    let maps = maps(page);
+    assert!(!maps.is_empty());
+    for map in maps {
+        let fills: std::collections::BTreeSet<&str> = map
+            .split("fill=\"")
+            .skip(1)
+            .filter_map(|f| f.split('"').next())
+            .filter(|f| *f != "none" && *f != "#FFFFFF" && *f != "#000000")
+            .collect();
+        assert!(
+            fills.len() >= 40,
+            "a map without its colour bar ({} colours): {}",
+            fills.len(),
+            &map[..map.len().min(300)]
+        );
+    }
+}
+
+fn chromium() -> Option<PathBuf> {
+    for name in ["chromium", "chromium-browser", "google-chrome"] {
+        let found = Command::new("sh")
+            .arg("-c")
+            .arg(format!("command -v {name}"))
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| PathBuf::from(String::from_utf8_lossy(&o.stdout).trim()));
+        if found.is_some() {
+            return found;
+        }
+    }
+    None
+}
+
+/// A screenshot of `page` (1280 × 2000) by headless Chromium: the PNG's bytes.
+fn screenshot(browser: &Path, page: &Path, dir: &Path, name: &str) -> Vec<u8> {
+    let png = dir.join(format!("{name}.png"));
+    let out = Command::new(browser)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+        ])
+        .arg(format!(
+            "--user-data-dir={}",
+            dir.join(format!("{name}-profile")).display()
+        ))
+        .arg(format!("--screenshot={}", png.display()))
+        .arg("--window-size=1280,2000")
+        .arg(format!("file://{}", page.display()))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "chromium failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    bytes
+}
+
+/// A sector demo planned into a store (nothing run): one cell of sector N too steep for the
+/// wave model and left out, the first global job failed, the rest cancelled. The report names
+/// the failed and the skipped sea states with their sector, Hs, Tp and why, draws a map per
+/// sector with its colour bar, and renders in headless Chromium.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn failed_and_skipped_sea_states_are_named_and_every_map_has_its_colour_bar() {
+    use moorfret_store::{
+        ClaimFilter, FailureClass, FailureKind, JobFailure, Store, StoreOptions, WorkerInfo,
+    };
+    let dir = campaign_copy();
+    // Hs 6-6.5 m at Tp 6 s: steepness 0.11 above the limit 1/15, left out
+    let north = "lower\tupper\t6\t14\n6\t6.5\t10\t90\n";
+    let file = sector_demo(
+        dir.path(),
+        "unfinished",
+        &[("W", 0.0, 60.0, WEST), ("N", 90.0, 40.0, north)],
+    );
+    let mut spec: Value = serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    spec["scatter"]["cells_outside_model"] = Value::from("leave_out");
+    std::fs::write(&file, spec.to_string()).unwrap();
+    let resolved = resolve(&file).unwrap();
+    assert_eq!(resolved.left_out().count(), 1);
+    let db = dir.path().join("s.sqlite");
+    let store = Store::open(db.to_str().unwrap(), StoreOptions::default())
+        .await
+        .unwrap();
+    plan::create(&store, &resolved).await.unwrap();
+    let worker = store
+        .register_worker(&WorkerInfo {
+            host: "test".into(),
+            pid: 1,
+            version: "test".into(),
+        })
+        .await
+        .unwrap();
+    let lease = store
+        .claim(
+            &worker,
+            &ClaimFilter {
+                kinds: vec![moorfret_store::JobKind::Global],
+                ..ClaimFilter::default()
+            },
+        )
+        .await
+        .unwrap()
+        .unwrap();
+    let diagnostic = "the global stage did not converge at t = 12.5 s";
+    store
+        .fail(
+            &lease,
+            &JobFailure {
+                kind: FailureKind::Permanent,
+                error_class: FailureClass::GlobalDiverged,
+                message: diagnostic.into(),
+            },
+        )
+        .await
+        .unwrap();
+    let failed_index = lease.payload["sea_state_index"].as_i64().unwrap();
+    store.close().await;
+    let out = moorfret(
+        dir.path(),
+        &["campaign", "cancel", "unfinished", "--db", "s.sqlite"],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = moorfret(
+        dir.path(),
+        &[
+            "report",
+            "unfinished",
+            "--db",
+            "s.sqlite",
+            "--out",
+            "report",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let page_path = dir.path().join("report/index.html");
+    let page = std::fs::read_to_string(&page_path).unwrap();
+
+    let table = &page[page.find("<table class=\"unfinished\">").unwrap()..];
+    let table = &table[..table.find("</table>").unwrap()];
+    let rows: Vec<&str> = table.split("<tr><td>").skip(1).collect();
+    // three planned sea states (one failed, two cancelled) and the cell left out
+    assert_eq!(rows.len(), 4, "{table}");
+    assert!(rows[0].starts_with("failed</td>"), "{}", rows[0]);
+    assert!(
+        rows[0].contains(&format!("<td>{failed_index}</td>"))
+            && rows[0].contains("global job")
+            && rows[0].contains("(global_diverged)")
+            && rows[0].contains(diagnostic),
+        "{}",
+        rows[0]
+    );
+    assert!(
+        rows[1].starts_with(
+            "skipped</td><td>N</td><td>not planned</td><td>6.250</td>\
+                             <td>6.000</td>"
+        ) && rows[1].contains("left out of the plan (outside the wave model): steepness"),
+        "{}",
+        rows[1]
+    );
+    // 10 % of sector N's 40 % of the year
+    assert!(rows[1].contains("<td>4.000</td>"), "{}", rows[1]);
+    for row in &rows[2..] {
+        assert!(
+            row.starts_with("skipped</td>") && row.contains("campaign cancelled"),
+            "{row}"
+        );
+    }
+    // a map per sector (occurrence only: no damage is stored), each with its colour bar
+    assert_eq!(page.matches("sector-map occurrence").count(), 2);
+    assert_eq!(page.matches("sector-map damage").count(), 0);
+    every_map_has_a_colour_bar(&page);
+
+    let Some(browser) = chromium() else {
+        eprintln!(
+            "SKIPPED (screenshot): no chromium on PATH; install with apt-get install -y chromium"
+        );
+        return;
+    };
+    let shot = screenshot(&browser, &page_path, dir.path(), "report");
+    // MOORFRET_KEEP_SCREENSHOT=path keeps a copy for inspection.
+    if let Ok(keep) = std::env::var("MOORFRET_KEEP_SCREENSHOT") {
+        std::fs::write(keep, &shot).unwrap();
+    }
+    // the same window on an empty page: what a blank screenshot weighs
+    let blank_path = dir.path().join("blank.html");
+    std::fs::write(&blank_path, "<!DOCTYPE html><html><body></body></html>").unwrap();
+    let blank = screenshot(&browser, &blank_path, dir.path(), "blank");
+    assert!(
+        shot.len() > 5 * blank.len() && shot.len() > 30_000,
+        "screenshot of {} bytes against {} for an empty page",
+        shot.len(),
+        blank.len()
+    );
 }
 
 #[test]

@@ -102,6 +102,25 @@ async fn report_of_the_fixture_is_self_contained_and_renders() {
     assert!(page.contains("hot spot 0, layer interface 0"));
     // Sea state 0 carries 0.30·1e-6 / (0.30·1e-6 + 0.13758·4e-6) = 35 % of the fretting damage.
     assert!(page.contains(">\n35%\n</text>"), "share label");
+    // Four maps (occurrence, fretting and T-N shares, run-in), each with its colour bar: a
+    // column of at least 40 distinct colours (the bar's 48 steps), more than the discs alone.
+    let maps: Vec<&str> = page
+        .match_indices("<div class=\"fig map\">")
+        .map(|(i, _)| &page[i..i + page[i..].find("</svg>").unwrap()])
+        .collect();
+    assert_eq!(maps.len(), 4);
+    for map in maps {
+        let fills: std::collections::BTreeSet<&str> = map
+            .split("fill=\"")
+            .skip(1)
+            .filter_map(|f| f.split('"').next())
+            .filter(|f| *f != "none" && *f != "#FFFFFF" && *f != "#000000")
+            .collect();
+        assert!(fills.len() >= 40, "a map with {} colours", fills.len());
+    }
+    // every sea state of the fixture has its results; no sectors, no sector maps
+    assert!(page.contains("Every sea state of the climate has its results."));
+    assert!(!page.contains("sector-map"));
     // Offline: no scripts, no external resources (the SVG namespace is not fetched).
     assert!(!page.contains("<script"));
     assert!(!page.contains("src=\"http") && !page.contains("href=\"http"));

@@ -11,6 +11,7 @@ pub(crate) mod query;
 pub(crate) mod rainflow;
 pub(crate) mod report;
 pub(crate) mod run;
+pub(crate) mod scatter;
 pub(crate) mod strand;
 pub(crate) mod worker;
 
@@ -37,6 +38,9 @@ pub(crate) enum Command {
     Import(import::ImportCommand),
     /// Rainflow-count one column of a CSV file (ASTM E1049-85), cycles as JSON or CSV.
     Rainflow(rainflow::RainflowArgs),
+    /// Directional scatter tables from a hindcast or buoy series (time, Hs, Tp, direction),
+    /// with the `sectors` of a campaign file.
+    Scatter(scatter::ScatterArgs),
     /// Campaigns: launch, resume, status, cancel.
     #[command(subcommand)]
     Campaign(campaign::CampaignCommand),
@@ -55,6 +59,7 @@ pub(crate) fn execute(cli: Cli) -> anyhow::Result<()> {
         Command::Strand(cmd) => strand::execute(cmd),
         Command::Import(cmd) => import::execute(cmd),
         Command::Rainflow(args) => rainflow::execute(args),
+        Command::Scatter(args) => scatter::execute(args),
         Command::Campaign(cmd) => campaign::execute(cmd),
         Command::Worker(args) => worker::execute(args),
         Command::Query(args) => query::execute(args),

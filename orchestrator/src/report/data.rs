@@ -79,6 +79,127 @@ impl ClassLives {
     }
 }
 
+/// A sea state of the climate without its results: failed, skipped or not run yet.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UnfinishedSeaState {
+    /// Its directional sector (`None` for a climate of one table).
+    pub sector: Option<String>,
+    /// Its index in the campaign; `None` for a cell left out of the plan.
+    pub sea_state_index: Option<i64>,
+    /// Significant wave height (m).
+    pub hs_m: f64,
+    /// Peak period (s).
+    pub tp_s: f64,
+    /// Fraction of the year.
+    pub occurrence_fraction: f64,
+    /// `failed`, `skipped` or `not run yet`.
+    pub status: &'static str,
+    /// Why: the first failure's diagnostic, the wave model's objection, or the jobs done.
+    pub reason: String,
+}
+
+/// Longest diagnostic shown for a failed sea state (characters).
+const REASON_CHARS: usize = 240;
+
+/// Sea states that failed, were skipped (left out of the plan, cancelled) or wait, in that
+/// order, each in plan order; the cells left out come from the stored spec's `left_out`.
+fn unfinished(
+    states: &[SeaStateStatus],
+    jobs: &[moorfret_store::JobRecord],
+    stored_spec: Option<&serde_json::Value>,
+) -> Vec<UnfinishedSeaState> {
+    let mut failed = Vec::new();
+    let mut skipped = Vec::new();
+    let mut waiting = Vec::new();
+    for s in states {
+        let of_state: Vec<&moorfret_store::JobRecord> = jobs
+            .iter()
+            .filter(|j| j.sea_state.map(|id| id.0) == Some(s.sea_state_id))
+            .collect();
+        let entry = |status, reason| UnfinishedSeaState {
+            sector: s.sector.clone(),
+            sea_state_index: Some(s.sea_state_index),
+            hs_m: s.hs_m,
+            tp_s: s.tp_s,
+            occurrence_fraction: s.occurrence_fraction,
+            status,
+            reason,
+        };
+        let first_failed = of_state
+            .iter()
+            .filter(|j| j.state == JobState::Failed)
+            .min_by_key(|j| j.id.0);
+        let cancelled = of_state
+            .iter()
+            .filter(|j| j.state == JobState::Cancelled)
+            .count();
+        if let Some(job) = first_failed {
+            let message = job
+                .error_message
+                .as_deref()
+                .unwrap_or("no diagnostic stored")
+                .lines()
+                .next()
+                .unwrap_or_default();
+            let mut message: String = message.chars().take(REASON_CHARS).collect();
+            if message.chars().count() == REASON_CHARS {
+                message.push('…');
+            }
+            let class = job
+                .error_class
+                .map(|c| format!(" ({})", c.as_str()))
+                .unwrap_or_default();
+            failed.push(entry(
+                "failed",
+                format!(
+                    "{} of {} jobs failed; {} job {}{class}: {message}",
+                    s.jobs_failed,
+                    s.jobs_total,
+                    job.kind.as_str(),
+                    job.id.0
+                ),
+            ));
+        } else if cancelled > 0 {
+            skipped.push(entry(
+                "skipped",
+                format!(
+                    "campaign cancelled: {cancelled} of {} jobs cancelled",
+                    s.jobs_total
+                ),
+            ));
+        } else if s.jobs_done < s.jobs_total {
+            waiting.push(entry(
+                "not run yet",
+                format!("{} of {} jobs done", s.jobs_done, s.jobs_total),
+            ));
+        }
+    }
+    let left_out = stored_spec
+        .and_then(|spec| spec.get("left_out"))
+        .and_then(serde_json::Value::as_array)
+        .map(Vec::as_slice)
+        .unwrap_or_default();
+    let mut cells: Vec<UnfinishedSeaState> = left_out
+        .iter()
+        .map(|c| UnfinishedSeaState {
+            sector: c["sector"].as_str().map(str::to_owned),
+            sea_state_index: None,
+            hs_m: c["hs_m"].as_f64().unwrap_or(f64::NAN),
+            tp_s: c["tp_s"].as_f64().unwrap_or(f64::NAN),
+            occurrence_fraction: c["occurrence_fraction"].as_f64().unwrap_or(f64::NAN),
+            status: "skipped",
+            reason: format!(
+                "left out of the plan (outside the wave model): {}",
+                c["reason"].as_str().unwrap_or_default()
+            ),
+        })
+        .collect();
+    cells.append(&mut skipped);
+    failed.append(&mut cells);
+    failed.append(&mut waiting);
+    failed
+}
+
 /// Everything on the page.
 #[derive(Debug, Clone)]
 pub struct ReportData {
@@ -118,6 +239,8 @@ pub struct ReportData {
     /// The design check (`query utilisation`, `lines`, `directions`); `None` for a campaign
     /// stored without its inputs.
     pub design: Option<crate::design::DesignCheck>,
+    /// Sea states without their results: failed, skipped or not run yet.
+    pub unfinished: Vec<UnfinishedSeaState>,
 }
 
 /// Rows of the damage-inputs table in the report: the most damaging sea states of the
@@ -354,6 +477,17 @@ pub async fn gather(
             (index, (detected, excluded))
         })
         .collect();
+    let stored_spec = store
+        .campaigns()
+        .await?
+        .into_iter()
+        .find(|c| c.id == campaign)
+        .map(|c| c.spec);
+    let unfinished = unfinished(
+        &sea_states,
+        &store.jobs_of_campaign(campaign).await?,
+        stored_spec.as_ref(),
+    );
     let series = match artifacts {
         Some(a) => hot_spot_series(store, campaign, a, &fretting_share).await?,
         None => None,
@@ -375,6 +509,7 @@ pub async fn gather(
         calibrations,
         run_in,
         design: crate::design::check(store, campaign).await?,
+        unfinished,
     })
 }
 

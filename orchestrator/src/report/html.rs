@@ -90,6 +90,9 @@ fn design_section(data: &ReportData) -> anyhow::Result<String> {
         })
         .collect();
     let _ = writeln!(body, "<p>{}</p>", verdicts.join(" "));
+    body += "<h3>Governing figure and sea state of each line</h3>\n<p>Per line: the design \
+             figure of largest utilisation, and the sector and sea state contributing most to \
+             its annual damage (sea_state_share: that sea state's share of it).</p>\n";
     body += &table_html(&crate::query::lines_table(d)?);
     if d.sectors.iter().any(|s| s.sector != "all") {
         body += "<h3>Damage by wave direction of each line's governing figure</h3>\n";
@@ -120,6 +123,97 @@ fn design_section(data: &ReportData) -> anyhow::Result<String> {
     body += "<h3>Design figures per hot spot, largest utilisation first</h3>\n";
     body += &table_html(&design_figures);
     Ok(body)
+}
+
+/// One scatter map per directional sector: occurrence, and the share of the critical class's
+/// annual fretting damage where it is stored, each on a logarithmic colour scale shared by the
+/// sectors; failed and skipped sea states crossed out.
+fn sector_maps_section(
+    data: &ReportData,
+    occurrence: &std::collections::BTreeMap<i64, f64>,
+) -> anyhow::Result<String> {
+    if !data.sea_states.iter().any(|s| s.sector.is_some()) {
+        return Ok(String::new());
+    }
+    let crossed: std::collections::BTreeSet<i64> = data
+        .unfinished
+        .iter()
+        .filter(|u| u.status != "not run yet")
+        .filter_map(|u| u.sea_state_index)
+        .collect();
+    let mut body = String::from(
+        "<h3>Scatter diagram per wave sector</h3>\n<p>Every cell is a planned sea state of \
+         the sector, coloured on a logarithmic scale shared by all sectors; failed and skipped \
+         sea states are crossed out, grey cells have no value.</p>\n",
+    );
+    let percent = |v: f64| format!("{}%", plots::tick_text(v));
+    for (_, svg) in plots::sector_maps_svg(
+        &data.sea_states,
+        occurrence,
+        "occurrence (% of the year)",
+        &crossed,
+        &percent,
+    )? {
+        body += "<div class=\"fig map sector-map occurrence\">";
+        body += &svg;
+        body += "</div>\n";
+    }
+    if !data.fretting_share.is_empty() {
+        let share: std::collections::BTreeMap<i64, f64> = data
+            .fretting_share
+            .iter()
+            .map(|(&k, &v)| (k, 100.0 * v))
+            .collect();
+        for (_, svg) in plots::sector_maps_svg(
+            &data.sea_states,
+            &share,
+            "% of the annual fretting damage",
+            &crossed,
+            &percent,
+        )? {
+            body += "<div class=\"fig map sector-map damage\">";
+            body += &svg;
+            body += "</div>\n";
+        }
+    }
+    Ok(body)
+}
+
+/// The sea states of the climate without results: failed, skipped (left out of the plan or
+/// cancelled) and not run yet, with why.
+fn unfinished_section(data: &ReportData) -> String {
+    let mut body = String::from("<h3>Failed or skipped sea states</h3>\n");
+    if data.unfinished.is_empty() {
+        body += "<p>Every sea state of the climate has its results.</p>\n";
+        return body;
+    }
+    let share: f64 = data.unfinished.iter().map(|u| u.occurrence_fraction).sum();
+    let _ = writeln!(
+        body,
+        "<p>{} sea state(s), {:.3} % of the year, without results: their damage is not in the \
+         lifetime sums.</p>",
+        data.unfinished.len(),
+        100.0 * share
+    );
+    body += "<table class=\"unfinished\">\n<tr><th>status</th><th>sector</th><th>sea state</th>\
+             <th>Hs (m)</th><th>Tp (s)</th><th>occurrence (% of the year)</th><th>reason</th>\
+             </tr>\n";
+    for u in &data.unfinished {
+        let _ = writeln!(
+            body,
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>\
+             <td style=\"text-align: left\">{}</td></tr>",
+            u.status,
+            escape(u.sector.as_deref().unwrap_or("–")),
+            u.sea_state_index
+                .map_or_else(|| "not planned".to_owned(), |i| i.to_string()),
+            number(u.hs_m),
+            number(u.tp_s),
+            number(100.0 * u.occurrence_fraction),
+            escape(&u.reason)
+        );
+    }
+    body + "</table>\n"
 }
 
 /// The run-in per sea state: where the slip monitors stopped drifting, on the scatter diagram.
@@ -164,19 +258,21 @@ fn run_in_section(data: &ReportData) -> anyhow::Result<String> {
         body += " The statistics leave out each history's detected run-in, and nothing where \
                  none was detected.";
     }
-    body += "</p>\n<div class=\"fig\">";
+    body += "</p>\n<div class=\"fig map\">";
     let values: std::collections::BTreeMap<i64, f64> = data
         .run_in
         .iter()
         .filter_map(|(&k, r)| r.0.map(|v| (k, v)))
         .collect();
     let label = |v: f64| Some(format!("{v:.0}"));
+    let tick = |v: f64| format!("{} s", plots::tick_text(v));
     body += &plots::value_map_svg(
         &data.sea_states,
         &values,
         "detected run-in (s)",
         &data.fidelity,
         &label,
+        &tick,
     )?;
     body += "</div>\n";
     Ok(body)
@@ -373,6 +469,7 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
         covered + 0.0
     );
     body += &design_section(data)?;
+    body += &unfinished_section(data);
     body += &wave_energy_section(data);
     body += "<h2>Scatter diagram: share of the annual damage per sea state</h2>\n";
     if data.fidelity.values().any(|f| f != "fe") {
@@ -389,15 +486,18 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
     // colour only: labels of neighbouring cells would overlap
     let largest = occurrence.values().copied().fold(0.0, f64::max);
     let no_label = |_: f64| None;
-    body += "<div class=\"fig\">";
+    let percent = |v: f64| format!("{}%", plots::tick_text(v));
+    body += "<div class=\"fig map\">";
     body += &plots::value_map_svg(
         &data.sea_states,
         &occurrence,
         &format!("occurrence (% of the year; darkest {})", number(largest)),
         &data.fidelity,
         &no_label,
+        &percent,
     )?;
     body += "</div>\n";
+    body += &sector_maps_section(data, &occurrence)?;
     match &data.critical {
         Some(c) => {
             let _ = writeln!(
@@ -410,7 +510,7 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
                 number(c.annual_damage),
                 number(1.0 / c.annual_damage)
             );
-            body += "<div class=\"fig\">";
+            body += "<div class=\"fig map\">";
             body += &plots::scatter_svg(
                 &data.sea_states,
                 &data.fretting_share,
@@ -424,7 +524,7 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
     match &data.tn_share {
         Some((measure, share)) => {
             let _ = writeln!(body, "<p>T-N damage, measure {}.</p>", escape(measure));
-            body += "<div class=\"fig\">";
+            body += "<div class=\"fig map\">";
             body += &plots::scatter_svg(
                 &data.sea_states,
                 share,

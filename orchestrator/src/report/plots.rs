@@ -26,24 +26,146 @@ pub(crate) fn scatter_svg(
     fidelity: &BTreeMap<i64, String>,
 ) -> anyhow::Result<String> {
     let label = |v: f64| (v >= 0.005).then(|| format!("{:.0}%", 100.0 * v));
-    value_map_svg(states, share, title, fidelity, &label)
+    let tick = |v: f64| format!("{}%", tick_text(100.0 * v));
+    value_map_svg(states, share, title, fidelity, &label, &tick)
+}
+
+/// A colour-bar tick: at most two decimals from 0.01 to 10⁴, else one digit and an exponent.
+pub(crate) fn tick_text(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".to_owned()
+    } else if (0.01..1e4).contains(&a) {
+        let t = format!("{v:.2}");
+        t.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        format!("{v:.0e}")
+    }
+}
+
+/// Steps of a colour bar.
+const BAR_STEPS: usize = 48;
+
+/// A vertical colour bar in `area`: the colours of [`share_colour`] from `lo` (bottom) to `hi`
+/// (top), linear or logarithmic in the value, its ticks written by `tick`.
+pub(crate) fn colour_bar<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    lo: f64,
+    hi: f64,
+    log: bool,
+    tick: &dyn Fn(f64) -> String,
+) -> anyhow::Result<()>
+where
+    DB::ErrorType: 'static,
+{
+    let (lo, hi) = match (lo.is_finite() && hi.is_finite(), log) {
+        (false, true) => (1e-3, 1.0),
+        (false, false) => (0.0, 1.0),
+        (true, true) if lo <= 0.0 || hi <= 0.0 => (1e-3, 1.0),
+        (true, true) if hi <= lo => (lo / 10f64.sqrt(), lo * 10f64.sqrt()),
+        (true, false) if hi <= lo => (lo, lo + 1.0),
+        _ => (lo, hi),
+    };
+    let value_at = |t: f64| {
+        if log {
+            lo * (hi / lo).powf(t)
+        } else {
+            lo + (hi - lo) * t
+        }
+    };
+    let steps: Vec<(f64, f64, RGBColor)> = (0..BAR_STEPS)
+        .map(|k| {
+            let (t0, t1) = (
+                k as f64 / BAR_STEPS as f64,
+                (k + 1) as f64 / BAR_STEPS as f64,
+            );
+            (value_at(t0), value_at(t1), share_colour(0.5 * (t0 + t1)))
+        })
+        .collect();
+    let mut builder = ChartBuilder::on(area);
+    builder
+        .margin_top(40)
+        .margin_bottom(52)
+        .margin_right(6)
+        .set_label_area_size(LabelAreaPosition::Left, 54);
+    if log {
+        // a log axis labels powers of ten only: the ends are written above and below the bar
+        let (_, height) = area.dim_in_pixel();
+        let font = ("sans-serif", 12).into_font().color(&BLACK);
+        area.draw(&Text::new(
+            format!("max {}", tick(hi)),
+            (4, 24),
+            font.clone(),
+        ))
+        .map_err(plot_err)?;
+        area.draw(&Text::new(
+            format!("min {}", tick(lo)),
+            (4, height as i32 - 40),
+            font,
+        ))
+        .map_err(plot_err)?;
+        let mut chart = builder
+            .build_cartesian_2d(0.0..1.0, (lo..hi).log_scale())
+            .map_err(plot_err)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .disable_x_axis()
+            .y_labels(8)
+            .y_label_style(("sans-serif", 12))
+            .y_label_formatter(&|v| tick(*v))
+            .draw()
+            .map_err(plot_err)?;
+        chart
+            .draw_series(
+                steps
+                    .iter()
+                    .map(|&(a, b, c)| Rectangle::new([(0.0, a), (1.0, b)], c.filled())),
+            )
+            .map_err(plot_err)?;
+    } else {
+        let mut chart = builder
+            .build_cartesian_2d(0.0..1.0, lo..hi)
+            .map_err(plot_err)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .disable_x_axis()
+            .y_labels(8)
+            .y_label_style(("sans-serif", 12))
+            .y_label_formatter(&|v| tick(*v))
+            .draw()
+            .map_err(plot_err)?;
+        chart
+            .draw_series(
+                steps
+                    .iter()
+                    .map(|&(a, b, c)| Rectangle::new([(0.0, a), (1.0, b)], c.filled())),
+            )
+            .map_err(plot_err)?;
+    }
+    Ok(())
 }
 
 /// Scatter diagram (Tp, Hs) with every sea state as a disc coloured by its value (the largest
-/// darkest; grey without a value) and labelled by `label`; FE sea states ringed as in
-/// [`scatter_svg`].
+/// darkest; grey without a value) and labelled by `label`, with a colour bar from 0 to the
+/// largest value (ticks written by `tick`); FE sea states ringed as in [`scatter_svg`].
 pub(crate) fn value_map_svg(
     states: &[SeaStateStatus],
     share: &BTreeMap<i64, f64>,
     title: &str,
     fidelity: &BTreeMap<i64, String>,
     label: &dyn Fn(f64) -> Option<String>,
+    tick: &dyn Fn(f64) -> String,
 ) -> anyhow::Result<String> {
     let mark_fe = fidelity.values().any(|f| f != "fe");
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (640, 480)).into_drawing_area();
-        root.fill(&WHITE).map_err(plot_err)?;
+        let full = SVGBackend::with_string(&mut svg, (730, 480)).into_drawing_area();
+        full.fill(&WHITE).map_err(plot_err)?;
+        let (root, bar) = full.split_horizontally(640);
+        let top = share.values().copied().fold(0.0, f64::max);
+        colour_bar(&bar, 0.0, top, false, tick)?;
         let tp: Vec<f64> = states.iter().map(|s| s.tp_s).collect();
         let hs: Vec<f64> = states.iter().map(|s| s.hs_m).collect();
         let (x0, x1) = bounds(&tp);
@@ -63,7 +185,6 @@ pub(crate) fn value_map_svg(
             .y_desc("Hs (m)")
             .draw()
             .map_err(plot_err)?;
-        let top = share.values().copied().fold(0.0, f64::max);
         for s in states {
             let value = share.get(&s.sea_state_index).copied();
             let colour = match value {
@@ -100,9 +221,122 @@ pub(crate) fn value_map_svg(
                     .map_err(plot_err)?;
             }
         }
-        root.present().map_err(plot_err)?;
+        full.present().map_err(plot_err)?;
     }
     Ok(svg)
+}
+
+/// Smallest positive spacing of `values`, or `default` when there is none.
+fn spacing(values: impl Iterator<Item = f64>, default: f64) -> f64 {
+    let mut v: Vec<f64> = values.filter(|x| x.is_finite()).collect();
+    v.sort_by(f64::total_cmp);
+    let d = v
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|d| *d > 1e-9)
+        .fold(f64::INFINITY, f64::min);
+    if d.is_finite() {
+        d
+    } else {
+        default
+    }
+}
+
+/// One scatter map (Tp, Hs) per directional sector, on the same axes: every sea state of the
+/// sector a cell coloured by its value on a logarithmic scale shared by all sectors (grey
+/// without a value), with the colour bar of that scale; the sea states in `crossed` (failed or
+/// skipped) are crossed out. `what` names the value in the caption, `tick` writes it.
+pub(crate) fn sector_maps_svg(
+    states: &[SeaStateStatus],
+    values: &BTreeMap<i64, f64>,
+    what: &str,
+    crossed: &std::collections::BTreeSet<i64>,
+    tick: &dyn Fn(f64) -> String,
+) -> anyhow::Result<Vec<(String, String)>> {
+    let mut sectors: Vec<(String, f64)> = Vec::new();
+    for s in states {
+        if let Some(label) = &s.sector {
+            if !sectors.iter().any(|(l, _)| l == label) {
+                sectors.push((label.clone(), s.heading_deg.unwrap_or(0.0)));
+            }
+        }
+    }
+    let positive: Vec<f64> = values.values().copied().filter(|v| *v > 0.0).collect();
+    let hi = positive.iter().copied().fold(0.0, f64::max);
+    let lo = positive.iter().copied().fold(f64::INFINITY, f64::min);
+    // at least a decade, at most six below the largest
+    let lo = if hi > 0.0 {
+        lo.min(hi / 10.0).max(hi * 1e-6)
+    } else {
+        1e-3
+    };
+    let hi = if hi > 0.0 { hi } else { 1.0 };
+    let fraction = |v: f64| ((v / lo).log10() / (hi / lo).log10()).clamp(0.0, 1.0);
+    let dx = spacing(states.iter().map(|s| s.tp_s), 1.0);
+    let dy = spacing(states.iter().map(|s| s.hs_m), 0.5);
+    let tp: Vec<f64> = states.iter().map(|s| s.tp_s).collect();
+    let hs: Vec<f64> = states.iter().map(|s| s.hs_m).collect();
+    let (x0, x1) = bounds(&tp);
+    let (y0, y1) = bounds(&hs);
+    let (x0, x1) = (x0 - 0.5 * dx, x1 + 0.5 * dx);
+    let (y0, y1) = ((y0 - 0.5 * dy).max(0.0), y1 + 0.5 * dy);
+    let mut out = Vec::new();
+    for (label, heading) in sectors {
+        let mut svg = String::new();
+        {
+            let full = SVGBackend::with_string(&mut svg, (530, 400)).into_drawing_area();
+            full.fill(&WHITE).map_err(plot_err)?;
+            let (root, bar) = full.split_horizontally(440);
+            colour_bar(&bar, lo, hi, true, tick)?;
+            let mut chart = ChartBuilder::on(&root)
+                .caption(
+                    format!("sector {label} (heading {heading}°): {what}"),
+                    ("sans-serif", 15),
+                )
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(50)
+                .build_cartesian_2d(x0..x1, y0..y1)
+                .map_err(plot_err)?;
+            chart
+                .configure_mesh()
+                .x_desc("Tp (s)")
+                .y_desc("Hs (m)")
+                .draw()
+                .map_err(plot_err)?;
+            for s in states
+                .iter()
+                .filter(|s| s.sector.as_deref() == Some(label.as_str()))
+            {
+                let colour = match values.get(&s.sea_state_index) {
+                    Some(&v) if v > 0.0 => share_colour(fraction(v)),
+                    _ => RGBColor(220, 220, 220),
+                };
+                let corners = [
+                    (s.tp_s - 0.5 * dx, s.hs_m - 0.5 * dy),
+                    (s.tp_s + 0.5 * dx, s.hs_m + 0.5 * dy),
+                ];
+                chart
+                    .draw_series([Rectangle::new(corners, colour.filled())])
+                    .map_err(plot_err)?;
+                chart
+                    .draw_series([Rectangle::new(corners, BLACK.stroke_width(1))])
+                    .map_err(plot_err)?;
+                if crossed.contains(&s.sea_state_index) {
+                    let (a, b) = (corners[0], corners[1]);
+                    chart
+                        .draw_series([
+                            PathElement::new(vec![a, b], BLACK.stroke_width(2)),
+                            PathElement::new(vec![(a.0, b.1), (b.0, a.1)], BLACK.stroke_width(2)),
+                        ])
+                        .map_err(plot_err)?;
+                }
+            }
+            full.present().map_err(plot_err)?;
+        }
+        out.push((label, svg));
+    }
+    Ok(out)
 }
 
 /// Slip amplitude histogram (µm) in cycles per hour of the year, on logarithmic axes: slips
@@ -213,6 +447,7 @@ pub(crate) fn direction_roses_svg(
     const SIZE: f64 = 220.0;
     const RADIUS: f64 = 80.0;
     const DECADES: f64 = 4.0;
+    const BAR_WIDTH: f64 = 60.0;
     let mut lines: Vec<u32> = sectors.iter().map(|s| s.line).collect();
     lines.dedup();
     let mut out = String::new();
@@ -240,10 +475,46 @@ pub(crate) fn direction_roses_svg(
         let c = SIZE / 2.0;
         let _ = write!(
             out,
-            "<svg class=\"fig\" xmlns=\"http://www.w3.org/2000/svg\" width=\"{SIZE}\" \
-             height=\"{h}\" viewBox=\"0 0 {SIZE} {h}\">\
+            "<svg class=\"fig map rose\" xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" \
+             height=\"{h}\" viewBox=\"0 0 {w} {h}\">\
              <text x=\"{c}\" y=\"16\" text-anchor=\"middle\" font-size=\"14\">line {line}</text>",
+            w = SIZE + BAR_WIDTH,
             h = SIZE + 20.0
+        );
+        // the colour bar of the shares, 0 % at the bottom to 100 % at the top
+        let (bx, by, bh) = (SIZE + 6.0, 40.0, SIZE - 50.0);
+        for k in 0..BAR_STEPS {
+            let t = (k as f64 + 0.5) / BAR_STEPS as f64;
+            let colour = share_colour(t);
+            let step = bh / BAR_STEPS as f64;
+            let y = by + bh - (k + 1) as f64 * step;
+            let _ = write!(
+                out,
+                "<rect x=\"{bx}\" y=\"{y:.2}\" width=\"14\" height=\"{h:.2}\" \
+                 fill=\"rgb({},{},{})\"/>",
+                colour.0,
+                colour.1,
+                colour.2,
+                h = step + 0.3
+            );
+        }
+        let _ = write!(
+            out,
+            "<rect x=\"{bx}\" y=\"{by}\" width=\"14\" height=\"{bh}\" fill=\"none\" \
+             stroke=\"#333\"/>"
+        );
+        for (share, text) in [(0.0, "0 %"), (0.5, "50 %"), (1.0, "100 %")] {
+            let _ = write!(
+                out,
+                "<text x=\"{x}\" y=\"{y:.1}\" font-size=\"10\">{text}</text>",
+                x = bx + 18.0,
+                y = by + bh * (1.0 - share) + 3.0
+            );
+        }
+        let _ = write!(
+            out,
+            "<text x=\"{bx}\" y=\"{y}\" font-size=\"10\">share</text>",
+            y = by - 8.0
         );
         let cy = c + 10.0;
         for k in 1..=DECADES as usize {
