@@ -1,7 +1,12 @@
 //! `moorfret report`: one self-contained HTML page of a campaign's results (inline SVG, no
 //! network resources), written to `DIR/index.html`.
 //!
-//! Content:
+//! Content (every map with its colour bar):
+//! - the design check ([`crate::design`]) and the sea states without results: failed (the first
+//!   failure's diagnostic), skipped (cells left out of the plan, as stored with the campaign;
+//!   cancelled jobs) and not run yet, with their sector, Hs, Tp and occurrence;
+//! - for a directional climate, one scatter map per sector (occurrence, and the share of the
+//!   critical class's annual fretting damage), on a log colour scale shared by the sectors;
 //! - the scatter diagram (Tp × Hs) coloured by each sea state's share of the annual fretting
 //!   damage of the critical contact class (largest `fretting_max` annual damage in
 //!   `lifetime_class_damage`), and separately by its share of the annual T-N damage of that
