@@ -159,7 +159,6 @@ mod tests {
             "{}",
             failure.message
         );
-        assert!(dir.path().read_dir().unwrap().next().is_none());
         // the check passes the demo's own sea states
         assert!(check_energy_kept(&inputs, 0.99).is_ok());
         assert!(check_energy_kept(&inputs, 0.46).is_ok());
