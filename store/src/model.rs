@@ -181,7 +181,7 @@ pub struct JobResults {
     pub contacts: Vec<ContactStatistics>,
     /// Per realisation damage inputs.
     pub damage_inputs: Vec<DamageInput>,
-    /// Per realisation damage inputs of each contact class ([`super::results::damage_rows`]).
+    /// Per realisation damage inputs of each contact class (the worker's `damage_rows`).
     #[serde(default)]
     pub class_damage_inputs: Vec<ClassDamageInput>,
     /// Artifacts written beforehand.

@@ -1,15 +1,14 @@
 //! Result rows of strand jobs and what the result views return (README, "Results and queries";
 //! `docs/damage.md`).
 //!
-//! A strand job turns its [`SeaStateInputs`] (from
-//! [`moorfret_solver::fretting::sea_state_damage_inputs`]) into rows with [`damage_rows`]:
+//! A strand job turns its sea-state damage inputs (the worker's `damage_rows`) into
 //! one [`DamageInput`] per T-N curve (table `damage_inputs`) and one [`ClassDamageInput`] per
 //! contact class (table `class_damage_inputs`), stored with the job's completion
 //! ([`super::JobResults`]). The views `sea_state_class_damage_inputs` and
 //! `lifetime_class_damage` aggregate them; [`SeaStateClassDamage`] and [`LifetimeClassDamage`]
 //! are their rows.
 
-use moorfret_solver::fretting::{AngularPosition, SeaStateInputs};
+use moorfret_vocabulary::AngularPosition;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -77,67 +76,6 @@ pub struct ClassDamageInput {
     /// Largest gross-slip frictional power of a contact of the class (W).
     #[serde(default)]
     pub wear_power_max_w: f64,
-}
-
-/// Rows of one (sea state, seed, hot spot): T-N damage per curve, fretting inputs per class.
-pub fn damage_rows(
-    hot_spot_index: i64,
-    seed_index: i64,
-    inputs: &SeaStateInputs,
-) -> Result<(Vec<DamageInput>, Vec<ClassDamageInput>), StoreError> {
-    let json = |field: &'static str, value: Result<Value, serde_json::Error>| {
-        value.map_err(|source| StoreError::Json { field, source })
-    };
-    let tension = inputs
-        .tension
-        .iter()
-        .map(|t| {
-            Ok(DamageInput {
-                hot_spot_index,
-                measure: t.measure.clone(),
-                seed_index,
-                effective_duration_s: inputs.effective_duration_s,
-                damage: t.damage,
-                details: serde_json::json!({
-                    "curve": json("damage_inputs.details_json", serde_json::to_value(t.curve))?,
-                    "cycles": t.cycles,
-                    "mean_tension_n": t.mean_tension_n,
-                    "run_in_samples": inputs.run_in_samples,
-                }),
-            })
-        })
-        .collect::<Result<Vec<_>, StoreError>>()?;
-    let classes = inputs
-        .classes
-        .iter()
-        .map(|c| {
-            Ok(ClassDamageInput {
-                hot_spot_index,
-                layer_interface: c.class.interface as i64,
-                angular_position: c.class.position,
-                seed_index,
-                effective_duration_s: inputs.effective_duration_s,
-                contacts: c.contacts as i64,
-                fretting_damage_rate_max_per_s: c.fretting_damage_rate_max_per_s,
-                fretting_damage_rate_mean_per_s: c.fretting_damage_rate_mean_per_s,
-                stick_cycles_per_hour: c.regime_cycles_per_hour.stick,
-                partial_slip_cycles_per_hour: c.regime_cycles_per_hour.partial_slip,
-                gross_slip_cycles_per_hour: c.regime_cycles_per_hour.gross_slip,
-                ruiz_f1_max: c.ruiz_f1_max,
-                ruiz_f2_max: c.ruiz_f2_max,
-                peak_pressure_max_pa: c.peak_pressure_max_pa,
-                slip_amplitude_max_m: c.slip_amplitude_max_m,
-                histogram: json(
-                    "class_damage_inputs.histogram_json",
-                    serde_json::to_value(&c.cycles_per_hour),
-                )?,
-                rope_tn_damage_rate_max_per_s: c.rope_tn_damage_rate_max_per_s,
-                rope_tn_damage_rate_mean_per_s: c.rope_tn_damage_rate_mean_per_s,
-                wear_power_max_w: c.wear_power_max_w,
-            })
-        })
-        .collect::<Result<Vec<_>, StoreError>>()?;
-    Ok((tension, classes))
 }
 
 /// Reads a stored angular position name.

@@ -8,7 +8,7 @@
 use std::collections::HashMap;
 use std::time::Duration;
 
-use moorfret_solver::fretting::AngularPosition;
+use moorfret_vocabulary::AngularPosition;
 use moorfret_store::{
     ArtifactRole, AttemptOutcome, CampaignId, ClassDamageInput, FailureClass, WorkerId,
 };

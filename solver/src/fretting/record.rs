@@ -13,45 +13,7 @@ use serde::{Deserialize, Serialize};
 
 use super::cycles::SlipCycle;
 
-/// Angular position class of a contact around the strand cross-section.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum AngularPosition {
-    /// |sin θ| ≤ sin(half band): near the bending neutral axis.
-    NeutralAxis,
-    /// Between the two bands.
-    Between,
-    /// |cos θ| ≤ sin(half band): near an extreme fibre of the bent strand.
-    OuterArc,
-}
-
-impl AngularPosition {
-    /// Half width of the neutral-axis and outer-arc bands: 22.5°, so the circle splits into
-    /// four 45° bands around the axes and four 45° sectors between them.
-    pub const HALF_BAND_RAD: f64 = std::f64::consts::PI / 8.0;
-
-    /// Class of a contact at angle `theta_rad` from the neutral axis (any real angle).
-    pub fn of(theta_rad: f64) -> Self {
-        let band = Self::HALF_BAND_RAD.sin();
-        let (s, c) = theta_rad.sin_cos();
-        if s.abs() <= band {
-            Self::NeutralAxis
-        } else if c.abs() <= band {
-            Self::OuterArc
-        } else {
-            Self::Between
-        }
-    }
-
-    /// Stable lower-case name, as stored and printed.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Self::NeutralAxis => "neutral_axis",
-            Self::Between => "between",
-            Self::OuterArc => "outer_arc",
-        }
-    }
-}
+pub use moorfret_vocabulary::AngularPosition;
 
 /// Layer interface × angular position.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
