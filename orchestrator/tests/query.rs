@@ -170,9 +170,25 @@ async fn query_command_prints_json_csv_and_tables() {
     );
     // header, 2 classes × 4 fretting measures, 1 T-N curve
     assert_eq!(csv.lines().count(), 1 + 2 * 4 + 1);
-    let (ok, table, _) = run(&["sea-states", "--campaign", "fixture"]);
+    let (ok, table, _) = run(&["sea-states", "--campaign", "fixture", "--wide"]);
     assert!(ok);
     assert_eq!(table.lines().count(), 3);
+    // without --wide: the columns that fit 120 characters, and the others named
+    let (ok, fitted, _) = run(&["sea-states", "--campaign", "fixture"]);
+    assert!(ok);
+    assert!(fitted.lines().all(|l| l.chars().count() <= 120), "{fitted}");
+    let widest = table.lines().map(|l| l.chars().count()).max().unwrap_or(0);
+    assert!(
+        widest > 120,
+        "the fixture's sea-state table is {widest} wide"
+    );
+    assert!(fitted.contains("more columns (--wide"), "{fitted}");
+    let hidden = table.lines().next().unwrap().split_whitespace().count()
+        - fitted.lines().next().unwrap().split_whitespace().count();
+    assert!(
+        fitted.contains(&format!("{hidden} more columns")),
+        "{fitted}"
+    );
     // a mistyped measure is refused by every query, naming the known ones
     for kind in [
         "lifetime",

@@ -8,7 +8,6 @@
 use std::collections::HashMap;
 use std::time::Duration;
 
-use moorfret_vocabulary::AngularPosition;
 use moorfret_store::{
     ArtifactRole, AttemptOutcome, CampaignId, ClassDamageInput, FailureClass, WorkerId,
 };
@@ -17,6 +16,7 @@ use moorfret_store::{
     HotSpotSummary, JobFailure, JobKind, JobResults, JobState, ManualClock, NewCampaign,
     NewSeaState, PlannedJob, QueuePolicy, Store, StoreError, StoreOptions, TestPayload, WorkerInfo,
 };
+use moorfret_vocabulary::AngularPosition;
 use serde_json::json;
 
 const T0_MS: i64 = 1_700_000_000_000;

@@ -1,5 +1,5 @@
 //! `moorfret query damage-inputs|sea-states|lifetime|seeds|contacts|fidelity --campaign NAME [--db URL]
-//! [--format table|csv|json]`: a campaign's results from the store's views
+//! [--format table|csv|json] [--wide]`: a campaign's results from the store's views
 //! ([`moorfret_orchestrator::query`]).
 
 use anyhow::Context;
@@ -27,7 +27,14 @@ pub(crate) struct QueryArgs {
     /// of a class) or `fretting_mean` (mean over its contacts).
     #[arg(long, default_value = "fretting_max")]
     pub(crate) measure: String,
+    /// Every column in the text table; without it, the columns that fit 120 characters and a
+    /// note naming the others.
+    #[arg(long)]
+    pub(crate) wide: bool,
 }
+
+/// Width of a query's text table without `--wide` (characters).
+const TABLE_WIDTH: usize = 120;
 
 /// Opens an existing store (never creates one for a read).
 pub(crate) async fn open_existing(db: &str) -> anyhow::Result<Store> {
@@ -47,7 +54,11 @@ pub(crate) fn execute(args: QueryArgs) -> anyhow::Result<()> {
         store.close().await;
         table
     })?;
-    let text = table.render(args.format)?;
+    let text = if args.format == OutputFormat::Table && !args.wide {
+        table.render_fitted(TABLE_WIDTH)?
+    } else {
+        table.render(args.format)?
+    };
     super::output::write_out(format_args!("{text}"))?;
     Ok(())
 }

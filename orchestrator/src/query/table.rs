@@ -4,6 +4,9 @@ use anyhow::Context;
 use serde::Serialize;
 use serde_json::{Map, Value};
 
+/// Spaces between two text columns.
+const COLUMN_GAP: usize = 2;
+
 /// Output format of a query.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum OutputFormat {
@@ -68,6 +71,89 @@ impl Table {
         )
     }
 
+    /// Renders the table as text no wider than `width` characters: the columns from the left
+    /// that fit (at least the first), then a note naming the ones left out and how to see
+    /// them. Every column when they all fit.
+    pub fn render_fitted(&self, width: usize) -> anyhow::Result<String> {
+        let cells = self.text_cells();
+        let widths = self.column_widths(&cells);
+        let mut used = 0;
+        let mut shown = 0;
+        for (k, w) in widths.iter().enumerate() {
+            let add = if k == 0 { *w } else { w + COLUMN_GAP };
+            if k > 0 && used + add > width {
+                break;
+            }
+            used += add;
+            shown = k + 1;
+        }
+        let mut out = self.text_lines(&cells, &widths[..shown]);
+        let hidden = &self.columns[shown..];
+        if !hidden.is_empty() {
+            let mut note = format!(
+                "{} more column{} (--wide, or --format csv|json):",
+                hidden.len(),
+                if hidden.len() == 1 { "" } else { "s" }
+            );
+            let mut line_len = note.chars().count();
+            for name in hidden {
+                let len = name.chars().count() + 1;
+                if line_len + len > width {
+                    note += "\n ";
+                    line_len = 1;
+                }
+                note.push(' ');
+                note += name;
+                line_len += len;
+            }
+            out += &note;
+            out.push('\n');
+        }
+        Ok(out)
+    }
+
+    /// The text cells of every row.
+    fn text_cells(&self) -> Vec<Vec<String>> {
+        self.rows
+            .iter()
+            .map(|r| r.iter().map(readable_cell).collect())
+            .collect()
+    }
+
+    /// Each column's width in characters: its widest cell or its name.
+    fn column_widths(&self, cells: &[Vec<String>]) -> Vec<usize> {
+        (0..self.columns.len())
+            .map(|k| {
+                cells
+                    .iter()
+                    .map(|r| r[k].chars().count())
+                    .chain([self.columns[k].chars().count()])
+                    .max()
+                    .unwrap_or(0)
+            })
+            .collect()
+    }
+
+    /// The header and the rows, right-aligned in `widths` (the first `widths.len()` columns).
+    fn text_lines(&self, cells: &[Vec<String>], widths: &[usize]) -> String {
+        let gap = " ".repeat(COLUMN_GAP);
+        let line = |items: &mut dyn Iterator<Item = &String>| {
+            items
+                .zip(widths.iter().copied())
+                .map(|(s, w)| format!("{s:>w$}"))
+                .collect::<Vec<_>>()
+                .join(&gap)
+                .trim_end()
+                .to_owned()
+                + "\n"
+        };
+        let mut out = line(&mut self.columns.iter());
+        for r in cells {
+            out += &line(&mut r.iter());
+        }
+        out
+    }
+
     /// Renders the table in `format`.
     pub fn render(&self, format: OutputFormat) -> anyhow::Result<String> {
         match format {
@@ -81,36 +167,8 @@ impl Table {
                 Ok(String::from_utf8(writer.into_inner()?)?)
             }
             OutputFormat::Table => {
-                let cells: Vec<Vec<String>> = self
-                    .rows
-                    .iter()
-                    .map(|r| r.iter().map(readable_cell).collect())
-                    .collect();
-                let widths: Vec<usize> = (0..self.columns.len())
-                    .map(|k| {
-                        cells
-                            .iter()
-                            .map(|r| r[k].chars().count())
-                            .chain([self.columns[k].chars().count()])
-                            .max()
-                            .unwrap_or(0)
-                    })
-                    .collect();
-                let line = |items: &mut dyn Iterator<Item = &String>| {
-                    items
-                        .zip(widths.iter().copied())
-                        .map(|(s, w)| format!("{s:>w$}"))
-                        .collect::<Vec<_>>()
-                        .join("  ")
-                        .trim_end()
-                        .to_owned()
-                        + "\n"
-                };
-                let mut out = line(&mut self.columns.iter());
-                for r in &cells {
-                    out += &line(&mut r.iter());
-                }
-                Ok(out)
+                let cells = self.text_cells();
+                Ok(self.text_lines(&cells, &self.column_widths(&cells)))
             }
         }
     }
@@ -198,5 +256,51 @@ mod tests {
         assert_eq!(json[1]["a"], 10);
         assert_eq!(json[0]["b"], 2.5e-7);
         assert!(json[1]["b"].is_null());
+    }
+
+    #[test]
+    fn a_fitted_table_keeps_the_columns_that_fit_and_names_the_others() {
+        let rows = [Row {
+            a: 1,
+            b: Some(2.5e-7),
+            c: "outer_arc",
+        }];
+        let t = Table::from_rows(&["c", "a", "b", "missing"], &rows).unwrap();
+        // "        c   a         b  missing": 9 + 2 + 1 + 2 + 8 + 2 + 7 = 31 characters
+        assert_eq!(
+            t.render_fitted(31).unwrap(),
+            t.render(OutputFormat::Table).unwrap()
+        );
+        let fitted = t.render_fitted(30).unwrap();
+        assert_eq!(
+            fitted,
+            "        c  a         b\nouter_arc  1  2.500e-7\n\
+             1 more column (--wide, or --format csv|json):\n  missing\n"
+        );
+        // the first column is always shown; the note wraps at the width
+        let narrow = t.render_fitted(10).unwrap();
+        assert!(narrow.starts_with("        c\nouter_arc\n3 more columns"));
+        for line in narrow.lines().skip(2) {
+            assert!(line.chars().count() <= 50, "{line}");
+        }
+        assert!(narrow.contains(" a") && narrow.contains(" b") && narrow.contains(" missing"));
+    }
+
+    #[test]
+    fn every_line_of_a_fitted_table_fits_its_width() {
+        let columns: Vec<String> = (0..20).map(|k| format!("column_number_{k}")).collect();
+        let names: Vec<&str> = columns.iter().map(String::as_str).collect();
+        let row: serde_json::Map<String, Value> = columns
+            .iter()
+            .map(|c| (c.clone(), Value::from(1.234_567e-5)))
+            .collect();
+        let t = Table::from_rows(&names, &[Value::Object(row)]).unwrap();
+        let text = t.render_fitted(120).unwrap();
+        for line in text.lines() {
+            assert!(line.chars().count() <= 120, "{} > 120: {line}", line.len());
+        }
+        let shown = text.lines().next().unwrap().split_whitespace().count();
+        assert!((6..20).contains(&shown), "{shown} columns shown");
+        assert!(text.contains(&format!("{} more columns", 20 - shown)));
     }
 }
