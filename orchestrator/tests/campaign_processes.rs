@@ -743,7 +743,7 @@ fn killed_strand_job_resumes_from_its_checkpoint_with_the_uninterrupted_results(
     wait_success(second, &second_log);
     let second_log_text = std::fs::read_to_string(&second_log).unwrap();
     assert!(
-        second_log_text.contains("strand job resumes from its checkpoint"),
+        second_log_text.contains("strand history resumes from its checkpoint"),
         "{second_log_text}"
     );
 

@@ -5,6 +5,8 @@
 //! verdicts and draws the damage by direction. A climate of one sector plans what the same
 //! table plans without sectors.
 
+mod browser;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -303,55 +305,6 @@ fn every_map_has_a_colour_bar(page: &str) {
     }
 }
 
-fn chromium() -> Option<PathBuf> {
-    for name in ["chromium", "chromium-browser", "google-chrome"] {
-        let found = Command::new("sh")
-            .arg("-c")
-            .arg(format!("command -v {name}"))
-            .output()
-            .ok()
-            .filter(|o| o.status.success())
-            .map(|o| PathBuf::from(String::from_utf8_lossy(&o.stdout).trim()));
-        if found.is_some() {
-            return found;
-        }
-    }
-    None
-}
-
-/// A screenshot of `page` (1280 × 2000) by headless Chromium: the PNG's bytes.
-fn screenshot(browser: &Path, page: &Path, dir: &Path, name: &str) -> Vec<u8> {
-    let png = dir.join(format!("{name}.png"));
-    let out = Command::new(browser)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-quic",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-        ])
-        .arg(format!(
-            "--user-data-dir={}",
-            dir.join(format!("{name}-profile")).display()
-        ))
-        .arg(format!("--screenshot={}", png.display()))
-        .arg("--window-size=1280,2000")
-        .arg(format!("file://{}", page.display()))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "chromium failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let bytes = std::fs::read(&png).unwrap();
-    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
-    bytes
-}
-
 /// A sector demo planned into a store (nothing run): one cell of sector N too steep for the
 /// wave model and left out, the first global job failed, the rest cancelled. The report names
 /// the failed and the skipped sea states with their sector, Hs, Tp and why, draws a map per
@@ -475,18 +428,10 @@ async fn failed_and_skipped_sea_states_are_named_and_every_map_has_its_colour_ba
     assert_eq!(page.matches("sector-map damage").count(), 0);
     every_map_has_a_colour_bar(&page);
 
-    let Some(browser) = chromium() else {
-        // CI (`MOORFRET_REQUIRE_SERVICES`) cannot pass by skipping the screenshot
-        assert!(
-            std::env::var_os("MOORFRET_REQUIRE_SERVICES").is_none(),
-            "chromium is required here (MOORFRET_REQUIRE_SERVICES is set)"
-        );
-        eprintln!(
-            "SKIPPED (screenshot): no chromium on PATH; install with apt-get install -y chromium"
-        );
+    let Some(browser) = browser::chromium_or_skip() else {
         return;
     };
-    let shot = screenshot(&browser, &page_path, dir.path(), "report");
+    let shot = shot_of(&browser, &page_path, dir.path(), "report");
     // MOORFRET_KEEP_SCREENSHOT=path keeps a copy for inspection.
     if let Ok(keep) = std::env::var("MOORFRET_KEEP_SCREENSHOT") {
         std::fs::write(keep, &shot).unwrap();
@@ -494,7 +439,7 @@ async fn failed_and_skipped_sea_states_are_named_and_every_map_has_its_colour_ba
     // the same window on an empty page: what a blank screenshot weighs
     let blank_path = dir.path().join("blank.html");
     std::fs::write(&blank_path, "<!DOCTYPE html><html><body></body></html>").unwrap();
-    let blank = screenshot(&browser, &blank_path, dir.path(), "blank");
+    let blank = shot_of(&browser, &blank_path, dir.path(), "blank");
     assert!(
         shot.len() > 5 * blank.len() && shot.len() > 30_000,
         "screenshot of {} bytes against {} for an empty page",
@@ -550,4 +495,11 @@ fn bad_sector_climates_are_refused_naming_the_field() {
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("scatter.sectors[1].path"), "{err}");
+}
+
+/// A screenshot of `page` into `dir/NAME.png`, its profile in `dir/NAME-profile`: the PNG's
+/// bytes.
+fn shot_of(browser: &Path, page: &Path, dir: &Path, name: &str) -> Vec<u8> {
+    let png = dir.join(format!("{name}.png"));
+    browser::screenshot(browser, page, &png, &dir.join(format!("{name}-profile")))
 }

@@ -2,53 +2,13 @@
 //! `fixture/mod.rs`): the page is self-contained, holds the plots and tables, and renders in
 //! headless Chromium (skipped with a message when no Chromium is installed).
 
+mod browser;
 mod fixture;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use moorfret_store::ArtifactStore;
-
-fn chromium() -> Option<PathBuf> {
-    for name in ["chromium", "chromium-browser", "google-chrome"] {
-        let found = Command::new("sh")
-            .arg("-c")
-            .arg(format!("command -v {name}"))
-            .output()
-            .ok()
-            .filter(|o| o.status.success())
-            .map(|o| PathBuf::from(String::from_utf8_lossy(&o.stdout).trim()));
-        if found.is_some() {
-            return found;
-        }
-    }
-    None
-}
-
-fn screenshot(browser: &Path, page: &Path, png: &Path, profile: &Path) {
-    let status = Command::new(browser)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-quic",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-        ])
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .arg(format!("--screenshot={}", png.display()))
-        .arg("--window-size=1280,2000")
-        .arg(format!("file://{}", page.display()))
-        .output()
-        .unwrap();
-    assert!(
-        status.status.success(),
-        "chromium failed: {}",
-        String::from_utf8_lossy(&status.stderr)
-    );
-}
 
 /// The fixture campaign in an SQLite store with its artifacts: (directory, store file,
 /// artifact store).
@@ -125,19 +85,11 @@ async fn report_of_the_fixture_is_self_contained_and_renders() {
     assert!(!page.contains("<script"));
     assert!(!page.contains("src=\"http") && !page.contains("href=\"http"));
 
-    let Some(browser) = chromium() else {
-        // CI (`MOORFRET_REQUIRE_SERVICES`) cannot pass by skipping the screenshot
-        assert!(
-            std::env::var_os("MOORFRET_REQUIRE_SERVICES").is_none(),
-            "chromium is required here (MOORFRET_REQUIRE_SERVICES is set)"
-        );
-        eprintln!(
-            "SKIPPED (screenshot): no chromium on PATH; install with apt-get install -y chromium"
-        );
+    let Some(browser) = browser::chromium_or_skip() else {
         return;
     };
     let png = dir.path().join("report.png");
-    screenshot(&browser, &page_path, &png, &dir.path().join("profile"));
+    browser::screenshot(&browser, &page_path, &png, &dir.path().join("profile"));
     // MOORFRET_KEEP_SCREENSHOT=path keeps a copy for inspection.
     if let Ok(keep) = std::env::var("MOORFRET_KEEP_SCREENSHOT") {
         std::fs::copy(&png, keep).unwrap();

@@ -63,8 +63,9 @@ fn parse_hot_spot(text: &str) -> Result<HotSpotSpec, String> {
     Ok(HotSpotSpec { line, arc_length_m })
 }
 
-/// `target` written relative to the directory `base` (both made absolute first).
-fn relative_path(target: &Path, base: &Path) -> anyhow::Result<PathBuf> {
+/// `target` written relative to the directory `base` (both made absolute first; both must
+/// exist).
+pub(crate) fn relative_path(target: &Path, base: &Path) -> anyhow::Result<PathBuf> {
     let target = target
         .canonicalize()
         .with_context(|| format!("reading {}", target.display()))?;

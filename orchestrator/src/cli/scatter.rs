@@ -6,7 +6,7 @@
 //! read, used, calm and left out (by reason, with the first line of each) and every sector's
 //! share. Every option is checked, and the whole series read, before anything is written.
 
-use std::path::{Component, Path, PathBuf};
+use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context};
 use clap::Args;
@@ -16,6 +16,7 @@ use moorfret_solver::waves::climate::{
 };
 use serde_json::json;
 
+use crate::cli::import::relative_path;
 use crate::cli::output::outln;
 
 /// Name of the sectors' file in the output directory.
@@ -167,27 +168,6 @@ fn sector_count(args: &ScatterArgs) -> anyhow::Result<usize> {
         }
         (None, None) => Ok(8),
     }
-}
-
-/// `target` written relative to the directory `base` (both existing).
-fn relative_path(target: &Path, base: &Path) -> anyhow::Result<PathBuf> {
-    let target = target
-        .canonicalize()
-        .with_context(|| format!("reading {}", target.display()))?;
-    let base = base
-        .canonicalize()
-        .with_context(|| format!("reading {}", base.display()))?;
-    let t: Vec<Component> = target.components().collect();
-    let b: Vec<Component> = base.components().collect();
-    let common = t.iter().zip(&b).take_while(|(x, y)| x == y).count();
-    let mut out = PathBuf::new();
-    for _ in common..b.len() {
-        out.push("..");
-    }
-    for c in &t[common..] {
-        out.push(c.as_os_str());
-    }
-    Ok(out)
 }
 
 /// One summary line of a fault: `  <what>: <count> (first on line <l>: `<text>`)`.
