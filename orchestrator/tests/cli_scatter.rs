@@ -45,19 +45,6 @@ const COLUMNS: [&str; 8] = [
     "MWD",
 ];
 
-fn copy_dir(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for entry in std::fs::read_dir(from).unwrap() {
-        let entry = entry.unwrap();
-        let target = to.join(entry.file_name());
-        if entry.file_type().unwrap().is_dir() {
-            copy_dir(&entry.path(), &target);
-        } else {
-            std::fs::copy(entry.path(), target).unwrap();
-        }
-    }
-}
-
 fn run(dir: &Path, extra: &[&str]) -> std::process::Output {
     moorfret()
         .current_dir(dir)
@@ -81,7 +68,7 @@ fn cell(table: &ScatterTable, hs_lower_m: f64, tp_s: f64) -> f64 {
 #[test]
 fn a_synthetic_record_gives_the_known_tables_summary_and_a_campaign_that_plans() {
     let dir = tempfile::tempdir().unwrap();
-    copy_dir(&campaign_file(""), dir.path());
+    cli_support::copy_dir(&campaign_file(""), dir.path());
     std::fs::write(dir.path().join("record.csv"), SERIES).unwrap();
     let out = run(
         dir.path(),

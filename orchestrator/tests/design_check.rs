@@ -6,6 +6,7 @@
 //! table plans without sectors.
 
 mod browser;
+mod cli_support;
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -22,21 +23,8 @@ fn campaigns_dir() -> PathBuf {
 /// `campaigns/` copied into a temporary directory.
 fn campaign_copy() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
-    copy_dir(&campaigns_dir(), dir.path());
+    cli_support::copy_dir(&campaigns_dir(), dir.path());
     dir
-}
-
-fn copy_dir(from: &Path, to: &Path) {
-    std::fs::create_dir_all(to).unwrap();
-    for entry in std::fs::read_dir(from).unwrap() {
-        let entry = entry.unwrap();
-        let target = to.join(entry.file_name());
-        if entry.file_type().unwrap().is_dir() {
-            copy_dir(&entry.path(), &target);
-        } else {
-            std::fs::copy(entry.path(), target).unwrap();
-        }
-    }
 }
 
 /// The demo campaign with its climate as sectors: `(label, heading, share, table)` each.
@@ -269,42 +257,12 @@ fn sectors_run_at_their_headings_and_the_design_check_reads_them() {
     assert!(page.contains("sector W (heading 0°): occurrence"));
     assert!(page.contains("sector N (heading 90°): occurrence"));
     assert_eq!(page.matches("class=\"fig map rose\"").count(), 1);
-    every_map_has_a_colour_bar(&page);
+    browser::every_map_has_a_colour_bar(&page);
     assert!(page.contains("Governing figure and sea state of each line"));
     assert!(page.contains("Every sea state of the climate has its results."));
 }
 
 /// The figures of `page` marked as maps (`class="fig map…"`), each up to its `</svg>`.
-fn maps(page: &str) -> Vec<&str> {
-    page.match_indices("class=\"fig map")
-        .map(|(i, _)| {
-            let rest = &page[i..];
-            &rest[..rest.find("</svg>").expect("a map ends its svg")]
-        })
-        .collect()
-}
-
-/// Every map carries a colour bar: a column of at least 40 distinct colours (the bar's 48
-/// steps), more than the cells or discs of a map alone.
-fn every_map_has_a_colour_bar(page: &str) {
-    let maps = maps(page);
-    assert!(!maps.is_empty());
-    for map in maps {
-        let fills: std::collections::BTreeSet<&str> = map
-            .split("fill=\"")
-            .skip(1)
-            .filter_map(|f| f.split('"').next())
-            .filter(|f| *f != "none" && *f != "#FFFFFF" && *f != "#000000")
-            .collect();
-        assert!(
-            fills.len() >= 40,
-            "a map without its colour bar ({} colours): {}",
-            fills.len(),
-            &map[..map.len().min(300)]
-        );
-    }
-}
-
 /// A sector demo planned into a store (nothing run): one cell of sector N too steep for the
 /// wave model and left out, the first global job failed, the rest cancelled. The report names
 /// the failed and the skipped sea states with their sector, Hs, Tp and why, draws a map per
@@ -426,7 +384,7 @@ async fn failed_and_skipped_sea_states_are_named_and_every_map_has_its_colour_ba
     // a map per sector (occurrence only: no damage is stored), each with its colour bar
     assert_eq!(page.matches("sector-map occurrence").count(), 2);
     assert_eq!(page.matches("sector-map damage").count(), 0);
-    every_map_has_a_colour_bar(&page);
+    browser::every_map_has_a_colour_bar(&page);
 
     let Some(browser) = browser::chromium_or_skip() else {
         return;

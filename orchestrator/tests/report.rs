@@ -64,20 +64,8 @@ async fn report_of_the_fixture_is_self_contained_and_renders() {
     assert!(page.contains(">\n35%\n</text>"), "share label");
     // Four maps (occurrence, fretting and T-N shares, run-in), each with its colour bar: a
     // column of at least 40 distinct colours (the bar's 48 steps), more than the discs alone.
-    let maps: Vec<&str> = page
-        .match_indices("<div class=\"fig map\">")
-        .map(|(i, _)| &page[i..i + page[i..].find("</svg>").unwrap()])
-        .collect();
-    assert_eq!(maps.len(), 4);
-    for map in maps {
-        let fills: std::collections::BTreeSet<&str> = map
-            .split("fill=\"")
-            .skip(1)
-            .filter_map(|f| f.split('"').next())
-            .filter(|f| *f != "none" && *f != "#FFFFFF" && *f != "#000000")
-            .collect();
-        assert!(fills.len() >= 40, "a map with {} colours", fills.len());
-    }
+    assert_eq!(browser::maps(&page).len(), 4);
+    browser::every_map_has_a_colour_bar(&page);
     // every sea state of the fixture has its results; no sectors, no sector maps
     assert!(page.contains("Every sea state of the climate has its results."));
     assert!(!page.contains("sector-map"));

@@ -1,4 +1,5 @@
-//! Headless Chromium for the report tests: found on PATH, and a page's screenshot.
+//! The report tests' look at a page: its maps and their colour bars, and headless Chromium
+//! (found on PATH) for its screenshot.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -58,4 +59,35 @@ pub(crate) fn screenshot(browser: &Path, page: &Path, png: &Path, profile: &Path
     let bytes = std::fs::read(png).unwrap();
     assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
     bytes
+}
+
+/// The maps of a report page: each from its figure's opening to the end of its SVG.
+pub(crate) fn maps(page: &str) -> Vec<&str> {
+    page.match_indices("class=\"fig map")
+        .map(|(i, _)| {
+            let rest = &page[i..];
+            &rest[..rest.find("</svg>").expect("a map ends its svg")]
+        })
+        .collect()
+}
+
+/// Every map carries a colour bar: a column of at least 40 distinct colours (the bar's 48
+/// steps), more than the cells or discs of a map alone.
+pub(crate) fn every_map_has_a_colour_bar(page: &str) {
+    let maps = maps(page);
+    assert!(!maps.is_empty());
+    for map in maps {
+        let fills: std::collections::BTreeSet<&str> = map
+            .split("fill=\"")
+            .skip(1)
+            .filter_map(|f| f.split('"').next())
+            .filter(|f| *f != "none" && *f != "#FFFFFF" && *f != "#000000")
+            .collect();
+        assert!(
+            fills.len() >= 40,
+            "a map without its colour bar ({} colours): {}",
+            fills.len(),
+            &map[..map.len().min(300)]
+        );
+    }
 }
