@@ -2,6 +2,7 @@
 
 use std::collections::BTreeMap;
 
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
 
 use super::data::{GlobalJobSeries, SlipHistogram};
@@ -104,46 +105,43 @@ where
             font,
         ))
         .map_err(plot_err)?;
-        let mut chart = builder
-            .build_cartesian_2d(0.0..1.0, (lo..hi).log_scale())
-            .map_err(plot_err)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .disable_x_axis()
-            .y_labels(8)
-            .y_label_style(("sans-serif", 12))
-            .y_label_formatter(&|v| tick(*v))
-            .draw()
-            .map_err(plot_err)?;
-        chart
-            .draw_series(
-                steps
-                    .iter()
-                    .map(|&(a, b, c)| Rectangle::new([(0.0, a), (1.0, b)], c.filled())),
-            )
-            .map_err(plot_err)?;
+        bar_steps(&mut builder, (lo..hi).log_scale(), &steps, tick)
     } else {
-        let mut chart = builder
-            .build_cartesian_2d(0.0..1.0, lo..hi)
-            .map_err(plot_err)?;
-        chart
-            .configure_mesh()
-            .disable_mesh()
-            .disable_x_axis()
-            .y_labels(8)
-            .y_label_style(("sans-serif", 12))
-            .y_label_formatter(&|v| tick(*v))
-            .draw()
-            .map_err(plot_err)?;
-        chart
-            .draw_series(
-                steps
-                    .iter()
-                    .map(|&(a, b, c)| Rectangle::new([(0.0, a), (1.0, b)], c.filled())),
-            )
-            .map_err(plot_err)?;
+        bar_steps(&mut builder, lo..hi, &steps, tick)
     }
+}
+
+/// A colour bar's `steps` (from, to, colour) on a chart whose value axis is `y`, linear or
+/// logarithmic, its ticks written by `tick`.
+fn bar_steps<DB, Y>(
+    builder: &mut ChartBuilder<'_, '_, DB>,
+    y: Y,
+    steps: &[(f64, f64, RGBColor)],
+    tick: &dyn Fn(f64) -> String,
+) -> anyhow::Result<()>
+where
+    DB: DrawingBackend,
+    DB::ErrorType: 'static,
+    Y: AsRangedCoord<Value = f64>,
+    Y::CoordDescType: ValueFormatter<f64>,
+{
+    let mut chart = builder.build_cartesian_2d(0.0..1.0, y).map_err(plot_err)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_labels(8)
+        .y_label_style(("sans-serif", 12))
+        .y_label_formatter(&|v| tick(*v))
+        .draw()
+        .map_err(plot_err)?;
+    chart
+        .draw_series(
+            steps
+                .iter()
+                .map(|&(a, b, c)| Rectangle::new([(0.0, a), (1.0, b)], c.filled())),
+        )
+        .map_err(plot_err)?;
     Ok(())
 }
 
