@@ -16,12 +16,19 @@ pub(crate) fn supported_version() -> i64 {
 }
 
 /// Whether the database holds a moorfret store: its `schema_info` marker (written by the
-/// first migration) and its `campaigns` table. Reads only. (SQLite asks on one connection of
-/// its own, `sqlite::holds_store`.)
-#[allow(dead_code)]
+/// first migration) and its `campaigns` table. Reads only, on the pool's connection.
+#[allow(dead_code)] // SQLite asks on a connection of its own (`sqlite::holds_store`)
 pub(crate) async fn is_moorfret_store(pool: &Pool<Db>) -> Result<bool> {
+    let mut conn = pool
+        .acquire()
+        .await
+        .map_err(StoreError::db("look for the store's tables"))?;
+    is_moorfret_store_on(&mut conn).await
+}
+
+/// [`is_moorfret_store`] on one connection.
+pub(crate) async fn is_moorfret_store_on(conn: &mut <Db as Database>::Connection) -> Result<bool> {
     const OP: &str = "look for the store's tables";
-    let mut conn = pool.acquire().await.map_err(StoreError::db(OP))?;
     for table in ["schema_info", "campaigns"] {
         let exists = sqlx::query_scalar::<_, i64>(DIALECT.table_exists_sql)
             .bind(table)

@@ -76,24 +76,7 @@ async fn holds_store(path: &Path) -> Result<bool> {
         .connect()
         .await
         .map_err(|source| open_error(path, source))?;
-    let mut ours = Ok(true);
-    for table in ["schema_info", "campaigns"] {
-        match sqlx::query_scalar::<_, i64>(DIALECT.table_exists_sql)
-            .bind(table)
-            .fetch_one(&mut conn)
-            .await
-        {
-            Ok(n) if n > 0 => {}
-            Ok(_) => {
-                ours = Ok(false);
-                break;
-            }
-            Err(source) => {
-                ours = Err(StoreError::db(OP)(source));
-                break;
-            }
-        }
-    }
+    let ours = schema::is_moorfret_store_on(&mut conn).await;
     conn.close().await.map_err(StoreError::db(OP))?;
     ours
 }
