@@ -183,7 +183,7 @@ GROUP BY s.campaign_id, s.id, s.sea_state_index, s.hs_m, s.tp_s, s.occurrence_fr
          d.hot_spot_index, d.measure;
 
 -- Annual damage: sum over sea states of occurrence × (one Julian year / T_eff) × seed-mean damage
--- (DESIGN §4.5), taken per seed as the damage rate so seeds of unequal T_eff weigh correctly.
+-- (docs/damage.md), taken per seed as the damage rate so seeds of unequal T_eff weigh correctly.
 -- The covered fraction of the year is reported beside it, never renormalised.
 CREATE VIEW lifetime_damage AS
 SELECT campaign_id,

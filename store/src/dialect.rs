@@ -24,6 +24,10 @@ pub(crate) struct Dialect {
     /// migrator takes no lock, so processes opening a new store at once would each apply the
     /// migrations; PostgreSQL's takes an advisory lock.
     pub(crate) migrate_in_write_transaction: bool,
+    /// Released migrations whose text was later edited in comments only: (version, SHA-384 of
+    /// the text stores recorded, hex). sqlx refuses to migrate a store whose recorded
+    /// checksum differs from the embedded one; these recorded checksums are accepted instead.
+    pub(crate) edited_migrations: &'static [(i64, &'static str)],
 }
 
 /// SQLite.
@@ -38,6 +42,12 @@ pub(crate) const SQLITE: Dialect = Dialect {
                           SELECT (SELECT COALESCE(MAX(id), 0) FROM jobs) + n FROM seq ORDER BY n",
     table_exists_sql: "SELECT COUNT(*) FROM sqlite_master WHERE type = 'table' AND name = $1",
     migrate_in_write_transaction: true,
+    // 0001: a comment's reference to the damage documentation
+    edited_migrations: &[(
+        1,
+        "952f0050ed1fce88dcaa21a4d0992e37b5fdea1a23a16ee15f8e1439a38c10a9\
+         bb2778d9d91106f864f292dc6460d587",
+    )],
 };
 
 /// PostgreSQL.
@@ -51,4 +61,10 @@ pub(crate) const POSTGRES: Dialect = Dialect {
     table_exists_sql: "SELECT COUNT(*) FROM information_schema.tables \
                        WHERE table_schema = current_schema() AND table_name = $1",
     migrate_in_write_transaction: false,
+    // 0001: a comment's reference to the damage documentation
+    edited_migrations: &[(
+        1,
+        "1b040bec75f5723b891f75300ea5e41f6651820ab91b2f4e4e2094073592d47d\
+         69c41e9ba6cea5536443a2791642a0b3",
+    )],
 };

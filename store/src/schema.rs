@@ -91,6 +91,43 @@ async fn found_version_on(conn: &mut <Db as Database>::Connection) -> Result<i64
     Ok(found)
 }
 
+/// Replaces the checksum a store recorded for a migration whose released text was later
+/// edited in comments only ([`crate::dialect::Dialect::edited_migrations`]) by the embedded
+/// one, so that sqlx migrates it; any other recorded checksum is left for sqlx to refuse.
+async fn accept_edited_migrations(conn: &mut <Db as Database>::Connection) -> Result<()> {
+    const OP: &str = "accept the checksum of an edited migration";
+    let recorded = sqlx::query_scalar::<_, i64>(DIALECT.table_exists_sql)
+        .bind("_sqlx_migrations")
+        .fetch_one(&mut *conn)
+        .await
+        .map_err(StoreError::db(OP))?
+        > 0;
+    if !recorded {
+        return Ok(());
+    }
+    for &(version, old_hex) in DIALECT.edited_migrations {
+        let Some(embedded) = MIGRATOR.iter().find(|m| m.version == version) else {
+            continue;
+        };
+        sqlx::query("UPDATE _sqlx_migrations SET checksum = $1 WHERE version = $2 AND checksum = $3")
+            .bind(embedded.checksum.to_vec())
+            .bind(version)
+            .bind(hex_bytes(old_hex))
+            .execute(&mut *conn)
+            .await
+            .map_err(StoreError::db(OP))?;
+    }
+    Ok(())
+}
+
+/// The bytes of a hexadecimal text (the constants of `edited_migrations`).
+fn hex_bytes(hex: &str) -> Vec<u8> {
+    hex.as_bytes()
+        .chunks(2)
+        .filter_map(|pair| u8::from_str_radix(std::str::from_utf8(pair).ok()?, 16).ok())
+        .collect()
+}
+
 /// Refuses a database from a newer binary (before writing anything), then applies the
 /// embedded migrations it lacks. On SQLite the check and the migrations run in one `BEGIN
 /// IMMEDIATE` transaction, so that processes opening a new store at once migrate it once: the
@@ -103,6 +140,12 @@ pub(crate) async fn prepare_schema(pool: &Pool<Db>) -> Result<()> {
             return Err(StoreError::SchemaTooNew { found, supported });
         }
         if found < supported {
+            let mut conn = pool
+                .acquire()
+                .await
+                .map_err(StoreError::db("migrate the store"))?;
+            accept_edited_migrations(&mut conn).await?;
+            drop(conn);
             MIGRATOR.run(pool).await?;
         }
         return Ok(());
@@ -124,6 +167,7 @@ pub(crate) async fn prepare_schema(pool: &Pool<Db>) -> Result<()> {
         return Err(StoreError::SchemaTooNew { found, supported });
     }
     if found < supported {
+        accept_edited_migrations(&mut tx).await?;
         // `run_direct` on the transaction's connection: `run(&mut *tx)` makes the future of
         // `Store::open` not `Send` (sqlx's "`Acquire` is not general enough").
         MIGRATOR.run_direct(&mut *tx).await?;
@@ -132,4 +176,19 @@ pub(crate) async fn prepare_schema(pool: &Pool<Db>) -> Result<()> {
         .await
         .map_err(StoreError::db("commit the store's migration"))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn edited_migrations_name_a_released_version_and_a_checksum_not_the_embedded_one() {
+        for &(version, hex) in DIALECT.edited_migrations {
+            let old = hex_bytes(hex);
+            assert_eq!(old.len(), 48, "SHA-384 of migration {version}");
+            let embedded = MIGRATOR.iter().find(|m| m.version == version).unwrap();
+            assert_ne!(&embedded.checksum[..], &old[..]);
+        }
+    }
 }
