@@ -109,13 +109,15 @@ async fn accept_edited_migrations(conn: &mut <Db as Database>::Connection) -> Re
         let Some(embedded) = MIGRATOR.iter().find(|m| m.version == version) else {
             continue;
         };
-        sqlx::query("UPDATE _sqlx_migrations SET checksum = $1 WHERE version = $2 AND checksum = $3")
-            .bind(embedded.checksum.to_vec())
-            .bind(version)
-            .bind(hex_bytes(old_hex))
-            .execute(&mut *conn)
-            .await
-            .map_err(StoreError::db(OP))?;
+        sqlx::query(
+            "UPDATE _sqlx_migrations SET checksum = $1 WHERE version = $2 AND checksum = $3",
+        )
+        .bind(embedded.checksum.to_vec())
+        .bind(version)
+        .bind(hex_bytes(old_hex))
+        .execute(&mut *conn)
+        .await
+        .map_err(StoreError::db(OP))?;
     }
     Ok(())
 }

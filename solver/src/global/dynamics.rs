@@ -402,7 +402,12 @@ impl March<'_, '_> {
             std::mem::swap(&mut run.state, &mut run.trial);
         }
         for (k, rec) in self.recorders.iter_mut().enumerate() {
-            rec.observe(&self.eq.line_models[k], t1, &runs[k].state.q, &runs[k].force);
+            rec.observe(
+                &self.eq.line_models[k],
+                t1,
+                &runs[k].state.q,
+                &runs[k].force,
+            );
         }
         self.stats.steps += 1;
         Ok(())
