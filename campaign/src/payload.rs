@@ -16,6 +16,7 @@ use moorfret_solver::strand::profile::StrandProfile;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
+use crate::screening::ScreenedHotSpot;
 use crate::spec::CampaignSpec;
 
 /// Version of the solver whose results the cache keys vouch for.
@@ -45,6 +46,10 @@ pub struct CampaignInputs {
     pub profile: StrandProfile,
     /// Axial stiffness EA of the rope at each hot spot (N): ε(t) = T(t) / EA.
     pub hot_spot_axial_stiffness_n: Vec<f64>,
+    /// The hot spots found by screening, with their proxy (`"hot_spots": "auto"`); empty for
+    /// listed hot spots.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub hot_spot_screening: Vec<ScreenedHotSpot>,
 }
 
 /// Input of a `global` job.
@@ -109,6 +114,10 @@ pub struct CalibratePayload {
     pub hot_spot_index: usize,
     /// Cache keys of the global jobs whose hot-spot series set the load range.
     pub global_cache_keys: Vec<String>,
+    /// The other hot spots whose series also set the load range (`strand.shared_calibration`:
+    /// one calibration serves them all).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub shared_with: Vec<usize>,
     /// A check: cache key of the calibration job this one keeps if that calibration's range
     /// covers the load range of `global_cache_keys`; otherwise this job calibrates over it
     /// (`strand.calibration_hs_fraction`).
@@ -157,7 +166,7 @@ impl CampaignInputs {
         if let Some(wind) = &sim.wind {
             case.wind = wind.clone();
         }
-        case.hot_spots = self.spec.hot_spots.clone();
+        case.hot_spots = self.spec.hot_spots.to_vec();
         case
     }
 

@@ -284,10 +284,19 @@ pub fn jobs(
     };
     let (global_indices, global_keys) = keys_of(&(0..globals.len()).collect::<Vec<_>>());
     let mut calibrations = Vec::with_capacity(hot_spots);
-    for hot_spot_index in 0..hot_spots {
+    // with a shared calibration, hot spot 0's calibration covers every hot spot's range
+    let shared = inputs.spec.strand.shared_calibration && hot_spots > 1;
+    let calibrated = if shared { 1 } else { hot_spots };
+    for hot_spot_index in 0..calibrated {
+        let shared_with: Vec<usize> = if shared {
+            (1..hot_spots).collect()
+        } else {
+            Vec::new()
+        };
         let everything = CalibratePayload {
             hot_spot_index,
             global_cache_keys: global_keys.clone(),
+            shared_with: shared_with.clone(),
             check_of: None,
         };
         if early.len() == globals.len() {
@@ -302,6 +311,7 @@ pub fn jobs(
         let first = CalibratePayload {
             hot_spot_index,
             global_cache_keys: early_keys,
+            shared_with,
             check_of: None,
         };
         let (first_index, first_key) = calibration_job(&mut out, first, early_indices);
@@ -312,6 +322,10 @@ pub fn jobs(
         let mut deps = global_indices.clone();
         deps.push(first_index);
         calibrations.push(calibration_job(&mut out, check, deps));
+    }
+    if shared {
+        let one = calibrations[0].clone();
+        calibrations.resize(hot_spots, one);
     }
     let mut reduced_of_hot_spot = vec![Vec::with_capacity(globals.len()); hot_spots];
     for (global_index, id, global, global_key) in &globals {
@@ -678,6 +692,71 @@ mod tests {
         let reduced_only = planned(StrandFidelity::Reduced);
         assert_eq!(kinds(&reduced_only, JobKind::Strand), 0);
         assert_eq!(reduced_only.len(), 6 + 1 + 6);
+    }
+
+    #[test]
+    fn a_shared_calibration_serves_every_hot_spot() {
+        use moorfret_campaign::screening::HotSpots;
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns/demo.json");
+        let mut resolved = moorfret_campaign::resolve(&path).unwrap();
+        let spec = &mut resolved.inputs.spec;
+        spec.strand.fidelity = StrandFidelity::Reduced;
+        let first = spec.hot_spots[0].clone();
+        spec.hot_spots = HotSpots::Listed(vec![first.clone(), first.clone(), first]);
+        let states = sea_states(
+            &resolved.sectors[0].table,
+            resolved.sectors[0].source.reading,
+            1,
+            0,
+            1,
+        );
+        let ids: Vec<SeaStateId> = (0..states.len() as i64).map(SeaStateId).collect();
+        let plan = |inputs: &CampaignInputs| jobs(inputs, &inputs.results_sha256(), &states, &ids);
+        let calibrations = |jobs: &[PlannedJob]| -> Vec<(usize, CalibratePayload)> {
+            (0..jobs.len())
+                .filter(|&i| jobs[i].kind == JobKind::Calibrate)
+                .map(|i| (i, serde_json::from_value(jobs[i].payload.clone()).unwrap()))
+                .collect()
+        };
+        // one per hot spot by default, with keys unchanged by the new setting
+        let own = plan(&resolved.inputs);
+        assert_eq!(calibrations(&own).len(), 3);
+        assert!(calibrations(&own)
+            .iter()
+            .all(|(_, c)| c.shared_with.is_empty()));
+        let own_json = serde_json::to_string(&resolved.inputs.spec.strand).unwrap();
+        assert!(!own_json.contains("shared_calibration"));
+        resolved.inputs.spec.strand.shared_calibration = true;
+        let shared = plan(&resolved.inputs);
+        let one = calibrations(&shared);
+        assert_eq!(one.len(), 1);
+        let (index, payload) = &one[0];
+        assert_eq!(
+            (payload.hot_spot_index, &payload.shared_with[..]),
+            (0, &[1, 2][..])
+        );
+        let key = shared[*index].cache_key.clone();
+        let reduced: Vec<StrandPayload> = shared
+            .iter()
+            .filter(|j| j.kind == JobKind::StrandReduced)
+            .map(|j| {
+                assert!(j.depends_on.contains(index));
+                serde_json::from_value(j.payload.clone()).unwrap()
+            })
+            .collect();
+        assert_eq!(reduced.len(), 3 * states.len());
+        assert!(reduced.iter().all(|p| p.calibration_cache_key == key));
+        for h in 0..3 {
+            assert_eq!(
+                reduced.iter().filter(|p| p.hot_spot_index == h).count(),
+                states.len()
+            );
+        }
+        // with an early calibration, the first and its check are both shared
+        resolved.inputs.spec.strand.calibration_hs_fraction = 0.9;
+        let early = calibrations(&plan(&resolved.inputs));
+        assert_eq!(early.len(), 2);
+        assert!(early.iter().all(|(_, c)| c.shared_with == [1, 2]));
     }
 
     #[test]

@@ -268,9 +268,17 @@ fn bad_options_are_refused_naming_them_and_write_nothing() {
     );
     refused(
         &["--calm-hs-m", "0.6"],
-        &["--calm-hs-m (0.6) must not exceed --hs-bin-m (0.5)"],
+        &["--calm-hs-m (0.6) must not exceed the lowest Hs bin's upper edge (0.5 m"],
     );
     refused(&["--calm-hs-m", "-0.1"], &["--calm-hs-m"]);
+    refused(&["--hs-edges-m", "0,1,1"], &["--hs-edges-m", "increasing"]);
+    refused(&["--hs-edges-m", "0.5,1"], &["--hs-edges-m", "from 0"]);
+    refused(&["--tp-edges-s", "6"], &["--tp-edges-s", "at least two"]);
+    refused(&["--tp-edges-s", "6,x"], &["--tp-edges-s"]);
+    refused(
+        &["--hs-edges-m", "0,1", "--hs-bin-m", "0.5"],
+        &["--hs-bin-m"],
+    );
     refused(&["--x-axis-bearing-deg", "inf"], &["--x-axis-bearing-deg"]);
     refused(&["--relative-to", "nowhere"], &["--relative-to"]);
     // a series line that cannot be read: named by line and column, nothing written
@@ -312,4 +320,45 @@ fn bad_options_are_refused_naming_them_and_write_nothing() {
         "{err}"
     );
     assert!(!dir.path().join("site").exists());
+}
+
+/// Bins from edges: Hs [0, 1), [1, 1.5); Tp [6, 8), [8, 12) at 7 and 10 s. The 2.0 m record is
+/// above the last Hs edge: counted and left out.
+#[test]
+fn bin_edges_give_their_bins_and_count_the_records_beyond_them() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("record.csv"), SERIES).unwrap();
+    let out = run(
+        dir.path(),
+        &[
+            "--out",
+            "site",
+            "--calm-hs-m",
+            "0.2",
+            "--missing-value",
+            "-999,99",
+            "--hs-edges-m",
+            "0,1,1.5",
+            "--tp-edges-s",
+            "6,8,12",
+        ],
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("hs or tp at or above the last bin edge: 1"),
+        "{stdout}"
+    );
+    let text = std::fs::read_to_string(dir.path().join("site/sector_000.tsv")).unwrap();
+    assert!(text.contains("Hs edges 0, 1, 1.5 m"), "{text}");
+    let north = ScatterTable::parse(&text).unwrap();
+    assert_eq!(north.hs_bins_m, vec![(0.0, 1.0), (1.0, 1.5)]);
+    assert_eq!(north.tp_s, vec![7.0, 10.0]);
+    // north: 1.0/8.0 and 1.4/8.4 (Hs [1, 1.5), Tp [8, 12)) and 0.9/6.2 (on the N/NE edge: NE)
+    assert!(cell(&north, 1.0, 10.0) > 0.0);
+    assert!((north.cell_sum() - 100.0).abs() < 1e-9);
 }

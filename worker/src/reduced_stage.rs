@@ -1,7 +1,8 @@
 //! The reduced strand stages of a `reduced` or `auto` campaign
 //! (`moorfret_campaign::fidelity`, `moorfret_solver::strand::reduced`).
 //!
-//! - `calibrate` (per hot spot, once its global jobs are done): the load range of the hot spot
+//! - `calibrate` (per hot spot, once its global jobs are done; one for every hot spot with
+//!   `strand.shared_calibration`): the load range of the hot spot (and of `shared_with`)
 //!   over its payload's global jobs (ε = T / EA and κ, as the strand jobs load them; under the
 //!   `strand_model` rule the first such job measures EA and caches it for the reduced and FE
 //!   jobs), widened by `strand.calibration_margin` on each side, and the reduced response
@@ -16,6 +17,7 @@
 //!   job through the calibrated response; results as an FE strand job's (contact records,
 //!   contact rows, damage inputs), marked `"fidelity": "reduced"`.
 
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use moorfret_solver::strand::history::{HistoryObserver, HistoryOptions, HistoryProgress};
@@ -81,11 +83,18 @@ pub fn run_calibrate(
         .map_err(|e| permanent(FailureClass::InvalidStrand, e))?;
     let stiffness = axial_stiffness(inputs, payload.hot_spot_index, artifacts, Some(&model))?;
     let mut loads: Option<LoadRange> = None;
-    for key in &payload.global_cache_keys {
-        let series = series_of(ctx, key, payload.hot_spot_index)?;
-        let load = strand_load(inputs, series, stiffness)?;
-        if let Some(r) = LoadRange::of(&load.samples) {
-            loads = Some(loads.map_or(r, |l| l.union(r)));
+    for &hot_spot in std::iter::once(&payload.hot_spot_index).chain(&payload.shared_with) {
+        let stiffness = if hot_spot == payload.hot_spot_index {
+            stiffness
+        } else {
+            axial_stiffness(inputs, hot_spot, artifacts, Some(&model))?
+        };
+        for key in &payload.global_cache_keys {
+            let series = series_of(ctx, key, hot_spot)?;
+            let load = strand_load(inputs, series, stiffness)?;
+            if let Some(r) = LoadRange::of(&load.samples) {
+                loads = Some(loads.map_or(r, |l| l.union(r)));
+            }
         }
     }
     let loads = loads.ok_or_else(|| {
@@ -170,6 +179,7 @@ fn calibration_result(
 ) -> serde_json::Value {
     json!({
         "hot_spot_index": payload.hot_spot_index,
+        "shared_with": payload.shared_with,
         "global_jobs": payload.global_cache_keys.len(),
         "axial_stiffness": stiffness.job_result(),
         "load_range": loads,
@@ -180,21 +190,91 @@ fn calibration_result(
     })
 }
 
+/// The calibration artifact of the calibration job with cache key `key`.
+fn calibration_upstream(key: &str) -> Upstream<'_> {
+    static ROLE: ArtifactRole = ArtifactRole::ReducedStrand;
+    Upstream {
+        what: "calibration",
+        cache_key: key,
+        role: &ROLE,
+    }
+}
+
 /// The calibration of a reduced job's hot spot, from its calibration job's artifact: the
 /// artifact's bytes and the validated calibration.
 fn calibration_of(
     ctx: &StageContext<'_>,
     key: &str,
 ) -> Result<(Vec<u8>, ReducedStrand), JobFailure> {
-    let upstream = Upstream {
-        what: "calibration",
-        cache_key: key,
-        role: &ArtifactRole::ReducedStrand,
-    };
+    let upstream = calibration_upstream(key);
     let bytes = upstream.artifact(ctx)?;
     let reduced =
         ReducedStrand::from_json(&bytes).map_err(|e| permanent(FailureClass::BadArtifact, e))?;
     Ok((bytes, reduced))
+}
+
+/// Calibrations this process has read, by content address, the most recent last: a worker
+/// runs many reduced jobs of the same few calibrations (one per hot spot, or one shared), each
+/// megabytes of JSON. Content-addressed, so an entry cannot go stale.
+static CALIBRATIONS: Mutex<Vec<(String, Arc<ReducedStrand>)>> = Mutex::new(Vec::new());
+
+/// Calibrations kept by [`CALIBRATIONS`] (a campaign's hot spots, a few MB each).
+const CALIBRATIONS_KEPT: usize = 8;
+
+/// The calibration of a reduced job, from this process's [`CALIBRATIONS`] or read and
+/// validated from its calibration job's artifact.
+fn cached_calibration(ctx: &StageContext<'_>, key: &str) -> Result<Arc<ReducedStrand>, JobFailure> {
+    let upstream = calibration_upstream(key);
+    let sha256 = upstream.artifact_sha256(ctx)?;
+    let kept = |cache: &mut Vec<(String, Arc<ReducedStrand>)>| {
+        let at = cache.iter().position(|(s, _)| *s == sha256)?;
+        let entry = cache.remove(at);
+        let reduced = entry.1.clone();
+        cache.push(entry);
+        Some(reduced)
+    };
+    // a poisoned lock only means another job panicked while holding it: the entries are whole
+    let mut cache = CALIBRATIONS.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(reduced) = kept(&mut cache) {
+        return Ok(reduced);
+    }
+    drop(cache);
+    let bytes = ctx
+        .artifacts
+        .get(&sha256)
+        .map_err(|e| transient(FailureClass::ArtifactIo, e))?;
+    let reduced = Arc::new(
+        ReducedStrand::from_json(&bytes).map_err(|e| permanent(FailureClass::BadArtifact, e))?,
+    );
+    let mut cache = CALIBRATIONS.lock().unwrap_or_else(|e| e.into_inner());
+    if kept(&mut cache).is_none() {
+        if cache.len() == CALIBRATIONS_KEPT {
+            cache.remove(0);
+        }
+        cache.push((sha256, reduced.clone()));
+    }
+    Ok(reduced)
+}
+
+/// Wall time of a job's phases, logged at debug level (where a job's time goes).
+struct PhaseClock {
+    last: Instant,
+    laps: Vec<(&'static str, f64)>,
+}
+
+impl PhaseClock {
+    fn start() -> Self {
+        Self {
+            last: Instant::now(),
+            laps: Vec::new(),
+        }
+    }
+
+    /// Ends the phase `name`.
+    fn lap(&mut self, name: &'static str) {
+        self.laps.push((name, self.last.elapsed().as_secs_f64()));
+        self.last = Instant::now();
+    }
 }
 
 /// Runs one reduced strand job (module docs).
@@ -209,12 +289,15 @@ pub fn run_strand_reduced(
             "a strand_reduced job needs calibration_cache_key",
         )
     })?;
-    let (_, reduced) = calibration_of(ctx, key)?;
+    let mut clock = PhaseClock::start();
+    let reduced = cached_calibration(ctx, key)?;
+    clock.lap("calibration");
     let series = upstream_series(ctx, payload)?;
     let stiffness = axial_stiffness(inputs, payload.hot_spot_index, artifacts, None)?;
     let load = strand_load(inputs, series, stiffness)?;
     let strand = campaign_strand(inputs)?;
     let options = inputs.spec.strand.history_options();
+    clock.lap("load");
     let result = run_reduced(&reduced, &load.samples, &options).map_err(|e| {
         // an extra seed is loaded through the calibration of the first seeds' load range
         if payload.global.extra_seed {
@@ -231,7 +314,10 @@ pub fn run_strand_reduced(
     })?;
     let floor = design_strain_floor(&reduced.range);
     let below = load.samples.iter().filter(|s| s.strain < floor).count();
+    clock.lap("response");
     let mut results = strand_results(inputs, payload, &strand, &load, &result, artifacts)?;
+    clock.lap("damage");
+    tracing::debug!(job = %ctx.lease.job, phases_s = ?clock.laps, "reduced strand job");
     results.result["fidelity"] = json!("reduced");
     results.result["calibration"] = json!({
         "model_key": reduced.model_key,

@@ -94,6 +94,14 @@ impl Upstream<'_> {
     /// The artifact's bytes. The store reads are retried under `retry` while the database is
     /// unreachable, as the worker loop's calls are.
     pub(crate) fn artifact(&self, ctx: &StageContext<'_>) -> Result<Vec<u8>, JobFailure> {
+        let sha256 = self.artifact_sha256(ctx)?;
+        ctx.artifacts
+            .get(&sha256)
+            .map_err(|e| transient(FailureClass::ArtifactIo, e))
+    }
+
+    /// The content address (sha256) of the artifact, without reading it.
+    pub(crate) fn artifact_sha256(&self, ctx: &StageContext<'_>) -> Result<String, JobFailure> {
         let StageContext {
             store, retry, rt, ..
         } = *ctx;
@@ -112,19 +120,17 @@ impl Upstream<'_> {
         let results = rt
             .block_on(retry.run("read upstream results", || store.results_of(source)))
             .map_err(|e| transient(FailureClass::Store, e))?;
-        let artifact = results
+        results
             .artifacts
-            .iter()
+            .into_iter()
             .find(|a| a.role == *self.role)
+            .map(|a| a.sha256)
             .ok_or_else(|| {
                 permanent(
                     FailureClass::UpstreamMissing,
                     format!("job {source} has no {}", self.role),
                 )
-            })?;
-        ctx.artifacts
-            .get(&artifact.sha256)
-            .map_err(|e| transient(FailureClass::ArtifactIo, e))
+            })
     }
 }
 

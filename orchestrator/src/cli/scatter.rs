@@ -50,6 +50,24 @@ pub(crate) struct ScatterArgs {
     /// Tp bin width (s): columns centred on multiples c of it, each [c − w/2, c + w/2).
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub(crate) tp_bin_s: f64,
+    /// Hs bin edges (m), comma separated from 0, instead of --hs-bin-m: bins [e_k, e_k+1);
+    /// records at or above the last edge are counted and left out.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_negative_numbers = true,
+        conflicts_with = "hs_bin_m"
+    )]
+    pub(crate) hs_edges_m: Option<Vec<f64>>,
+    /// Tp bin edges (s), comma separated, instead of --tp-bin-s: columns [e_j, e_j+1) at their
+    /// centres; records outside the edges are counted and left out.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_negative_numbers = true,
+        conflicts_with = "tp_bin_s"
+    )]
+    pub(crate) tp_edges_s: Option<Vec<f64>>,
     /// Number of direction sectors, the first centred on north (default 8).
     #[arg(
         long,
@@ -87,6 +105,8 @@ fn option_of(field: &str) -> &'static str {
     match field {
         "hs_bin_m" => "--hs-bin-m",
         "tp_bin_s" => "--tp-bin-s",
+        "hs_edges_m" => "--hs-edges-m",
+        "tp_edges_s" => "--tp-edges-s",
         "sectors" => "--sectors",
         "calm_hs_m" => "--calm-hs-m",
         "x_axis_bearing_deg" => "--x-axis-bearing-deg",
@@ -117,8 +137,8 @@ fn climate_error(e: ClimateError, series: &Path) -> anyhow::Error {
             calm_hs_m,
             hs_bin_m,
         } => anyhow::anyhow!(
-            "--calm-hs-m ({}) must not exceed --hs-bin-m ({}): calm records go into the lowest \
-             Hs bin",
+            "--calm-hs-m ({}) must not exceed the lowest Hs bin's upper edge ({} m: --hs-bin-m, \
+             or the second of --hs-edges-m): calm records go into that bin",
             Num(*calm_hs_m),
             Num(*hs_bin_m)
         ),
@@ -190,6 +210,8 @@ pub(crate) fn execute(args: ScatterArgs) -> anyhow::Result<()> {
         hs_bin_m: args.hs_bin_m,
         tp_bin_s: args.tp_bin_s,
         sectors: sector_count(&args)?,
+        hs_edges_m: args.hs_edges_m.clone(),
+        tp_edges_s: args.tp_edges_s.clone(),
         calm_hs_m: args.calm_hs_m,
         x_axis_bearing_deg: args.x_axis_bearing_deg,
         missing_values: args.missing_values.clone(),
@@ -293,11 +315,23 @@ pub(crate) fn execute(args: ScatterArgs) -> anyhow::Result<()> {
         fault_line(
             &format!(
                 "tp below the first column ({} s)",
-                Num(settings.tp_bin_s / 2.0)
+                Num(settings
+                    .tp_edges_s
+                    .as_ref()
+                    .map_or(settings.tp_bin_s / 2.0, |e| e[0]))
             ),
             &c.tp_below_first_bin
         )
     )?;
+    if settings.hs_edges_m.is_some() || settings.tp_edges_s.is_some() {
+        outln!(
+            "{}",
+            fault_line(
+                "hs or tp at or above the last bin edge",
+                &c.beyond_last_edge
+            )
+        )?;
+    }
     outln!(
         "{}",
         fault_line("missing direction (not calm)", &c.direction_missing)

@@ -142,7 +142,8 @@ pub enum ClimateError {
     },
     /// The calm threshold lies above the first Hs bin.
     #[error(
-        "calm_hs_m ({}) must not exceed hs_bin_m ({}): calm records go into the lowest Hs bin",
+        "calm_hs_m ({}) must not exceed the lowest Hs bin's upper edge ({} m): calm records go \
+         into that bin",
         Num(*.calm_hs_m),
         Num(*.hs_bin_m)
     )]
@@ -308,7 +309,13 @@ pub struct ClimateSettings {
     pub tp_bin_s: f64,
     /// Number of direction sectors, 1 to 360.
     pub sectors: usize,
-    /// Records with Hs below this (m) are calm; 0 to `hs_bin_m`.
+    /// Hs bin edges (m) instead of `hs_bin_m`: bins [e_k, e_k+1), the first edge 0; a record
+    /// at or above the last edge is counted and left out.
+    pub hs_edges_m: Option<Vec<f64>>,
+    /// Tp column edges (s) instead of `tp_bin_s`: columns [e_j, e_j+1) at their midpoints; a
+    /// record below the first or at or above the last edge is counted and left out.
+    pub tp_edges_s: Option<Vec<f64>>,
+    /// Records with Hs below this (m) are calm; 0 to the first Hs bin's upper edge.
     pub calm_hs_m: f64,
     /// Compass bearing of the model's +x axis (deg clockwise from north).
     pub x_axis_bearing_deg: f64,
@@ -325,6 +332,8 @@ impl ClimateSettings {
             hs_bin_m: 0.5,
             tp_bin_s: 1.0,
             sectors: 8,
+            hs_edges_m: None,
+            tp_edges_s: None,
             calm_hs_m: 0.0,
             x_axis_bearing_deg: 0.0,
             missing_values: Vec::new(),
@@ -349,10 +358,34 @@ impl ClimateSettings {
         if !(self.calm_hs_m.is_finite() && self.calm_hs_m >= 0.0) {
             return Err(invalid("calm_hs_m", self.calm_hs_m, "a finite number >= 0"));
         }
-        if self.calm_hs_m > self.hs_bin_m {
+        for (field, edges) in [
+            ("hs_edges_m", &self.hs_edges_m),
+            ("tp_edges_s", &self.tp_edges_s),
+        ] {
+            let Some(edges) = edges else {
+                continue;
+            };
+            if edges.len() < 2 {
+                return Err(invalid(field, edges.len() as f64, "at least two edges"));
+            }
+            if let Some(&e) = edges.iter().find(|e| !(e.is_finite() && **e >= 0.0)) {
+                return Err(invalid(field, e, "edges that are finite numbers >= 0"));
+            }
+            if let Some(w) = edges.windows(2).find(|w| w[1] <= w[0]) {
+                return Err(invalid(field, w[1], "edges in increasing order"));
+            }
+        }
+        if let Some(e) = self.hs_edges_m.as_ref().map(|e| e[0]).filter(|&e| e != 0.0) {
+            return Err(invalid(
+                "hs_edges_m",
+                e,
+                "edges from 0 (every record has an Hs bin up to the last edge)",
+            ));
+        }
+        if self.calm_hs_m > self.first_hs_bin_upper_m() {
             return Err(ClimateError::CalmAboveFirstBin {
                 calm_hs_m: self.calm_hs_m,
-                hs_bin_m: self.hs_bin_m,
+                hs_bin_m: self.first_hs_bin_upper_m(),
             });
         }
         if !self.x_axis_bearing_deg.is_finite() {
@@ -381,6 +414,88 @@ impl ClimateSettings {
         }
         Ok(())
     }
+}
+
+impl ClimateSettings {
+    /// Upper edge of the first Hs bin (m).
+    fn first_hs_bin_upper_m(&self) -> f64 {
+        self.hs_edges_m.as_ref().map_or(self.hs_bin_m, |e| e[1])
+    }
+
+    /// Hs bin of `hs_m`: `Ok(None)` at or above the last edge; `Err(bins needed)` beyond
+    /// [`MAX_BINS`] uniform bins.
+    fn hs_bin(&self, hs_m: f64) -> Result<Option<usize>, u64> {
+        match &self.hs_edges_m {
+            Some(edges) => Ok(edge_bin(edges, hs_m)),
+            None => bin_index(hs_m, self.hs_bin_m, 0.0).map(Some),
+        }
+    }
+
+    /// Tp column of `tp_s`, 0 below the first column: `Ok(None)` at or above the last edge.
+    fn tp_bin(&self, tp_s: f64) -> Result<Option<usize>, u64> {
+        match &self.tp_edges_s {
+            Some(edges) if tp_s < edges[0] => Ok(Some(0)),
+            Some(edges) => Ok(edge_bin(edges, tp_s).map(|j| j + 1)),
+            None => bin_index(tp_s, self.tp_bin_s, 0.5).map(Some),
+        }
+    }
+
+    /// Lower and upper edge of Hs bin `k` (m).
+    fn hs_bounds_m(&self, k: usize) -> (f64, f64) {
+        match &self.hs_edges_m {
+            Some(edges) => (edges[k], edges[k + 1]),
+            None => (k as f64 * self.hs_bin_m, (k + 1) as f64 * self.hs_bin_m),
+        }
+    }
+
+    /// Tp of column `j` (s): its centre.
+    fn tp_centre_s(&self, j: usize) -> f64 {
+        match &self.tp_edges_s {
+            Some(edges) => 0.5 * (edges[j - 1] + edges[j]),
+            None => j as f64 * self.tp_bin_s,
+        }
+    }
+
+    /// Decimals that print the Hs and the Tp bins exactly enough.
+    fn decimals(&self) -> (usize, usize) {
+        let of = |edges: &Option<Vec<f64>>, width: f64, halves: bool| match edges {
+            Some(e) => e
+                .iter()
+                .map(|&x| width_decimals(if halves { x / 2.0 } else { x }))
+                .max()
+                .unwrap_or(0),
+            None => width_decimals(width),
+        };
+        (
+            of(&self.hs_edges_m, self.hs_bin_m, false),
+            of(&self.tp_edges_s, self.tp_bin_s, true),
+        )
+    }
+
+    /// How the bins read, for the tables' header.
+    fn bins_text(&self) -> String {
+        let list = |e: &[f64]| {
+            e.iter()
+                .map(|x| Num(*x).to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let hs = match &self.hs_edges_m {
+            Some(e) => format!("Hs edges {} m, [lower, upper)", list(e)),
+            None => format!("Hs {} m from 0 m, [lower, upper)", Num(self.hs_bin_m)),
+        };
+        let tp = match &self.tp_edges_s {
+            Some(e) => format!("Tp edges {} s, each column at its bin's centre", list(e)),
+            None => format!("Tp {} s centred on each column's value", Num(self.tp_bin_s)),
+        };
+        format!("{hs}; {tp}")
+    }
+}
+
+/// Bin [e_k, e_k+1) of `edges` holding `value`; none below the first or at or above the last.
+fn edge_bin(edges: &[f64], value: f64) -> Option<usize> {
+    let k = edges.partition_point(|&e| e <= value);
+    (k >= 1 && k < edges.len()).then(|| k - 1)
 }
 
 /// The form of the series' times.
@@ -425,6 +540,9 @@ pub struct ClimateCounts {
     pub tp_missing: Fault,
     /// Records with a usable Tp below half a Tp bin (the column centred on 0 s).
     pub tp_below_first_bin: Fault,
+    /// Records left out for an Hs or a Tp at or above the last bin edge (`hs_edges_m`,
+    /// `tp_edges_s`).
+    pub beyond_last_edge: Fault,
     /// Non-calm records with an unusable direction.
     pub direction_missing: Fault,
     /// Intervals with no record at the modal time step.
@@ -821,6 +939,7 @@ struct Scan<'a> {
     hs_missing: Fault,
     tp_missing: Fault,
     tp_below_first_bin: Fault,
+    beyond_last_edge: Fault,
     direction_missing: Fault,
     time_kind: Option<TimeKind>,
     /// Line, time and text of the first and of the previous record.
@@ -874,17 +993,18 @@ impl Scan<'_> {
         Ok(())
     }
 
-    /// A bin index, or the error for a value beyond [`MAX_BINS`] bins.
+    /// The bin `index` of `value` found, or the error for a value beyond [`MAX_BINS`] bins
+    /// of `width`.
     fn bin(
         &self,
         line: usize,
         slot: usize,
         field: SeriesField,
         value: f64,
+        index: Result<Option<usize>, u64>,
         width: f64,
-        offset: f64,
-    ) -> Result<usize, ClimateError> {
-        bin_index(value, width, offset).map_err(|bins| ClimateError::TooManyBins {
+    ) -> Result<Option<usize>, ClimateError> {
+        index.map_err(|bins| ClimateError::TooManyBins {
             line,
             column: self.positions[slot] + 1,
             name: self.head[self.positions[slot]].clone(),
@@ -907,20 +1027,28 @@ impl Scan<'_> {
         let tp = value(2).filter(|t| *t >= 0.0);
         let direction = value(3).filter(|d| (DIRECTION_MIN_DEG..DIRECTION_MAX_DEG).contains(d));
         let hs_bin = match hs {
-            Some(h) => Some(self.bin(line, 1, SeriesField::Hs, h, s.hs_bin_m, 0.0)?),
+            Some(h) => self.bin(line, 1, SeriesField::Hs, h, s.hs_bin(h), s.hs_bin_m)?,
             None => None,
         };
         let tp_bin = match tp {
-            Some(t) => Some(self.bin(line, 2, SeriesField::Tp, t, s.tp_bin_s, 0.5)?),
+            Some(t) => self.bin(line, 2, SeriesField::Tp, t, s.tp_bin(t), s.tp_bin_s)?,
             None => None,
         };
+        if hs.is_some() && hs_bin.is_none() {
+            self.beyond_last_edge.add(line, row[self.positions[1]]);
+        } else if tp.is_some() && tp_bin.is_none() {
+            self.beyond_last_edge.add(line, row[self.positions[2]]);
+        }
         let calm = hs.is_some_and(|h| h < s.calm_hs_m);
         let mut usable = true;
         if hs.is_none() {
             self.hs_missing.add(line, row[self.positions[1]]);
             usable = false;
+        } else if hs_bin.is_none() {
+            usable = false;
         }
         match tp_bin {
+            None if tp.is_some() => usable = false,
             None => {
                 self.tp_missing.add(line, row[self.positions[2]]);
                 usable = false;
@@ -1029,6 +1157,7 @@ impl Scan<'_> {
                 hs_missing: self.hs_missing,
                 tp_missing: self.tp_missing,
                 tp_below_first_bin: self.tp_below_first_bin,
+                beyond_last_edge: self.beyond_last_edge,
                 direction_missing: self.direction_missing,
                 gaps,
                 time_step,
@@ -1074,6 +1203,7 @@ impl DirectionalClimate {
             hs_missing: Fault::default(),
             tp_missing: Fault::default(),
             tp_below_first_bin: Fault::default(),
+            beyond_last_edge: Fault::default(),
             direction_missing: Fault::default(),
             time_kind: None,
             first: None,
@@ -1125,7 +1255,7 @@ impl DirectionalClimate {
         let sector = self.sectors.get(index)?;
         let s = &self.settings;
         let c = &self.counts;
-        let (hs_decimals, tp_decimals) = (width_decimals(s.hs_bin_m), width_decimals(s.tp_bin_s));
+        let (hs_decimals, tp_decimals) = s.decimals();
         let mut out = String::new();
         let mut line = |text: String| {
             out.push_str(&text);
@@ -1147,10 +1277,8 @@ impl DirectionalClimate {
             s.columns.time, s.columns.hs, s.columns.tp, s.columns.direction
         ));
         line(format!(
-            "# bins: Hs {} m from 0 m, [lower, upper); Tp {} s centred on each column's value; \
-             calm below Hs {} m",
-            Num(s.hs_bin_m),
-            Num(s.tp_bin_s),
+            "# bins: {}; calm below Hs {} m",
+            s.bins_text(),
             Num(s.calm_hs_m)
         ));
         line(format!(
@@ -1166,15 +1294,16 @@ impl DirectionalClimate {
         ));
         line("# cells: percent of the sector's time (they sum to 100)".to_string());
         let centres: Vec<String> = (self.tp_columns.0..=self.tp_columns.1)
-            .map(|j| format!("{:.tp_decimals$}", j as f64 * s.tp_bin_s))
+            .map(|j| format!("{:.tp_decimals$}", s.tp_centre_s(j)))
             .collect();
         line(format!("lower\tupper\t{}\ttotal", centres.join("\t")));
         for (k, row) in units.iter().enumerate().take(self.hs_rows) {
             let cells: Vec<String> = row.iter().map(|&u| units_text(u)).collect();
+            let (lower, upper) = s.hs_bounds_m(k);
             line(format!(
                 "{:.hs_decimals$}\t{:.hs_decimals$}\t{}\t{}",
-                k as f64 * s.hs_bin_m,
-                (k + 1) as f64 * s.hs_bin_m,
+                lower,
+                upper,
                 cells.join("\t"),
                 units_text(row.iter().sum())
             ));
@@ -1244,6 +1373,75 @@ time,hs,tp,dir,note
             .into_iter()
             .find(|c| c.hs_lower_m == hs_lower_m && c.tp_s == tp_s)
             .map_or(f64::NAN, |c| c.value)
+    }
+
+    /// Bins from edges: Hs [0, 1), [1, 1.5); Tp [5, 7), [7, 10) at 6 and 8.5 s. The 2.0 m record
+    /// lies above the last Hs edge, Tp 0.3 s and the calm record's 4.0 s below the first Tp edge.
+    #[test]
+    fn bin_edges_bin_and_count_what_lies_outside() {
+        let settings = ClimateSettings {
+            hs_edges_m: Some(vec![0.0, 1.0, 1.5]),
+            tp_edges_s: Some(vec![5.0, 7.0, 10.0]),
+            ..settings()
+        };
+        let climate = DirectionalClimate::from_series(SERIES, &settings).unwrap();
+        let c = &climate.counts;
+        assert_eq!(c.beyond_last_edge.count, 1);
+        assert_eq!(c.beyond_last_edge.first, Some((9, "2.0".to_string())));
+        assert_eq!(c.tp_below_first_bin.count, 2);
+        // N: 0.5/6.5, 0.3/5.0 (on the edge: the upper bin), 0.7/8.0, 1.2/7.4, 1.2/7.6; NE:
+        // 1.0/9.49; one calm record (0.15 m, 5.2 s)
+        assert_eq!((c.records_used, c.calm), (7, 1));
+        let records: Vec<u64> = climate.sectors.iter().map(|s| s.records).collect();
+        assert_eq!(records, vec![5, 1, 0, 0, 0, 0, 0, 0]);
+        let text = climate.table_text(0, "buoy.csv").unwrap();
+        assert!(text.contains("Hs edges 0, 1, 1.5 m"), "{text}");
+        let north = ScatterTable::parse(&text).unwrap();
+        assert_eq!(north.hs_bins_m, vec![(0.0, 1.0), (1.0, 1.5)]);
+        assert_eq!(north.tp_s, vec![6.0, 8.5]);
+        // the north sector's 5 records and 5/6 of the calm one: 35/6 in all; the cell of
+        // Hs [0, 1), Tp 6 s holds two records and the calm share, 17/35
+        let weights = [
+            (0.0, 6.0, 17.0),
+            (0.0, 8.5, 6.0),
+            (1.0, 6.0, 0.0),
+            (1.0, 8.5, 12.0),
+        ];
+        for (hs, tp, w) in weights {
+            assert!(
+                (cell(&north, hs, tp) - 100.0 * w / 35.0).abs() < 2e-6,
+                "{hs} {tp}"
+            );
+        }
+        assert!((north.cell_sum() - 100.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn bin_edges_are_checked_by_name() {
+        let field = |hs: Option<Vec<f64>>, tp: Option<Vec<f64>>| {
+            let s = ClimateSettings {
+                hs_edges_m: hs,
+                tp_edges_s: tp,
+                ..settings()
+            };
+            match s.validate() {
+                Err(ClimateError::InvalidSetting { field, .. }) => field,
+                other => panic!("{other:?}"),
+            }
+        };
+        assert_eq!(field(Some(vec![0.0]), None), "hs_edges_m");
+        assert_eq!(field(Some(vec![0.0, 1.0, 1.0]), None), "hs_edges_m");
+        assert_eq!(field(Some(vec![0.5, 1.0]), None), "hs_edges_m");
+        assert_eq!(field(None, Some(vec![5.0, f64::NAN])), "tp_edges_s");
+        assert_eq!(field(None, Some(vec![7.0, 5.0])), "tp_edges_s");
+        let calm = ClimateSettings {
+            hs_edges_m: Some(vec![0.0, 0.1, 1.0]),
+            ..settings()
+        };
+        assert!(matches!(
+            calm.validate(),
+            Err(ClimateError::CalmAboveFirstBin { hs_bin_m, .. }) if hs_bin_m == 0.1
+        ));
     }
 
     #[test]
