@@ -22,6 +22,7 @@ pub mod fatigue;
 pub mod fidelity;
 pub mod payload;
 pub mod resolve;
+pub mod screening;
 pub mod sea_limits;
 pub mod sectors;
 pub mod seeds;

@@ -22,6 +22,7 @@ use sha2::{Digest, Sha256};
 use crate::error::CampaignError;
 use crate::fatigue::interface_geometry;
 use crate::payload::{CampaignInputs, FloaterContent, SOLVER_VERSION};
+use crate::screening::{self, HotSpots};
 use crate::sea_limits::{self, CellLimits};
 use crate::sectors::ScatterSource;
 use crate::spec::{CampaignSpec, OutsideModel, ScatterReading};
@@ -202,7 +203,7 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
     }
     let (case_path, text, file) = read_file(base, "global.case_path", &spec.global.case_path)?;
     files.push(file);
-    let mut base_case = CaseSpec::from_json_str(&text).map_err(|e| {
+    let base_case = CaseSpec::from_json_str(&text).map_err(|e| {
         // the field path at fault, which the case's own reader does not give
         match crate::spec::from_json_with_path::<CaseSpec>(&text) {
             Err(with_path) if with_path.starts_with("field `") => {
@@ -246,9 +247,6 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
             FloaterContent::PrescribedMotionCsv(text)
         }
     };
-    base_case.hot_spots = spec.hot_spots.clone();
-    let hot_spot_axial_stiffness_n = hot_spot_stiffness(&spec, &base_case)?;
-
     let (profiles_path, text, file) =
         read_file(base, "strand.profiles_path", &spec.strand.profiles_path)?;
     files.push(file);
@@ -287,13 +285,18 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
         })?;
     }
 
-    let inputs = CampaignInputs {
+    let mut inputs = CampaignInputs {
         spec,
         base_case,
         floater,
         profile,
-        hot_spot_axial_stiffness_n,
+        hot_spot_axial_stiffness_n: Vec::new(),
+        hot_spot_screening: Vec::new(),
     };
+    // listed hot spots are checked at once; `"auto"` ones are found once every cell is checked
+    if !inputs.spec.hot_spots.is_auto() {
+        set_hot_spots(&mut inputs)?;
+    }
     // The base case with the first planned sea state must be a valid case (a fault of the
     // case itself is named there), then every cell is checked.
     for (_, table, source) in &tables {
@@ -313,6 +316,20 @@ pub fn resolve(path: &Path) -> Result<ResolvedCampaign, CampaignError> {
         sectors.push(check_cells(&inputs, path, table, source)?);
     }
     check_intervals(&inputs, &sectors)?;
+    if inputs.spec.hot_spots.is_auto() {
+        let views: Vec<(&ScatterTable, &ScatterSource)> =
+            sectors.iter().map(|s| (&s.table, &s.source)).collect();
+        let outer_wire_radius_m = strand
+            .layers
+            .last()
+            .map_or(strand.core_wire_radius_m, |l| l.wire_radius_m);
+        let found = screening::screen(&inputs, &views, outer_wire_radius_m)?;
+        inputs.spec.hot_spots = HotSpots::Listed(found.iter().map(|f| f.hot_spot()).collect());
+        // what the screening found is stored in its place
+        inputs.spec.hot_spot_screening = None;
+        inputs.hot_spot_screening = found;
+        set_hot_spots(&mut inputs)?;
+    }
     Ok(ResolvedCampaign {
         inputs,
         files,
@@ -444,7 +461,7 @@ pub fn hot_spot_line_type(case: &CaseSpec, arc_length_m: f64) -> Option<&LineTyp
 
 /// The (chain, rope) segment names when `arc_length_m` is the end a chain segment shares with
 /// a rope segment.
-fn junction_with_rope(case: &CaseSpec, arc_length_m: f64) -> Option<(String, String)> {
+pub(crate) fn junction_with_rope(case: &CaseSpec, arc_length_m: f64) -> Option<(String, String)> {
     let segments = &case.mooring.segments;
     let is_rope = |k: usize| {
         case.mooring
@@ -490,6 +507,13 @@ fn rope_spans(case: &CaseSpec) -> String {
         .map(|(a, b)| format!("{a}-{b} m"))
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+/// Puts the campaign's (listed or found) hot spots into its base case, with the EA of each.
+fn set_hot_spots(inputs: &mut CampaignInputs) -> Result<(), CampaignError> {
+    inputs.base_case.hot_spots = inputs.spec.hot_spots.to_vec();
+    inputs.hot_spot_axial_stiffness_n = hot_spot_stiffness(&inputs.spec, &inputs.base_case)?;
+    Ok(())
 }
 
 /// EA of the segment holding each hot spot; checks the line id, the arc length and that it lies

@@ -17,7 +17,7 @@
 //!   "fatigue": {"run_in_s": 100} }
 //! ```
 
-use moorfret_solver::global::case::{GammaSpec, HotSpotSpec, WindSpec};
+use moorfret_solver::global::case::{GammaSpec, WindSpec};
 use moorfret_solver::strand::history::{HistoryError, HistoryOptions};
 use moorfret_solver::text::Num;
 use serde::{Deserialize, Serialize};
@@ -25,6 +25,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::CampaignError;
 use crate::fatigue::FatigueSpec;
 use crate::fidelity::{AutoFe, StrandFidelity};
+use crate::screening::{HotSpots, ScreeningSpec, MAX_SCREENED_PER_SECTOR};
 use crate::sectors::SectorSpec;
 use crate::seeds::{ExtraSeeds, MAX_SEEDS_PER_SEA_STATE};
 use crate::stiffness::AxialStiffnessRule;
@@ -52,8 +53,12 @@ pub struct CampaignSpec {
     pub global: GlobalBaseSpec,
     /// Per-sea-state simulation settings.
     pub simulation: SimulationSpec,
-    /// Hot spots (line id, arc length from the fairlead).
-    pub hot_spots: Vec<HotSpotSpec>,
+    /// Hot spots (line id, arc length from the fairlead), or `"auto"`: one per line, found by
+    /// a screening run when the campaign is resolved ([`crate::screening`]).
+    pub hot_spots: HotSpots,
+    /// Settings of the screening of `"hot_spots": "auto"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hot_spot_screening: Option<ScreeningSpec>,
     /// Detailed strand model settings.
     pub strand: StrandSpec,
     /// Fretting and fatigue settings of the damage inputs.
@@ -276,6 +281,13 @@ pub struct StrandSpec {
     /// path: every strand job waits for it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration_threads: Option<usize>,
+    /// One calibration of the reduced response for every hot spot, over the union of their
+    /// load ranges (the strand is the same at each hot spot; only its load range differs),
+    /// instead of one per hot spot. A campaign with hot spots on many lines saves all but one
+    /// calibration; the range is wider, so the reduced response's error against FE is
+    /// measured on it (`docs/reduced-strand.md`).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub shared_calibration: bool,
     /// EA of the tension → strain conversion ([`crate::stiffness`]): `strand_model` or
     /// `line_type`. A campaign file without it takes `strand_model`, and the resolved campaign
     /// stores that choice; stored inputs without it belong to campaigns planned before the
@@ -291,6 +303,10 @@ fn yes() -> bool {
 
 fn is_true(b: &bool) -> bool {
     *b
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 fn default_calibration_margin() -> f64 {
@@ -632,8 +648,37 @@ impl CampaignSpec {
                 &format!("must be from 1 to {MAX_STRAND_THREADS}"),
             ));
         }
-        if self.hot_spots.is_empty() {
-            return Err(invalid("hot_spots", "[]", "needs at least one hot spot"));
+        if !self.hot_spots.is_auto() && self.hot_spots.is_empty() {
+            return Err(invalid(
+                "hot_spots",
+                "[]",
+                "needs at least one hot spot, or \"auto\"",
+            ));
+        }
+        if let Some(sc) = &self.hot_spot_screening {
+            if !self.hot_spots.is_auto() {
+                return Err(invalid(
+                    "hot_spot_screening",
+                    "{…}",
+                    "applies to \"hot_spots\": \"auto\" only (the hot spots are listed)",
+                ));
+            }
+            if !(1..=MAX_SCREENED_PER_SECTOR).contains(&sc.sea_states_per_sector) {
+                return Err(invalid(
+                    "hot_spot_screening.sea_states_per_sector",
+                    sc.sea_states_per_sector,
+                    &format!("must be from 1 to {MAX_SCREENED_PER_SECTOR}"),
+                ));
+            }
+            if let Some(d) = sc.duration_s {
+                if !(d.is_finite() && d > 0.0) {
+                    return Err(invalid(
+                        "hot_spot_screening.duration_s",
+                        d,
+                        "must be a finite number > 0",
+                    ));
+                }
+            }
         }
         for (i, h) in self.hot_spots.iter().enumerate() {
             non_negative(&format!("hot_spots[{i}].arc_length_m"), h.arc_length_m)?;
@@ -774,6 +819,7 @@ impl CampaignSpec {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use moorfret_solver::global::case::HotSpotSpec;
 
     fn demo_spec(fatigue: serde_json::Value) -> CampaignSpec {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../campaigns/demo.json");
@@ -927,7 +973,8 @@ mod tests {
         s.strand.calibration_threads = Some(0);
         assert_eq!(field(s), "strand.calibration_threads");
         let mut s = spec.clone();
-        s.hot_spots.push(s.hot_spots[0].clone());
+        let twice = vec![s.hot_spots[0].clone(), s.hot_spots[0].clone()];
+        s.hot_spots = HotSpots::Listed(twice);
         assert_eq!(field(s), "hot_spots[1]");
         let mut s = spec.clone();
         s.simulation.gamma = GammaSpec::Value(0.5);
@@ -949,10 +996,12 @@ mod tests {
         s.simulation.duration_s = 30.0;
         assert_eq!(field(s), "strand.load_interval_s");
         let mut s = spec;
-        s.hot_spots.push(HotSpotSpec {
+        let mut listed = s.hot_spots.to_vec();
+        listed.push(HotSpotSpec {
             line: 1,
             arc_length_m: 80.0,
         });
+        s.hot_spots = HotSpots::Listed(listed);
         assert!(s.validate().is_ok());
     }
 

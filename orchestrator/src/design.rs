@@ -46,6 +46,8 @@ pub struct DesignCheck {
     pub lines: Vec<LineCheck>,
     /// Annual damage of each line's governing figure per directional sector.
     pub sectors: Vec<SectorDamage>,
+    /// The hot spots found by screening (`"hot_spots": "auto"`), with their proxy.
+    pub screening: Vec<moorfret_campaign::screening::ScreenedHotSpot>,
 }
 
 /// One damage figure and its utilisation.
@@ -292,6 +294,7 @@ pub async fn check(store: &Store, campaign: CampaignId) -> anyhow::Result<Option
         figures,
         lines,
         sectors,
+        screening: inputs.hot_spot_screening.clone(),
     }))
 }
 

@@ -1150,3 +1150,63 @@ fn a_floater_type_error_names_the_field() {
         ],
     );
 }
+
+/// `"hot_spots": "auto"`: one hot spot per line, on its rope, found by a screening run of the
+/// severest sea state and stored with the campaign; resolved again, the same hot spots and the
+/// same cache keys. Screening settings with listed hot spots are refused by field.
+#[test]
+fn automatic_hot_spots_are_found_on_every_line_s_rope() {
+    let dir = campaign_copy();
+    let file = dir.path().join("demo.json");
+    edit_json(&file, |v| {
+        v["hot_spots"] = serde_json::json!("auto");
+        v["hot_spot_screening"] = serde_json::json!({"duration_s": 20.0});
+    });
+    let resolved = resolve(&file).unwrap();
+    let inputs = &resolved.inputs;
+    let found = &inputs.hot_spot_screening;
+    let lines: Vec<u32> = found.iter().map(|f| f.line).collect();
+    assert_eq!(lines, [1, 2, 3, 4, 5, 6]);
+    for f in found {
+        let line_type =
+            moorfret_campaign::resolve::hot_spot_line_type(&inputs.base_case, f.arc_length_m)
+                .unwrap();
+        assert!(
+            line_type.is_rope(),
+            "line {} at {} m",
+            f.line,
+            f.arc_length_m
+        );
+        assert!(f.arc_length_m > 30.0, "not at the chain junction: {f:?}");
+        assert!(
+            f.equivalent_strain_range > 1e-6 && f.equivalent_strain_range < 1e-2,
+            "{f:?}"
+        );
+        // the demo's severest sea state, the one screened
+        assert_eq!(
+            (f.governing_hs_m, f.governing_sector.as_deref()),
+            (6.25, None)
+        );
+    }
+    let listed: Vec<_> = found.iter().map(|f| f.hot_spot()).collect();
+    assert_eq!(inputs.spec.hot_spots.to_vec(), listed);
+    assert_eq!(inputs.base_case.hot_spots, listed);
+    assert_eq!(inputs.hot_spot_axial_stiffness_n, vec![3.6e8; 6]);
+    let (stored, _) = resolved.stored_spec();
+    assert!(stored["inputs"]["spec"]["hot_spots"].is_array());
+    assert_eq!(
+        stored["inputs"]["hot_spot_screening"]
+            .as_array()
+            .map(Vec::len),
+        Some(6)
+    );
+    let again = resolve(&file).unwrap();
+    assert_eq!(again.inputs.results_sha256(), inputs.results_sha256());
+    assert_eq!(again.inputs.hot_spot_screening, *found);
+
+    edit_json(&file, |v| {
+        v["hot_spots"] = serde_json::json!([{"line": 1, "arc_length_m": 79.0}]);
+    });
+    let e = resolve(&file).unwrap_err().to_string();
+    assert!(e.contains("hot_spot_screening"), "{e}");
+}

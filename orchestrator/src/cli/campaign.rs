@@ -347,6 +347,19 @@ async fn status(args: &StoreArgs, name: Option<String>, as_json: bool) -> anyhow
 /// cells, cells left out of the plan, sea states whose wave cut-off keeps little energy, and
 /// the directional sectors with their shares.
 fn report_climate(resolved: &moorfret_campaign::ResolvedCampaign) {
+    for f in &resolved.inputs.hot_spot_screening {
+        tracing::info!(
+            "hot spot found on line {} at s = {} m: equivalent strain range {:.3e}, most from Hs {} m, Tp {} s{}",
+            f.line,
+            f.arc_length_m,
+            f.equivalent_strain_range,
+            f.governing_hs_m,
+            f.governing_tp_s,
+            f.governing_sector
+                .as_deref()
+                .map_or(String::new(), |s| format!(" in sector {s}"))
+        );
+    }
     for sector in &resolved.sectors {
         for m in &sector.mismatches {
             let which = match m.kind {

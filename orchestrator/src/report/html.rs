@@ -47,6 +47,31 @@ fn table_html(table: &Table) -> String {
     out + "</table>\n"
 }
 
+/// The hot spots a screening run found, one per line, with their proxy and what set it.
+fn screening_html(
+    found: &[moorfret_campaign::screening::ScreenedHotSpot],
+) -> anyhow::Result<String> {
+    let mut body = String::from(
+        "<h3>Hot spots found by screening</h3>\n<p>On each line the rope node of the largest \
+         equivalent strain range ε<sub>eq</sub> = (Σ w Δε<sup>4.8</sup> / Σ w)<sup>1/4.8</sup> \
+         over screening runs of each sector's severest sea states (Δε = ΔT/EA + r<sub>w</sub> \
+         Δκ, w the sector's share of the year): a ranking of positions, not a damage.</p>\n",
+    );
+    let table = Table::from_rows(
+        &[
+            "line",
+            "arc_length_m",
+            "equivalent_strain_range",
+            "governing_sector",
+            "governing_hs_m",
+            "governing_tp_s",
+        ],
+        found,
+    )?;
+    body += &table_html(&table);
+    Ok(body)
+}
+
 /// The design check: pass or fail per line with what governs it, the damage by direction of
 /// each line's governing figure, and the design figures per hot spot.
 fn design_section(data: &ReportData) -> anyhow::Result<String> {
@@ -68,6 +93,9 @@ fn design_section(data: &ReportData) -> anyhow::Result<String> {
         number(d.design_life_years),
         100.0 * d.year_planned
     );
+    if !d.screening.is_empty() {
+        body += &screening_html(&d.screening)?;
+    }
     if d.lines.is_empty() {
         body += "<p class=\"empty\">No damage figure stored yet.</p>\n";
         return Ok(body);
