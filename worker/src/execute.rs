@@ -81,6 +81,13 @@ pub fn execute(
             }
             reduced_stage::run_strand_reduced(&context(need_inputs()?), &payload)
         }
+        // the store's test job kind when the store is built with its test support and this
+        // crate without (a build of the store's and the worker's tests alone)
+        #[allow(unreachable_patterns)]
+        other => Err(permanent(
+            FailureClass::BadPayload,
+            format!("job kind {other} is not run by this worker build"),
+        )),
     }
 }
 
