@@ -273,6 +273,7 @@ fn bad_options_are_refused_naming_them_and_write_nothing() {
     refused(&["--calm-hs-m", "-0.1"], &["--calm-hs-m"]);
     refused(&["--hs-edges-m", "0,1,1"], &["--hs-edges-m", "increasing"]);
     refused(&["--hs-edges-m", "0.5,1"], &["--hs-edges-m", "from 0"]);
+    refused(&["--hs-edges-m", "-1,1"], &["--hs-edges-m", ">= 0"]);
     refused(&["--tp-edges-s", "6"], &["--tp-edges-s", "at least two"]);
     refused(&["--tp-edges-s", "6,x"], &["--tp-edges-s"]);
     refused(

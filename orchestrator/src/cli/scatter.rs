@@ -55,7 +55,7 @@ pub(crate) struct ScatterArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         conflicts_with = "hs_bin_m"
     )]
     pub(crate) hs_edges_m: Option<Vec<f64>>,
@@ -64,7 +64,7 @@ pub(crate) struct ScatterArgs {
     #[arg(
         long,
         value_delimiter = ',',
-        allow_negative_numbers = true,
+        allow_hyphen_values = true,
         conflicts_with = "tp_bin_s"
     )]
     pub(crate) tp_edges_s: Option<Vec<f64>>,
@@ -88,11 +88,7 @@ pub(crate) struct ScatterArgs {
     pub(crate) x_axis_bearing_deg: f64,
     /// A value marking missing data in the hs, tp and direction columns (e.g. -999 or 9999);
     /// repeatable, or comma separated.
-    #[arg(
-        long = "missing-value",
-        allow_negative_numbers = true,
-        value_delimiter = ','
-    )]
+    #[arg(long = "missing-value", allow_hyphen_values = true, value_delimiter = ',')]
     pub(crate) missing_values: Vec<f64>,
     /// Directory the campaign file will be in: the tables' paths in `sectors.json` are written
     /// relative to it (by default, relative to --out).
