@@ -20,11 +20,14 @@
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
-use moorfret_solver::strand::history::{HistoryObserver, HistoryOptions, HistoryProgress};
+use moorfret_solver::strand::history::{
+    HistoryObserver, HistoryOptions, HistoryProgress, LoadSample,
+};
 use moorfret_solver::strand::model::StrandModel;
+use moorfret_solver::strand::profile::Strand;
 use moorfret_solver::strand::reduced::design::design_strain_floor;
 use moorfret_solver::strand::reduced::{
-    calibrate, model_key, run_reduced, CalibrationOptions, LoadRange, ReducedStrand,
+    calibrate, model_key, run_reduced, CalibrationOptions, LoadRange, ReducedError, ReducedStrand,
 };
 use serde_json::json;
 
@@ -125,8 +128,27 @@ pub fn run_calibrate(
             "a global job's load leaves the first calibration's range: calibrating again over \
              every global job");
     }
-    let range = loads.widened(inputs.spec.strand.calibration_margin);
     let options = calibration_options(inputs);
+    let widened = loads.widened(inputs.spec.strand.calibration_margin);
+    let max_fibre_strain = options.history.max_fibre_strain;
+    let range = widened
+        .within_fibre_strain(max_fibre_strain, strand.outer_diameter_m())
+        .ok_or_else(|| {
+            permanent(
+                FailureClass::StrandHistory,
+                format!(
+                    "the hot spots' curvature alone ({:?} 1/m) takes the strand's surface beyond \
+                     the admissible fibre strain {max_fibre_strain:e}: no load range to calibrate",
+                    widened.curvature_per_m
+                ),
+            )
+        })?;
+    if range.strain[1] < widened.strain[1] {
+        tracing::warn!(job = %lease.job, load_strain = ?loads.strain,
+            calibrated_strain = ?range.strain, max_fibre_strain,
+            "the largest loads take the wires beyond their elastic range: the calibration stops \
+             at the admissible fibre strain and the sea states beyond it fail at their hot spots");
+    }
     tracing::info!(job = %lease.job, strain = ?range.strain, curvature_per_m = ?range.curvature_per_m,
         threads = options.history.threads, "calibrating the reduced strand response");
     let mut log = ProgressLog {
@@ -151,6 +173,11 @@ pub fn run_calibrate(
         ("fits", json!(c.fits)),
         ("replay", json!(c.replay)),
         ("check_of", json!(payload.check_of)),
+        // the loads beyond the strand model's elastic range (none when the range holds them)
+        (
+            "strain_beyond_elastic_range",
+            json!((range.strain[1] < widened.strain[1]).then_some(loads.strain[1])),
+        ),
     ] {
         result[field] = value;
     }
@@ -277,6 +304,31 @@ impl PhaseClock {
     }
 }
 
+/// The diagnostic of a load beyond the strand model's elastic range, when that is why the
+/// reduced response refused it: a sample whose fibre strain ε + |κ| D/2 exceeds the admissible
+/// one lies beyond every calibration (which stops there).
+fn beyond_elastic_range(
+    error: &ReducedError,
+    strand: &Strand,
+    samples: &[LoadSample],
+    options: &HistoryOptions,
+) -> Option<String> {
+    let ReducedError::OutOfRange { index, time_s, .. } = error else {
+        return None;
+    };
+    let s = samples.get(*index)?;
+    let fibre = s.strain + s.curvature_per_m.abs() * 0.5 * strand.outer_diameter_m();
+    (fibre > options.max_fibre_strain).then(|| {
+        format!(
+            "load sample {index} (t = {time_s} s): strain {:.3e} and curvature {:.3e} 1/m give \
+             the fibre strain {fibre:.3e} at the strand surface, beyond the admissible {:.3e} of \
+             the strand model's elastic range (the wires would yield): this hot spot's fretting \
+             is not computed in this sea state, whose tension calls for an extreme-load check",
+            s.strain, s.curvature_per_m, options.max_fibre_strain
+        )
+    })
+}
+
 /// Runs one reduced strand job (module docs).
 pub fn run_strand_reduced(
     ctx: &StageContext<'_>,
@@ -299,6 +351,9 @@ pub fn run_strand_reduced(
     let options = inputs.spec.strand.history_options();
     clock.lap("load");
     let result = run_reduced(&reduced, &load.samples, &options).map_err(|e| {
+        if let Some(beyond) = beyond_elastic_range(&e, &strand, &load.samples, &options) {
+            return permanent(FailureClass::StrandHistory, beyond);
+        }
         // an extra seed is loaded through the calibration of the first seeds' load range
         if payload.global.extra_seed {
             permanent(

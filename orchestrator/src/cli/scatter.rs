@@ -88,7 +88,11 @@ pub(crate) struct ScatterArgs {
     pub(crate) x_axis_bearing_deg: f64,
     /// A value marking missing data in the hs, tp and direction columns (e.g. -999 or 9999);
     /// repeatable, or comma separated.
-    #[arg(long = "missing-value", allow_hyphen_values = true, value_delimiter = ',')]
+    #[arg(
+        long = "missing-value",
+        allow_hyphen_values = true,
+        value_delimiter = ','
+    )]
     pub(crate) missing_values: Vec<f64>,
     /// Directory the campaign file will be in: the tables' paths in `sectors.json` are written
     /// relative to it (by default, relative to --out).

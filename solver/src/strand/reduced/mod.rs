@@ -234,6 +234,25 @@ impl LoadRange {
         r
     }
 
+    /// The range with its highest strain lowered so that every load of it keeps the fibre
+    /// strain ε + |κ| D/2 at the surface of a strand of diameter `outer_diameter_m` within
+    /// `max_fibre_strain` (the strand model's elastic range, which every FE run checks); `None`
+    /// when no strain above the lowest is left.
+    pub fn within_fibre_strain(self, max_fibre_strain: f64, outer_diameter_m: f64) -> Option<Self> {
+        let bending = self.curvature_per_m[0]
+            .abs()
+            .max(self.curvature_per_m[1].abs())
+            * 0.5
+            * outer_diameter_m;
+        // a hair below the limit: the check of each load is `fibre > max`, with round-off
+        let cap = (max_fibre_strain - bending) * (1.0 - 1e-9);
+        let highest = self.strain[1].min(cap);
+        (highest > self.strain[0]).then_some(Self {
+            strain: [self.strain[0], highest],
+            ..self
+        })
+    }
+
     /// Whether `inner` lies within `self`.
     pub fn covers(&self, inner: &Self) -> bool {
         self.strain[0] <= inner.strain[0]

@@ -497,3 +497,30 @@ fn a_stopped_calibration_stops_every_chain_and_says_so() {
         other => panic!("expected a stopped FE run, got {:?}", other.map(|_| ())),
     }
 }
+
+/// The calibration's range stops at the strand model's elastic range: with |κ| up to 0.02 1/m
+/// on a strand of 0.1 m, the bending takes 1e-3 of the admissible fibre strain 7e-3, so the
+/// strain stops at 6e-3; a range inside it is kept whole; curvature alone beyond it leaves none.
+#[test]
+fn the_calibrated_range_stops_at_the_admissible_fibre_strain() {
+    let range = LoadRange {
+        strain: [1e-3, 9e-3],
+        curvature_per_m: [-0.02, 0.01],
+    };
+    let capped = range.within_fibre_strain(7e-3, 0.1).unwrap();
+    assert!((capped.strain[1] - 6e-3).abs() < 1e-11, "{capped:?}");
+    assert_eq!(capped.strain[0], 1e-3);
+    assert_eq!(capped.curvature_per_m, range.curvature_per_m);
+    // the capped corner passes the FE runs' own check, fibre > max
+    assert!(capped.strain[1] + 0.02 * 0.05 <= 7e-3);
+    let inside = LoadRange {
+        strain: [0.0, 2e-3],
+        ..range
+    };
+    assert_eq!(inside.within_fibre_strain(7e-3, 0.1), Some(inside));
+    let bent = LoadRange {
+        strain: [1e-3, 2e-3],
+        curvature_per_m: [0.0, 0.15],
+    };
+    assert_eq!(bent.within_fibre_strain(7e-3, 0.1), None);
+}
