@@ -69,11 +69,15 @@ pub struct InterfaceComparison {
     pub reference: InterfaceStatistics,
     /// Compared run (reduced).
     pub compared: InterfaceStatistics,
-    /// Relative difference of the largest slip range.
+    /// Relative difference of the largest slip range (+∞ where only the compared run has
+    /// any: written `null` in JSON, which has no infinity).
+    #[serde(with = "unbounded")]
     pub max_slip_range_error: f64,
-    /// Relative difference of the accumulated slip (0 if both are 0).
+    /// Relative difference of the accumulated slip (0 if both are 0, +∞ as above).
+    #[serde(with = "unbounded")]
     pub accumulated_slip_error: f64,
-    /// Relative difference of the cycle count (0 if both are 0).
+    /// Relative difference of the cycle count (0 if both are 0, +∞ as above).
+    #[serde(with = "unbounded")]
     pub cycles_error: f64,
     /// The count difference as a slip-range difference: `f − 1` for the factor `f` on every
     /// reference cycle's range at which the reference's count above the threshold reaches the
@@ -81,6 +85,26 @@ pub struct InterfaceComparison {
     /// run counts more cycles than the reference has at all).
     #[serde(default)]
     pub cycles_as_range_error: Option<f64>,
+}
+
+/// A relative difference in JSON: a number, or `null` for +∞ (a reference of 0 against a
+/// compared value that is not), which JSON cannot write. serde_json would write `null` for it
+/// anyway and then refuse to read it back, so that a stored calibration whose replay has such
+/// an interface could not be loaded.
+mod unbounded {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub(super) fn serialize<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+        if x.is_finite() {
+            s.serialize_f64(*x)
+        } else {
+            s.serialize_none()
+        }
+    }
+
+    pub(super) fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
+    }
 }
 
 impl InterfaceComparison {
@@ -332,5 +356,34 @@ mod tests {
             .map(|c| c.1)
             .sum();
         assert_eq!(counted, 2.5);
+    }
+}
+
+#[cfg(test)]
+mod unbounded_tests {
+    use super::*;
+
+    /// An interface where only the compared run has cycles (+∞) goes to JSON and back: a
+    /// calibration whose replay holds one must load again.
+    #[test]
+    fn an_infinite_relative_difference_survives_json() {
+        let c = InterfaceComparison {
+            interface: 2,
+            reference: InterfaceStatistics::default(),
+            compared: InterfaceStatistics {
+                interface: 2,
+                max_slip_range_m: 1.2e-6,
+                accumulated_slip_m: 1.2e-6,
+                cycles: 1.0,
+            },
+            max_slip_range_error: 0.25,
+            accumulated_slip_error: f64::INFINITY,
+            cycles_error: f64::INFINITY,
+            cycles_as_range_error: None,
+        };
+        let text = serde_json::to_string(&c).unwrap();
+        assert!(text.contains("\"cycles_error\":null"), "{text}");
+        let back: InterfaceComparison = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, c);
     }
 }
