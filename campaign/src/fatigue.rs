@@ -1,6 +1,6 @@
 //! Fretting and fatigue settings of a campaign (`"fatigue"` in the campaign file, every field
 //! optional) and the damage-input configuration a strand job derives from them and from the
-//! strand profile (`docs/damage.md`, [`moorfret_solver::fretting::sea_state_damage_inputs`]).
+//! strand profile (`docs/damage.md`, [`moorfret_solver::damage::sea_state_damage_inputs`]).
 //!
 //! What comes from where:
 //! - Hertz geometry of each layer interface: the wire radii of the two layers and the angle
@@ -28,12 +28,12 @@
 //!   stabilises keeps every sample (transient slips are the larger ones, so this errs on the
 //!   safe side) and says so in its job result.
 
+use moorfret_solver::damage::{DamageInputsConfig, FrettingLaw, NamedTnCurve};
 use moorfret_solver::fatigue::{rope_nominal_area_m2, ApiComponent, DnvComponent, TnCurve};
 use moorfret_solver::fretting::life::{ContactStressLaw, StrainLife, WireSurface};
 use moorfret_solver::fretting::{
-    detect_set_run_in, BinEdges, CrossedCylinders, DamageInputsConfig, ElasticMaterial,
-    ForceMeasure, FrettingLaw, FrettingParams, FrettingSnLaw, NamedTnCurve, RegimeCriterion,
-    RunInParams,
+    detect_set_run_in, BinEdges, CrossedCylinders, ElasticMaterial, ForceMeasure, FrettingParams,
+    FrettingSnLaw, RegimeCriterion, RunInParams,
 };
 use moorfret_solver::mooring::spec::LineTypeSpec;
 use moorfret_solver::strand::history::monitors::{MonitorChannel, MonitorQuantity, MonitorSeries};

@@ -13,7 +13,7 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use moorfret_campaign::fatigue::FatigueSpec;
-use moorfret_solver::fretting::{sea_state_damage_inputs, TensionHistory};
+use moorfret_solver::damage::{sea_state_damage_inputs, TensionHistory};
 use moorfret_solver::global::series::{LoadKind, LoadTable};
 use moorfret_solver::strand::history::stiffness::straight_strand_stiffness;
 use moorfret_solver::strand::history::{HistoryOptions, LoadSample};

@@ -13,6 +13,7 @@
 
 pub mod beam;
 pub mod contact;
+pub mod damage;
 pub mod fatigue;
 pub mod floater;
 pub mod fretting;

@@ -12,7 +12,7 @@
 //! (`contact_records`), and one small `contact_statistics` row per contact (class, cycle
 //! count, largest slip range, largest normal force). From the records and the hot-spot tension
 //! at the same samples, the per-sea-state damage inputs
-//! (`moorfret_solver::fretting::sea_state_damage_inputs`, configured by the campaign's
+//! (`moorfret_solver::damage::sea_state_damage_inputs`, configured by the campaign's
 //! `fatigue` settings, [`moorfret_campaign::fatigue`]): one `damage_inputs` row per T-N curve and
 //! one `class_damage_inputs` row per contact class, written with the job's completion.
 //!
@@ -27,9 +27,8 @@
 
 use std::time::Duration;
 
-use moorfret_solver::fretting::{
-    sea_state_damage_inputs, ContactRecord, SeaStateInputs, TensionHistory,
-};
+use moorfret_solver::damage::{sea_state_damage_inputs, SeaStateInputs, TensionHistory};
+use moorfret_solver::fretting::ContactRecord;
 use moorfret_solver::global::HotSpotSeries;
 use moorfret_solver::strand::history::stiffness::{samples_from_tension, SlackTension};
 use moorfret_solver::strand::history::{HistoryResult, LoadSample};
@@ -432,7 +431,7 @@ fn run_in(inputs: &CampaignInputs, result: &HistoryResult) -> (usize, serde_json
     )
 }
 
-/// The damage inputs of the run (`moorfret_solver::fretting::sea_state_damage_inputs`): the
+/// The damage inputs of the run (`moorfret_solver::damage::sea_state_damage_inputs`): the
 /// contact records with the hot-spot tension at the same samples as the strand load (every
 /// `stride`-th global output sample), the first `run_in_samples` left out, configured by the
 /// campaign's fatigue settings.

@@ -14,9 +14,8 @@ use std::path::{Path, PathBuf};
 use anyhow::{anyhow, bail, Context};
 use clap::{Args, Subcommand};
 use moorfret_campaign::fatigue::FatigueSpec;
-use moorfret_solver::fretting::{
-    sea_state_damage_inputs, ContactRecord, SeaStateInputs, TensionHistory,
-};
+use moorfret_solver::damage::{sea_state_damage_inputs, SeaStateInputs, TensionHistory};
+use moorfret_solver::fretting::ContactRecord;
 use moorfret_solver::strand::history::stiffness::straight_strand_stiffness;
 use moorfret_solver::strand::history::HistoryOptions;
 use moorfret_solver::strand::profile::Strand;
@@ -560,7 +559,7 @@ fn compare(args: &CompareArgs) -> anyhow::Result<()> {
             continue;
         };
         let total =
-            |r: &moorfret_solver::fretting::RegimeCounts| r.stick + r.partial_slip + r.gross_slip;
+            |r: &moorfret_solver::damage::RegimeCounts| r.stick + r.partial_slip + r.gross_slip;
         let row = serde_json::json!({
             "interface": ca.class.interface,
             "position": ca.class.position.as_str(),

@@ -8,7 +8,6 @@
 //! - `histogram`: 2D histograms of cycles (slip amplitude × normal force);
 //! - `hertz`: Hertz contact of crossed cylinders (ellipse semi-axes, peak pressure);
 //! - `indicators`: fretting regime (Mindlin), Ruiz products, fretting S-N damage;
-//! - `inputs`: per-sea-state damage inputs per contact class and T-N curve;
 //! - [`life`]: fretting-fatigue life of a crossing from its contact stress field;
 //! - `record`: the per-contact record the strand stage produces, and contact classes;
 //! - [`runin`]: where the mean slip stops drifting (run-in to exclude from the statistics).
@@ -20,7 +19,6 @@ pub(crate) mod error;
 pub(crate) mod hertz;
 pub(crate) mod histogram;
 pub(crate) mod indicators;
-pub(crate) mod inputs;
 pub mod life;
 pub mod rainflow;
 pub(crate) mod record;
@@ -35,10 +33,6 @@ pub use histogram::{BinEdges, CycleHistogram, ForceMeasure};
 pub use indicators::{
     evaluate_cycle, CycleIndicators, FrettingParams, FrettingRegime, FrettingSnLaw,
     RegimeCriterion, WireStress,
-};
-pub use inputs::{
-    sea_state_damage_inputs, ClassInputs, DamageInputsConfig, DamageInputsError, FrettingLaw,
-    NamedTnCurve, RegimeCounts, SeaStateInputs, TensionHistory, TensionInputs,
 };
 pub use rainflow::{count_cycles, Cycle, RainflowCounter, RainflowOptions};
 pub use record::{AngularPosition, ContactClass, ContactRecord};

@@ -34,15 +34,15 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use super::error::FrettingError;
-use super::hertz::{CrossedCylinders, HertzModel};
-use super::histogram::{BinEdges, CycleHistogram};
-use super::indicators::{evaluate_cycle, FrettingParams, FrettingRegime, WireStress};
-use super::life::field::EllipseHotSpot;
-use super::life::{cycle_life, ContactStressLaw, CycleLoad};
-use super::rainflow::RainflowOptions;
-use super::record::{ContactClass, ContactRecord};
 use crate::fatigue::{sea_state_tension_damage, FatigueError, TnCurve};
+use crate::fretting::life::field::EllipseHotSpot;
+use crate::fretting::life::{cycle_life, ContactStressLaw, CycleLoad};
+use crate::fretting::rainflow::RainflowOptions;
+use crate::fretting::FrettingError;
+use crate::fretting::{evaluate_cycle, FrettingParams, FrettingRegime, WireStress};
+use crate::fretting::{BinEdges, CycleHistogram};
+use crate::fretting::{ContactClass, ContactRecord};
+use crate::fretting::{CrossedCylinders, HertzModel};
 
 /// Seconds per hour, for the per-hour figures.
 const SECONDS_PER_HOUR: f64 = 3600.0;
@@ -499,5 +499,4 @@ fn tension_inputs(
 }
 
 #[cfg(test)]
-#[path = "inputs_tests.rs"]
 mod tests;
