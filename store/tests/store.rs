@@ -263,7 +263,7 @@ async fn a_store_recorded_before_a_comment_of_migration_1_changed_migrates(backe
                 "ALTER TABLE sea_states DROP COLUMN wave_energy_kept",
                 "UPDATE schema_info SET value = '6' WHERE key = 'schema_version'",
             ] {
-                raw_execute(ts, backend, sql, None).await;
+                raw_execute(ts, backend, sql, None::<Vec<u8>>).await;
             }
             let sql = "UPDATE _sqlx_migrations SET checksum = $1 WHERE version = 1";
             raw_execute(ts, backend, sql, Some(checksum)).await;
@@ -289,13 +289,21 @@ async fn a_store_recorded_before_a_comment_of_migration_1_changed_migrates(backe
     );
     if backend == Backend::Postgres {
         let schema = ts.options.postgres_schema.clone().unwrap();
-        raw_execute(&ts, backend, &format!("DROP SCHEMA {schema} CASCADE"), None).await;
+        let drop = format!("DROP SCHEMA {schema} CASCADE");
+        raw_execute(&ts, backend, &drop, None::<Vec<u8>>).await;
     }
 }
 
 /// Runs `sql` (one statement, `$1` bound to `bind` if given) on the test store's database with
-/// a connection of sqlx's own (in the store's schema on PostgreSQL).
-async fn raw_execute(ts: &TestStore, backend: Backend, sql: &str, bind: Option<Vec<u8>>) {
+/// a connection of sqlx's own (in the store's schema on PostgreSQL), as another program would.
+async fn raw_execute<T>(ts: &TestStore, backend: Backend, sql: &str, bind: Option<T>)
+where
+    T: for<'q> sqlx::Encode<'q, sqlx::Sqlite>
+        + sqlx::Type<sqlx::Sqlite>
+        + for<'q> sqlx::Encode<'q, sqlx::Postgres>
+        + sqlx::Type<sqlx::Postgres>
+        + Send,
+{
     match backend {
         Backend::Sqlite => {
             let pool = sqlx::SqlitePool::connect(&format!("sqlite://{}", ts.location))
@@ -1496,34 +1504,8 @@ async fn newer_schema_is_refused_and_left_untouched(backend: Backend) {
         .await
         .unwrap();
     let newer = (supported + 1).to_string();
-    match backend {
-        Backend::Sqlite => {
-            let pool = sqlx::SqlitePool::connect(&format!("sqlite://{}", ts.location))
-                .await
-                .unwrap();
-            sqlx::query("UPDATE schema_info SET value = $1 WHERE key = 'schema_version'")
-                .bind(&newer)
-                .execute(&pool)
-                .await
-                .unwrap();
-            pool.close().await;
-        }
-        Backend::Postgres => {
-            use sqlx::postgres::{PgConnectOptions, PgPoolOptions};
-            let schema = ts.options.postgres_schema.clone().unwrap();
-            let options: PgConnectOptions = ts.location.parse().unwrap();
-            let pool = PgPoolOptions::new()
-                .connect_with(options.options([("search_path", schema.as_str())]))
-                .await
-                .unwrap();
-            sqlx::query("UPDATE schema_info SET value = $1 WHERE key = 'schema_version'")
-                .bind(&newer)
-                .execute(&pool)
-                .await
-                .unwrap();
-            pool.close().await;
-        }
-    }
+    let sql = "UPDATE schema_info SET value = $1 WHERE key = 'schema_version'";
+    raw_execute(&ts, backend, sql, Some(newer)).await;
     ts.store.close().await;
     let file_before = match backend {
         Backend::Sqlite => {
@@ -1556,20 +1538,11 @@ async fn newer_schema_is_refused_and_left_untouched(backend: Backend) {
             "database file modified"
         );
     }
-    // Restore the version so the store can be opened to clean up.
+    // Drop the schema, which the store cannot open to clean up.
     if backend == Backend::Postgres {
-        use sqlx::postgres::{PgConnectOptions, PgPoolOptions};
         let schema = ts.options.postgres_schema.clone().unwrap();
-        let options: PgConnectOptions = ts.location.parse().unwrap();
-        let pool = PgPoolOptions::new()
-            .connect_with(options.options([("search_path", schema.as_str())]))
-            .await
-            .unwrap();
-        sqlx::query(&format!("DROP SCHEMA {schema} CASCADE"))
-            .execute(&pool)
-            .await
-            .unwrap();
-        pool.close().await;
+        let drop = format!("DROP SCHEMA {schema} CASCADE");
+        raw_execute(&ts, backend, &drop, None::<String>).await;
     }
 }
 

@@ -317,7 +317,7 @@ fn beyond_elastic_range(
         return None;
     };
     let s = samples.get(*index)?;
-    let fibre = s.strain + s.curvature_per_m.abs() * 0.5 * strand.outer_diameter_m();
+    let fibre = s.strain + s.bending_strain(strand.outer_diameter_m());
     (fibre > options.max_fibre_strain).then(|| {
         format!(
             "load sample {index} (t = {time_s} s): strain {:.3e} and curvature {:.3e} 1/m give \

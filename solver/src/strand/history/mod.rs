@@ -54,6 +54,15 @@ pub struct LoadSample {
     pub curvature_per_m: f64,
 }
 
+impl LoadSample {
+    /// Bending strain |κ| D/2 at the surface of a strand of diameter `outer_diameter_m`: with
+    /// the axial strain, the fibre strain every history run holds within
+    /// [`HistoryOptions::max_fibre_strain`].
+    pub fn bending_strain(&self, outer_diameter_m: f64) -> f64 {
+        self.curvature_per_m.abs() * (0.5 * outer_diameter_m)
+    }
+}
+
 /// Errors of a history run.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum HistoryError {
@@ -445,7 +454,7 @@ pub fn validate_samples(
     samples: &[LoadSample],
     options: &HistoryOptions,
 ) -> Result<(), HistoryError> {
-    let half_d = 0.5 * model.strand.outer_diameter_m();
+    let diameter_m = model.strand.outer_diameter_m();
     let mut previous = f64::NEG_INFINITY;
     for (index, s) in samples.iter().enumerate() {
         let bad = |field, value, reason: String| HistoryError::InvalidSample {
@@ -479,7 +488,7 @@ pub fn validate_samples(
                 "negative: the strand would be in compression".into(),
             ));
         }
-        let bending = s.curvature_per_m.abs() * half_d;
+        let bending = s.bending_strain(diameter_m);
         let fibre = s.strain + bending;
         if fibre > options.max_fibre_strain {
             // Blamed on the larger of the two parts.
