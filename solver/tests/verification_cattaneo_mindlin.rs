@@ -17,7 +17,9 @@
 
 use std::f64::consts::PI;
 
-use moorfret_solver::contact::hertz::{contact_modulus, tangential_modulus, CrossedCylinders};
+use moorfret_solver::contact::hertz::{
+    tangential_modulus, CrossedCylinders, ElasticMaterial, HertzModel,
+};
 use moorfret_solver::contact::{
     ContactHistory, ContactPair, ContactParameters, ContactStatus, ElementVector, NodeKinematics,
     NormalLaw, TangentialLaw,
@@ -58,9 +60,9 @@ fn crossing(angle: f64, indentation: f64) -> Crossing {
     let b = NodeKinematics::at(Vector3::new(0.0, 0.0, 2.0 * R));
     let (pair, hist) = ContactPair::new(&params, R, R, &a, &t1, &b, &t2).unwrap();
     let b = NodeKinematics::at(b.position - indentation * Vector3::z());
-    let h = CrossedCylinders::new(R, R, angle, contact_modulus(E, NU, E, NU)).unwrap();
-    let p = h.force_coefficient * indentation.powf(1.5);
-    let c = h.radius_coefficient * p.cbrt();
+    let h = hertz(angle);
+    let p = h.force_coefficient() * indentation.powf(1.5);
+    let c = h.radius_coefficient() * p.cbrt();
     let g_star = tangential_modulus(E, NU, E, NU);
     Crossing {
         pair,
@@ -165,8 +167,8 @@ fn loading_unloading_and_reloading_follow_the_cattaneo_mindlin_closed_form() {
 
 /// The normal force of the indentation used in these tests (P = K_H δ^{3/2}).
 fn x_p(angle: f64) -> f64 {
-    let h = CrossedCylinders::new(R, R, angle, contact_modulus(E, NU, E, NU)).unwrap();
-    h.force_coefficient * 2e-6f64.powf(1.5)
+    let h = hertz(angle);
+    h.force_coefficient() * 2e-6f64.powf(1.5)
 }
 
 #[test]
@@ -271,4 +273,13 @@ fn a_falling_normal_force_makes_a_loaded_contact_slide() {
     assert_eq!(r.status, ContactStatus::Slip);
     assert!((r.tangential_force_n / (MU * r.normal_force_n) - 1.0).abs() < 1e-12);
     assert_eq!(r.next_history.tangential_memory.count, 0);
+}
+
+/// The Hertz contact of the two wires of these tests crossing at `angle`.
+fn hertz(angle: f64) -> HertzModel {
+    let steel = ElasticMaterial {
+        youngs_modulus_pa: E,
+        poisson_ratio: NU,
+    };
+    HertzModel::crossed_cylinders(&CrossedCylinders::of_one_material(R, R, angle, steel)).unwrap()
 }

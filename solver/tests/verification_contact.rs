@@ -5,7 +5,9 @@
 use std::f64::consts::PI;
 
 use moorfret_solver::beam::rotation::exp_so3;
-use moorfret_solver::contact::hertz::{contact_modulus, tangential_modulus, CrossedCylinders};
+use moorfret_solver::contact::hertz::{
+    tangential_modulus, CrossedCylinders, ElasticMaterial, HertzModel,
+};
 use moorfret_solver::contact::{
     ContactHistory, ContactPair, ContactParameters, ContactStatus, ElementVector, NodeKinematics,
     NormalLaw, TangentialLaw,
@@ -166,9 +168,9 @@ fn tangential_cycle_dissipates_the_coulomb_energy_with_hertz_and_mindlin() {
     let (pair, hist, a, b, t1, _) = crossed(&p, angle);
     let delta: f64 = 2e-6;
     let b = NodeKinematics::at(b.position - delta * Vector3::z());
-    let h = CrossedCylinders::new(R, R, angle, contact_modulus(E, NU, E, NU)).unwrap();
-    let fnorm = h.force_coefficient * delta.powf(1.5);
-    let kt = 8.0 * tangential_modulus(E, NU, E, NU) * h.radius_coefficient * fnorm.cbrt();
+    let h = hertz(angle);
+    let fnorm = h.force_coefficient() * delta.powf(1.5);
+    let kt = 8.0 * tangential_modulus(E, NU, E, NU) * h.radius_coefficient() * fnorm.cbrt();
     let gamma = mu * fnorm / kt;
     let amp = 4.0 * gamma;
     let (work, fmax, fnormal) = cycle_work(&pair, hist, &a, &b, t1, amp, 0.25 * gamma);
@@ -257,4 +259,13 @@ fn contacts_detected_on_the_benchmark_strand_start_closed_with_an_outward_radial
         assert!((r.normal - radial).norm() < 1e-12, "{c:?}");
         assert_eq!(hist.sliding_m.map(|x| (x.abs() < 1e-15) as u8), [1, 1]);
     }
+}
+
+/// The Hertz contact of the two wires of these tests crossing at `angle`.
+fn hertz(angle: f64) -> HertzModel {
+    let steel = ElasticMaterial {
+        youngs_modulus_pa: E,
+        poisson_ratio: NU,
+    };
+    HertzModel::crossed_cylinders(&CrossedCylinders::of_one_material(R, R, angle, steel)).unwrap()
 }

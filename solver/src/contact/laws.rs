@@ -4,7 +4,7 @@
 //!
 //! Normal force (compression positive) from the penetration p = −g_N ≥ 0:
 //!   penalty  f_N = ε_N p                  (the paper's Sec. 2.1; ε_N in N/m),
-//!   Hertz    f_N = K_H p^{3/2}            (K_H from [`super::hertz::CrossedCylinders`]),
+//!   Hertz    f_N = K_H p^{3/2}            (K_H from [`super::hertz::HertzModel`]),
 //!   line     p = f_N/(π E* ℓ) [ln(4R₁/b) + ln(4R₂/b) − 1], b² = 4 f_N R/(π E* ℓ)
 //!            (two cylinders of radii R₁, R₂ touching along a generator over a length ℓ,
 //!            Johnson 1985 §5.3; [`super::hertz::LineContact`], inverted per evaluation).
@@ -25,7 +25,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::hertz::{contact_modulus, tangential_modulus, CrossedCylinders, LineContact};
+use super::hertz::{
+    contact_modulus, tangential_modulus, CrossedCylinders, ElasticMaterial, HertzModel, LineContact,
+};
 
 /// Normal contact law.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -299,17 +301,31 @@ impl ResolvedLaws {
     ) -> Result<Self, ContactError> {
         params.validate()?;
         let (e, nu) = (params.young_modulus_pa, params.poisson_ratio);
+        // The crossing folded into (0, π/2]; practically parallel wires (B/A > 1e8) make no
+        // point contact.
         let hertz = || {
-            CrossedCylinders::new(r1, r2, angle_rad, contact_modulus(e, nu, e, nu)).ok_or(
-                ContactError::ParallelTangents {
-                    sin_angle: angle_rad.sin().abs(),
-                },
-            )
+            let parallel = ContactError::ParallelTangents {
+                sin_angle: angle_rad.sin().abs(),
+            };
+            let folded = angle_rad.rem_euclid(std::f64::consts::PI);
+            let material = ElasticMaterial {
+                youngs_modulus_pa: e,
+                poisson_ratio: nu,
+            };
+            let angle = folded.min(std::f64::consts::PI - folded);
+            let model = HertzModel::crossed_cylinders(&CrossedCylinders::of_one_material(
+                r1, r2, angle, material,
+            ))
+            .map_err(|_| parallel.clone())?;
+            if model.curvature_ratio() > 1e8 {
+                return Err(parallel);
+            }
+            Ok(model)
         };
         let normal = match params.normal {
             NormalLaw::Penalty { stiffness_n_per_m } => ResolvedNormal::Penalty(stiffness_n_per_m),
             NormalLaw::Hertz | NormalLaw::ContactMechanics => {
-                ResolvedNormal::Hertz(hertz()?.force_coefficient)
+                ResolvedNormal::Hertz(hertz()?.force_coefficient())
             }
             NormalLaw::Line { length_m } => ResolvedNormal::Line(LineContact::new(
                 r1,
@@ -323,14 +339,14 @@ impl ResolvedLaws {
                 ResolvedTangential::ElasticSlip(elastic_slip_m)
             }
             TangentialLaw::Mindlin => ResolvedTangential::Mindlin(
-                8.0 * tangential_modulus(e, nu, e, nu) * hertz()?.radius_coefficient,
+                8.0 * tangential_modulus(e, nu, e, nu) * hertz()?.radius_coefficient(),
             ),
             TangentialLaw::CattaneoMindlin => match normal {
                 ResolvedNormal::Line(_) => ResolvedTangential::CattaneoMindlinLine(
                     4.0 * tangential_modulus(e, nu, e, nu) / contact_modulus(e, nu, e, nu),
                 ),
                 _ => ResolvedTangential::CattaneoMindlinPoint(
-                    8.0 * tangential_modulus(e, nu, e, nu) * hertz()?.radius_coefficient,
+                    8.0 * tangential_modulus(e, nu, e, nu) * hertz()?.radius_coefficient(),
                 ),
             },
         };

@@ -5,8 +5,8 @@
 //!   consistent tangent), its history and its outputs;
 //! - `laws`: normal (penalty / Hertz) and tangential (elastic slip / Mindlin) laws, parameters
 //!   and errors;
-//! - [`hertz`]: Hertz constants of crossed cylinders and of line contacts, the Mindlin tangential
-//!   modulus;
+//! - [`hertz`]: the Hertz contact of crossed cylinders (ellipse, peak pressure, K_H) and of line
+//!   contacts, the Mindlin tangential modulus; the fretting statistics read the same model;
 //! - [`memory`]: the Cattaneo–Mindlin tangential law with its reversal points;
 //! - `scalar`: the generic scalar / dual-number arithmetic from which the tangent is derived.
 //!

@@ -322,7 +322,8 @@ pub fn sea_state_damage_inputs(
         .interfaces
         .iter()
         .map(HertzModel::crossed_cylinders)
-        .collect::<Result<Vec<_>, _>>()?;
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(FrettingError::from)?;
     let nu = config.contact_stress.material().poisson_ratio;
     let shapes: Vec<_> = models
         .iter()

@@ -3,9 +3,9 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use super::*;
+use crate::contact::hertz::ElasticMaterial;
 use crate::fatigue::{ApiComponent, DnvComponent};
 use crate::fretting::cycles::{ForceStats, SlipCycle};
-use crate::fretting::hertz::ElasticMaterial;
 use crate::fretting::indicators::RegimeCriterion;
 use crate::fretting::rainflow::Cycle;
 use crate::fretting::record::AngularPosition;

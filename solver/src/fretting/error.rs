@@ -5,6 +5,8 @@
 
 use thiserror::Error;
 
+use crate::contact::hertz::HertzError;
+
 /// Errors raised by rainflow counting, cycle statistics, Hertz contact and fretting indicators.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum FrettingError {
@@ -39,14 +41,9 @@ pub enum FrettingError {
     /// A histogram was asked to merge with one of different binning.
     #[error("histograms have different binning and cannot be merged")]
     HistogramMismatch,
-    /// The contact ellipse equation could not be solved for the given curvature ratio.
-    #[error("Hertz contact ellipse not found for curvature ratio B/A = {ratio}: {reason}")]
-    HertzEllipse {
-        /// Ratio of principal relative curvatures B/A (≥ 1).
-        ratio: f64,
-        /// Why it failed.
-        reason: &'static str,
-    },
+    /// The Hertz contact of a layer interface could not be formed.
+    #[error(transparent)]
+    Hertz(#[from] HertzError),
 }
 
 /// Checks that `value` is finite and strictly positive.

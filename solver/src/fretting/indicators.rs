@@ -25,8 +25,8 @@ use serde::{Deserialize, Serialize};
 
 use super::cycles::SlipCycle;
 use super::error::{non_negative, positive, FrettingError};
-use super::hertz::{HertzContact, HertzModel};
 use super::histogram::ForceMeasure;
+use crate::contact::hertz::{HertzContact, HertzModel};
 
 /// Fretting regime of one cycle.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -296,8 +296,8 @@ pub fn evaluate_cycle(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::contact::hertz::{CrossedCylinders, ElasticMaterial};
     use crate::fretting::cycles::ForceStats;
-    use crate::fretting::hertz::{CrossedCylinders, ElasticMaterial};
     use crate::fretting::rainflow::Cycle;
 
     fn model() -> HertzModel {

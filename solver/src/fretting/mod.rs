@@ -6,7 +6,8 @@
 //! - [`streaming`]: the same count one sample at a time with a serialisable state;
 //! - `cycles`: per-contact slip cycles with the normal and tangential forces over them;
 //! - `histogram`: 2D histograms of cycles (slip amplitude × normal force);
-//! - `hertz`: Hertz contact of crossed cylinders (ellipse semi-axes, peak pressure);
+//! - the Hertz contact of crossed cylinders (ellipse semi-axes, peak pressure) is the contact
+//!   model's own, [`crate::contact::hertz`], re-exported here;
 //! - `indicators`: fretting regime (Mindlin), Ruiz products, fretting S-N damage;
 //! - [`life`]: fretting-fatigue life of a crossing from its contact stress field;
 //! - `record`: the per-contact record the strand stage produces, and contact classes;
@@ -16,7 +17,6 @@
 
 pub(crate) mod cycles;
 pub(crate) mod error;
-pub(crate) mod hertz;
 pub(crate) mod histogram;
 pub(crate) mod indicators;
 pub mod life;
@@ -26,9 +26,11 @@ pub mod reversals;
 pub mod runin;
 pub mod streaming;
 
+pub use crate::contact::hertz::{
+    CrossedCylinders, ElasticMaterial, HertzContact, HertzError, HertzModel,
+};
 pub use cycles::{ContactCycleAccumulator, ContactSample, ForceStats, SlipCycle};
 pub use error::FrettingError;
-pub use hertz::{CrossedCylinders, ElasticMaterial, HertzContact, HertzModel};
 pub use histogram::{BinEdges, CycleHistogram, ForceMeasure};
 pub use indicators::{
     evaluate_cycle, CycleIndicators, FrettingParams, FrettingRegime, FrettingSnLaw,

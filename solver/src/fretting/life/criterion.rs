@@ -34,8 +34,8 @@ use serde::{Deserialize, Serialize};
 
 use super::field::{EllipseHotSpot, Stress};
 use super::material::{StrainLife, WireSurface};
+use crate::contact::hertz::HertzModel;
 use crate::fretting::error::{non_negative, positive, FrettingError};
-use crate::fretting::hertz::HertzModel;
 use crate::fretting::indicators::FrettingRegime;
 
 /// Stick ratio c/a at and above which a cycle counts as stick (Q/μP ≤ 1 − 0.98³ ≈ 0.059).

@@ -6,7 +6,7 @@ use super::field::{
     traction_stress, EllipseHotSpot, Kernel, Stress,
 };
 use super::material::{StrainLife, WireSurface};
-use crate::fretting::hertz::{CrossedCylinders, ElasticMaterial, HertzModel};
+use crate::contact::hertz::{CrossedCylinders, ElasticMaterial, HertzModel};
 use crate::fretting::indicators::FrettingRegime;
 
 const NU: f64 = 0.3;
