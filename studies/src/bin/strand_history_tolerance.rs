@@ -18,6 +18,11 @@
 //! of the largest slip range, of the accumulated slip Σ count × range and of the number of slip
 //! cycles above 1 µm.
 //!
+//! `STRAND_CONTACT_LAWS='{"normal":{"law":"contact_mechanics"},"tangential":{"law":"elastic_slip",
+//! "elastic_slip_m":1e-6}}'` gives the six-layer strand other contact laws (a
+//! [`moorfret_solver::contact::ContactLaws`] in JSON), e.g. to see which of two laws keeps a
+//! history from converging.
+//!
 //! `STRAND_FORCING=η` sets the largest forcing term of the inexact Newton solves
 //! ([`moorfret_solver::linalg::NewtonParams::linear_forcing`]); `STRAND_PRECONDITIONER=single`
 //! or `double` the precision of the LDLᵀ preconditioner's solves
@@ -202,7 +207,12 @@ fn six_layer(args: &[String]) -> Result<(), Error> {
         .get("paper_six_layer")
         .ok_or("profile paper_six_layer missing")?
         .validate()?;
-    let params = StrandModelParameters::penalty_contact(2e8, 1e-5, EndKind::Periodic);
+    let mut params = StrandModelParameters::penalty_contact(2e8, 1e-5, EndKind::Periodic);
+    if let Ok(laws) = std::env::var("STRAND_CONTACT_LAWS") {
+        params.contact = serde_json::from_str(&laws)
+            .map_err(|e| format!("STRAND_CONTACT_LAWS is not a contact-law pair: {e}"))?;
+        println!("contact laws {:?}", params.contact);
+    }
     let model = StrandModel::new(&strand, &params)?;
     let ea = match ea {
         Some(v) => v,
