@@ -359,6 +359,48 @@ fn a_given_axial_stiffness_must_be_positive() {
 }
 
 #[test]
+fn hertz_mindlin_laws_run_and_refuse_a_regularisation() {
+    let dir = tempfile::tempdir().unwrap();
+    let load = dir.path().join("load.csv");
+    std::fs::write(&load, tension_history()).unwrap();
+    let out = dir.path().join("refused");
+    let o = run(
+        &load,
+        &out,
+        &[
+            "--contact-laws",
+            "hertz-mindlin",
+            "--contact-regularisation",
+            "2e8",
+            "1e-5",
+        ],
+    );
+    assert!(!o.status.success());
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        e.contains("--contact-regularisation is not used by --contact-laws hertz-mindlin"),
+        "{e}"
+    );
+    assert!(!out.join("monitors.csv").exists());
+
+    let out = dir.path().join("ran");
+    let o = run(&load, &out, &["--contact-laws", "hertz-mindlin"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let laws = summary["regularisation"].as_str().unwrap();
+    assert!(laws.contains("Mindlin stiffness up to Coulomb"), "{laws}");
+    let (_, rows) = csv_rows(&out.join("monitors.csv"), 0);
+    let kept = summary["history"]["kept_samples"].as_u64().unwrap() as usize;
+    assert!(
+        kept >= 10 && rows.len() == kept,
+        "{} rows, {kept} kept",
+        rows.len()
+    );
+    assert!(rows.iter().flatten().all(|v| v.is_finite()));
+}
+
+#[test]
 fn negative_option_values_are_refused_by_range_naming_the_option() {
     let dir = tempfile::tempdir().unwrap();
     let load = dir.path().join("load.csv");

@@ -179,7 +179,9 @@ pub(crate) fn execute(args: StrandArgs) -> anyhow::Result<()> {
     csv.flush()?;
     let summary = Summary {
         regularisation: match args.model.contact_laws {
-            ContactLawsArg::ContactMechanics => args.model.regularisation_name(),
+            ContactLawsArg::ContactMechanics | ContactLawsArg::HertzMindlin => {
+                args.model.regularisation_name()
+            }
             ContactLawsArg::Regularised => args.model.regularisation.clone(),
         },
         sizes: ModelSizes::of(&model),

@@ -4,7 +4,8 @@
 use std::path::PathBuf;
 
 use anyhow::{anyhow, bail, Context};
-use clap::Args;
+use clap::{Args, ValueEnum};
+use moorfret_solver::contact::TangentialLaw;
 use moorfret_solver::strand::model::{EndKind, StrandModel, StrandModelParameters};
 use moorfret_solver::strand::profile::{
     select_profile, ProfileError, Regularisation, Strand, StrandProfile,
@@ -33,7 +34,8 @@ pub(crate) struct ModelArgs {
     /// Contact laws of the wire crossings: `regularised` (penalty normal law and elastic-slip
     /// Coulomb law, from `--regularisation` or `--contact-regularisation`) or
     /// `contact-mechanics` (Hertz at the crossings, line law on the core, Cattaneo–Mindlin
-    /// tangential law with memory; no regularisation).
+    /// tangential law with memory; no regularisation), or `hertz-mindlin` (the same normal laws,
+    /// Mindlin's initial tangential stiffness up to the Coulomb limit).
     #[arg(long, value_enum, default_value_t = ContactLawsArg::Regularised)]
     pub(crate) contact_laws: ContactLawsArg,
 }
@@ -45,6 +47,9 @@ pub(crate) enum ContactLawsArg {
     Regularised,
     /// Hertz / line-contact normal laws and the Cattaneo–Mindlin tangential law with memory.
     ContactMechanics,
+    /// Hertz / line-contact normal laws and Mindlin's initial tangential stiffness 8 G* c up to
+    /// the Coulomb limit (elastic–perfectly-plastic: no micro-slip curve below μP).
+    HertzMindlin,
 }
 
 impl ModelArgs {
@@ -53,6 +58,9 @@ impl ModelArgs {
         match (self.contact_laws, &self.contact_regularisation) {
             (ContactLawsArg::ContactMechanics, _) => {
                 "contact mechanics (Hertz, line contacts on the core, Cattaneo-Mindlin)".into()
+            }
+            (ContactLawsArg::HertzMindlin, _) => {
+                "Hertz, line contacts on the core, Mindlin stiffness up to Coulomb".into()
             }
             (_, Some(v)) => format!("normal penalty {} N/m, elastic slip {} m", v[0], v[1]),
             (_, None) => self.regularisation.clone(),
@@ -132,14 +140,20 @@ pub(crate) fn load_strand(
     let strand = profile
         .validate()
         .with_context(|| format!("in strand profile {}", args.profile.display()))?;
-    if args.contact_laws == ContactLawsArg::ContactMechanics {
+    if args.contact_laws != ContactLawsArg::Regularised {
         if args.contact_regularisation.is_some() {
             bail!(
-                "--contact-regularisation is not used by --contact-laws contact-mechanics (its \
-                 laws have no regularisation)"
+                "--contact-regularisation is not used by --contact-laws {} (its laws have no \
+                 regularisation)",
+                args.contact_laws
+                    .to_possible_value()
+                    .map_or_else(String::new, |v| v.get_name().to_owned())
             );
         }
-        let params = StrandModelParameters::contact_mechanics(args.ends.end_kind());
+        let mut params = StrandModelParameters::contact_mechanics(args.ends.end_kind());
+        if args.contact_laws == ContactLawsArg::HertzMindlin {
+            params.contact.tangential = TangentialLaw::Mindlin;
+        }
         return Ok((profile, strand, params));
     }
     let reg = match args.contact_regularisation.as_deref() {
