@@ -71,15 +71,27 @@ fn existing_store(dir: &Path) -> String {
 }
 
 /// Waits until the last connection to `db` has checkpointed its log into the file and removed
-/// it (on a thread of its own, after the pool is closed), so that the store's bytes are
-/// settled before a test compares them.
+/// it (on a thread of its own, after the pool is closed), then until the store's files have
+/// stopped changing, so that their bytes are settled before a test compares them (on a loaded
+/// machine the checkpoint can outlast the removal test's 5 s).
 fn settle(db: &str) {
     let wal = format!("{db}-wal");
     for _ in 0..200 {
         if !Path::new(&wal).exists() {
-            return;
+            break;
         }
         std::thread::sleep(std::time::Duration::from_millis(25));
+    }
+    let mut last = store_files(db);
+    let mut stable = 0;
+    for _ in 0..200 {
+        std::thread::sleep(std::time::Duration::from_millis(25));
+        let now = store_files(db);
+        stable = if now == last { stable + 1 } else { 0 };
+        if stable == 4 {
+            return;
+        }
+        last = now;
     }
 }
 
