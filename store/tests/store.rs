@@ -1492,6 +1492,25 @@ async fn claim_filter_respects_kind_and_expected_cost(backend: Backend) {
     ts.finish().await;
 }
 
+/// The bytes of the SQLite file at `location` once its write-ahead log is gone and the file
+/// has not changed over four successive polls 50 ms apart (at most 30 s in all).
+async fn settled_bytes(location: &str) -> Vec<u8> {
+    let wal = format!("{location}-wal");
+    let mut last = std::fs::read(location).unwrap();
+    let mut unchanged = 0;
+    for _ in 0..600 {
+        tokio::time::sleep(std::time::Duration::from_millis(50)).await;
+        let now = std::fs::read(location).unwrap();
+        let log_gone = !std::path::Path::new(&wal).exists();
+        unchanged = if now == last && log_gone { unchanged + 1 } else { 0 };
+        if unchanged == 4 {
+            return now;
+        }
+        last = now;
+    }
+    last
+}
+
 async fn newer_schema_is_refused_and_left_untouched(backend: Backend) {
     let Some(ts) = open_store(backend, QueuePolicy::default()).await else {
         return;
@@ -1510,15 +1529,9 @@ async fn newer_schema_is_refused_and_left_untouched(backend: Backend) {
     let file_before = match backend {
         Backend::Sqlite => {
             // the last connection folds its log into the file on a thread of its own after the
-            // pool is closed: wait for it, so that the bytes compared are settled
-            let wal = format!("{}-wal", ts.location);
-            for _ in 0..200 {
-                if !std::path::Path::new(&wal).exists() {
-                    break;
-                }
-                tokio::time::sleep(std::time::Duration::from_millis(25)).await;
-            }
-            Some(std::fs::read(&ts.location).unwrap())
+            // pool is closed: wait until the log is gone and the file has kept its bytes for
+            // a while (up to 30 s on a loaded machine), so that the bytes compared are settled
+            Some(settled_bytes(&ts.location).await)
         }
         Backend::Postgres => None,
     };
