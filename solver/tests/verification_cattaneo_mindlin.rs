@@ -14,6 +14,12 @@
 //!   W = (9 μ² P²/(10 c G*)) [1 − (1 − Q*/μP)^{5/3} − (5Q*/(6μP)) (1 + (1 − Q*/μP)^{2/3})],
 //! checked here against the numerical integration of the closed-form loop and against the
 //! element's loop.
+//!
+//! The element's law is a discrete Iwan model whose corners lie on the virgin curve
+//! (`moorfret_solver::contact::memory`): its curves are the chord interpolant of the closed form,
+//! exact at the corners and at the onset of gross slip. The tolerances are those of that
+//! interpolation: 0.5 % of μP on the curves (Masing's branches double the virgin curve's
+//! error), 1 % on the loop energy for 0.05 μP ≤ Q* < μP; the measured differences are printed.
 
 use std::f64::consts::PI;
 
@@ -158,7 +164,7 @@ fn loading_unloading_and_reloading_follow_the_cattaneo_mindlin_closed_form() {
             x.c,
             ds
         );
-        assert!(worst < 1e-9, "largest difference {worst:e} μP");
+        assert!(worst < 5e-3, "largest difference {worst:e} μP");
         let (q, st, _) = x.step(1.001 * ds);
         assert_eq!(st, ContactStatus::Slip);
         assert!((q / mp - 1.0).abs() < 1e-12);
@@ -188,7 +194,13 @@ fn gross_slip_starts_at_delta_s_on_the_virgin_curve() {
         } else {
             mp
         };
-        assert!((last.0 / expect - 1.0).abs() < 1e-9);
+        // 0.99 δ_s lies between the last two corners of the Iwan elements
+        let tolerance = if frac < 1.0 { 5e-3 } else { 1e-12 };
+        assert!(
+            (last.0 / expect - 1.0).abs() < tolerance,
+            "δ = {frac} δ_s: {} vs {expect}",
+            last.0
+        );
     }
 }
 
@@ -196,7 +208,7 @@ fn gross_slip_starts_at_delta_s_on_the_virgin_curve() {
 fn the_loop_dissipates_the_mindlin_deresiewicz_energy() {
     let mut x = crossing(0.5 * PI, 2e-6);
     let (mp, ds) = (MU * x.p, x.delta_s);
-    for ratio in [0.2, 0.5, 0.9] {
+    for ratio in [0.05, 0.2, 0.5, 0.9, 0.99] {
         // amplitude Q* = ratio μP on the virgin curve: δ* = δ_s [1 − (1 − Q*/μP)^{2/3}]
         let q_star = ratio * mp;
         let d_star = ds * (1.0 - (1.0 - ratio).powf(2.0 / 3.0));
@@ -231,6 +243,7 @@ fn the_loop_dissipates_the_mindlin_deresiewicz_energy() {
         }
         let mut work = 0.0;
         let mut prev = (d_star, x.step(d_star).0);
+        let q_reached = prev.1;
         let path = (1..=2 * n)
             .map(|k| d_star - d_star * k as f64 / n as f64)
             .chain((1..=2 * n).map(|k| -d_star + d_star * k as f64 / n as f64));
@@ -243,10 +256,15 @@ fn the_loop_dissipates_the_mindlin_deresiewicz_energy() {
         // the work done on the contact over a closed cycle is the dissipated energy
         assert!(work > 0.0);
         assert!(
-            (work / formula - 1.0).abs() < 1e-3,
+            (work / formula - 1.0).abs() < 1e-2,
             "Q*/μP = {ratio}: element loop {work:e} J vs formula {formula:e} J"
         );
-        assert!((prev.1 / q_star - 1.0).abs() < 1e-9, "the loop closes");
+        // Masing's memory: the reloading ends where the first loading turned
+        assert!((prev.1 / q_reached - 1.0).abs() < 1e-9, "the loop closes");
+        assert!(
+            (q_reached / q_star - 1.0).abs() < 5e-3,
+            "Q* reached {q_reached} vs {q_star}"
+        );
         eprintln!(
             "Q*/μP = {ratio}: W formula {formula:.6e} J, closed-form loop (Simpson) \
              {numeric:.6e} J ({:+.1e}), element loop {work:.6e} J ({:+.1e})",
@@ -272,7 +290,6 @@ fn a_falling_normal_force_makes_a_loaded_contact_slide() {
     assert!(q > 0.2 * MU * x.p);
     assert_eq!(r.status, ContactStatus::Slip);
     assert!((r.tangential_force_n / (MU * r.normal_force_n) - 1.0).abs() < 1e-12);
-    assert_eq!(r.next_history.tangential_memory.count, 0);
 }
 
 /// The Hertz contact of the two wires of these tests crossing at `angle`.

@@ -1502,7 +1502,11 @@ async fn settled_bytes(location: &str) -> Vec<u8> {
         tokio::time::sleep(std::time::Duration::from_millis(50)).await;
         let now = std::fs::read(location).unwrap();
         let log_gone = !std::path::Path::new(&wal).exists();
-        unchanged = if now == last && log_gone { unchanged + 1 } else { 0 };
+        unchanged = if now == last && log_gone {
+            unchanged + 1
+        } else {
+            0
+        };
         if unchanged == 4 {
             return now;
         }

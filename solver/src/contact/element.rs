@@ -22,8 +22,8 @@
 //!
 //! Forces: penalty-type potential, f_N = f_N(−g_N) ≥ 0 and f_T = k_T g_T (stick) or
 //! f_T = μ f_N g_T/|g_T| (slip, radial return), see [`super::laws`]; with the Cattaneo–Mindlin
-//! law f_T is the branch of [`super::memory`] through the trial gap, returned to μ f_N in
-//! gross slip, and the history also keeps its reversal points. The internal force vector
+//! law f_T is the force of the Iwan elements of [`super::memory`] at the trial gap (μ f_N in
+//! gross slip), and the history also keeps the elements' stretches. The internal force vector
 //! (contribution to the residual r = f_int − f_ext) is f_int = −f_N ∂g_N/∂q + (∂g_T/∂q)ᵀ f_T, with
 //!   ∂g_N/∂u₁ = −n, ∂g_N/∂u₂ = n, ∂g_N/∂θ₁ = t₁ × (t₂ × m), ∂g_N/∂θ₂ = t₂ × (m × t₁),
 //!   m = (σ/|t₁ × t₂|) P d,
@@ -43,7 +43,7 @@ use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use super::laws::{
     ContactError, ContactParameters, ResolvedLaws, ResolvedNormal, ResolvedTangential,
 };
-use super::memory::{self, TangentialMemory, MEMORY_DEPTH};
+use super::memory::{self, TangentialMemory, IWAN_ELEMENTS};
 use super::scalar::{director, point, Scalar, NDOF, V3};
 
 /// Element force vector [u₁, θ₁, u₂, θ₂].
@@ -111,7 +111,8 @@ pub struct ContactHistory {
     pub slip_path_m: f64,
     /// Status at the last accepted step.
     pub status: ContactStatus,
-    /// Reversal points of the Cattaneo–Mindlin law (empty for the other laws).
+    /// Stretches of the Cattaneo–Mindlin law's Iwan elements (empty for the other laws).
+    #[serde(default, skip_serializing_if = "TangentialMemory::is_empty")]
     pub tangential_memory: TangentialMemory,
 }
 
@@ -160,15 +161,14 @@ struct Kernel<S> {
     n: V3<S>,
     kt: f64,
     status: ContactStatus,
-    /// Elastic gap and reversal points of the Cattaneo–Mindlin law.
+    /// Elastic gap and element stretches of the Cattaneo–Mindlin law.
     memory: Option<MemoryState>,
 }
 
 /// What the Cattaneo–Mindlin law keeps from a trial evaluation.
 struct MemoryState {
     elastic: Vector3<f64>,
-    points: [(Vector3<f64>, Vector3<f64>); MEMORY_DEPTH],
-    count: usize,
+    stretches: [Vector3<f64>; IWAN_ELEMENTS - 1],
 }
 
 /// Components (a, b) of `v` on the non-orthogonal basis (t₁, t₂) of the tangent plane.
@@ -476,12 +476,10 @@ impl ContactPair {
         };
         let (ft, status, kt, memory) = if let Some(k0) = k0 {
             let m = &h.tangential_memory;
-            let previous = t1.scalef(h.elastic_gap_m[0]) + t2.scalef(h.elastic_gap_m[1]);
-            let trial = memory::evaluate(m, &previous, &gt, &t1, &t2, fnorm, k0, mu);
+            let trial = memory::evaluate(m, h.elastic_gap_m, &gt, &t1, &t2, fnorm, k0, mu);
             let state = MemoryState {
                 elastic: trial.elastic,
-                points: trial.points,
-                count: trial.count,
+                stretches: trial.stretches,
             };
             let status = if trial.slip {
                 ContactStatus::Slip
@@ -566,16 +564,8 @@ impl ContactPair {
         };
         let mut tangential_memory = TangentialMemory::default();
         if let (ContactStatus::Stick | ContactStatus::Slip, Some(m)) = (k.status, &k.memory) {
-            tangential_memory.count = m.count as u8;
-            for (slot, (g, q)) in tangential_memory
-                .reversals
-                .iter_mut()
-                .zip(&m.points)
-                .take(m.count)
-            {
-                let [g1, g2] = components(g, t1, t2);
-                let [q1, q2] = components(q, t1, t2);
-                *slot = [g1, g2, q1, q2];
+            for (slot, e) in tangential_memory.stretches.iter_mut().zip(&m.stretches) {
+                *slot = components(e, t1, t2);
             }
         }
         let sliding = match k.status {

@@ -17,8 +17,9 @@
 //! Cattaneo–Mindlin (`TangentialLaw::CattaneoMindlin`, [`super::memory`]): the force–
 //! displacement curve of a Hertz contact under a constant normal force P with micro-slip,
 //! Q = μP [1 − (1 − δ/δ_s)^{3/2}], δ_s = 3μP/(16 G* c) (Johnson 1985 eq. 7.42, both bodies in
-//! G*), its unloading and reloading branches by Masing's rule from the last reversal (Johnson
-//! §7.3; Mindlin & Deresiewicz 1953) and Coulomb sliding at |Q| = μP. For a line contact the
+//! G*), its unloading and reloading branches by Masing's rule (Johnson §7.3; Mindlin &
+//! Deresiewicz 1953) and Coulomb sliding at |Q| = μP, as a discrete Iwan model whose corners lie
+//! on that curve (within 0.1 % of μP on the curves, 0.6 % on the loop energy). For a line contact the
 //! initial stiffness 8 G* c is replaced by the Mindlin ratio of tangential to normal stiffness,
 //! k_T0 = (4 G*/E*) k_N (exact for circular and elliptical Hertz contacts of equal elastic
 //! constants to within the ellipse's correction; an approximation for the strip).
@@ -64,8 +65,9 @@ pub enum TangentialLaw {
     },
     /// Mindlin initial compliance: k_T = 8 G* c with c the Hertz equivalent contact radius.
     Mindlin,
-    /// Cattaneo–Mindlin micro-slip with Masing unloading / reloading and Coulomb sliding, the
-    /// reversal points kept in the contact history (module docs, [`super::memory`]).
+    /// Cattaneo–Mindlin micro-slip with Masing unloading / reloading and Coulomb sliding, as an
+    /// Iwan model whose elements' stretches are kept in the contact history (module docs,
+    /// [`super::memory`]).
     CattaneoMindlin,
 }
 

@@ -7,7 +7,7 @@
 //!   and errors;
 //! - [`hertz`]: the Hertz contact of crossed cylinders (ellipse, peak pressure, K_H) and of line
 //!   contacts, the Mindlin tangential modulus; the fretting statistics read the same model;
-//! - [`memory`]: the Cattaneo–Mindlin tangential law with its reversal points;
+//! - [`memory`]: the Cattaneo–Mindlin tangential law as an Iwan model of Jenkins elements;
 //! - `scalar`: the generic scalar / dual-number arithmetic from which the tangent is derived.
 //!
 //! Contact pairing is fixed for the whole analysis; the history changes only when the caller

@@ -326,9 +326,9 @@ fn initialise(
     // the first stage starts where the contacts carry almost no normal force: it has its own
     // pseudo-transient shift; the later stages start from loaded contacts. With the
     // Cattaneo-Mindlin law the small tension leaves the contacts a micro-slip range δ_s of a
-    // few 0.1 µm (∝ f_N^{2/3}): the initial curvature slides nearly all of them, and plain
-    // Newton stalls (six-layer strand, stage 2); every stage then keeps the shift, which takes
-    // that strand through stage 2 but not yet through the third (docs/strand-runs.md).
+    // few 0.1 µm (∝ f_N^{2/3}): the initial curvature slides nearly all of them, and every
+    // stage keeps the shift (six-layer strand, first 100 s of the severe history: 81 s of
+    // initialisation with it, 533 s and 12 cut-backs without; docs/contact-laws.md).
     let history_newton = runner.newton;
     let memory_laws = runner.model.contact_parameters.tangential == TangentialLaw::CattaneoMindlin;
     for (i, (stage, strain, curvature_per_m)) in stages.into_iter().enumerate() {
