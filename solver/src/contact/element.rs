@@ -112,7 +112,6 @@ pub struct ContactHistory {
     /// Status at the last accepted step.
     pub status: ContactStatus,
     /// Stretches of the Cattaneo–Mindlin law's Iwan elements (empty for the other laws).
-    #[serde(default, skip_serializing_if = "TangentialMemory::is_empty")]
     pub tangential_memory: TangentialMemory,
 }
 

@@ -82,52 +82,46 @@ impl TangentialMemory {
     }
 }
 
+/// Stored as the list of stretches, empty when every stretch is zero (the other laws' contacts
+/// then cost a length in a checkpoint); self-describing and binary forms alike.
 impl Serialize for TangentialMemory {
     fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
         #[derive(Serialize)]
         struct Stored<'a> {
             stretches: &'a [[f64; 2]],
         }
-        Stored {
-            stretches: &self.stretches,
-        }
-        .serialize(serializer)
+        let stretches: &[[f64; 2]] = if self.is_empty() {
+            &[]
+        } else {
+            &self.stretches
+        };
+        Stored { stretches }.serialize(serializer)
     }
 }
 
 impl<'de> Deserialize<'de> for TangentialMemory {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        /// The stored form, and the reversal points of the earlier closed-form law, which a
-        /// checkpoint may hold: empty ones are the same state; others cannot be carried over.
         #[derive(Deserialize)]
         struct Stored {
-            #[serde(default)]
-            stretches: Option<Vec<[f64; 2]>>,
-            #[serde(default)]
-            count: u8,
+            stretches: Vec<[f64; 2]>,
         }
         let stored = Stored::deserialize(deserializer)?;
-        if stored.count > 0 {
+        let mut memory = Self::default();
+        if stored.stretches.is_empty() {
+            return Ok(memory);
+        }
+        if stored.stretches.len() != KEPT {
+            return Err(D::Error::custom(format!(
+                "tangential_memory.stretches: {} entries, expected {KEPT} (or none)",
+                stored.stretches.len()
+            )));
+        }
+        if stored.stretches.iter().flatten().any(|v| !v.is_finite()) {
             return Err(D::Error::custom(
-                "tangential_memory: reversal points of the earlier Cattaneo-Mindlin law cannot be \
-                 converted to the Iwan model's stretches; restart the run without this checkpoint",
+                "tangential_memory.stretches: a stretch is not a finite number",
             ));
         }
-        let mut memory = Self::default();
-        if let Some(stretches) = stored.stretches {
-            if stretches.len() != KEPT {
-                return Err(D::Error::custom(format!(
-                    "tangential_memory.stretches: {} entries, expected {KEPT}",
-                    stretches.len()
-                )));
-            }
-            if stretches.iter().flatten().any(|v| !v.is_finite()) {
-                return Err(D::Error::custom(
-                    "tangential_memory.stretches: a stretch is not a finite number",
-                ));
-            }
-            memory.stretches.copy_from_slice(&stretches);
-        }
+        memory.stretches.copy_from_slice(&stored.stretches);
         Ok(memory)
     }
 }
@@ -314,18 +308,22 @@ mod tests {
     }
 
     #[test]
-    fn a_memory_of_another_law_is_read_back_or_refused_naming_the_field() {
+    fn a_memory_round_trips_and_a_wrong_one_is_refused_naming_the_field() {
         let mut m = TangentialMemory::default();
         m.stretches[3] = [1e-7, -2e-7];
         let s = serde_json::to_string(&m).unwrap();
         assert_eq!(serde_json::from_str::<TangentialMemory>(&s).unwrap(), m);
-        let empty_legacy = r#"{"reversals":[[0,0,0,0],[0,0,0,0],[0,0,0,0],[0,0,0,0]],"count":0}"#;
-        assert!(serde_json::from_str::<TangentialMemory>(empty_legacy)
-            .unwrap()
-            .is_empty());
-        let legacy = r#"{"reversals":[[1e-7,0,1,0],[0,0,0,0],[0,0,0,0],[0,0,0,0]],"count":1}"#;
-        let err = serde_json::from_str::<TangentialMemory>(legacy).unwrap_err();
-        assert!(err.to_string().contains("tangential_memory"), "{err}");
+        let b = bincode::serialize(&m).unwrap();
+        assert_eq!(bincode::deserialize::<TangentialMemory>(&b).unwrap(), m);
+        // an empty memory is an empty list: a length in the binary form
+        let empty = TangentialMemory::default();
+        assert_eq!(
+            serde_json::to_string(&empty).unwrap(),
+            r#"{"stretches":[]}"#
+        );
+        let b = bincode::serialize(&empty).unwrap();
+        assert_eq!(b.len(), 8);
+        assert_eq!(bincode::deserialize::<TangentialMemory>(&b).unwrap(), empty);
         let short = r#"{"stretches":[[0,0]]}"#;
         let err = serde_json::from_str::<TangentialMemory>(short).unwrap_err();
         assert!(

@@ -44,17 +44,31 @@ pub struct HistoryCheckpoint {
     pub stats: HistoryStats,
 }
 
+/// The first bytes of a checkpoint's binary form: its format. bincode is not self-describing,
+/// so a checkpoint of another layout (the contact histories' tangential memory changed with
+/// format 2) would be misread rather than refused without it.
+const FORMAT: &[u8; 8] = b"mfchk002";
+
 impl HistoryCheckpoint {
-    /// Compact binary form (bincode).
+    /// Compact binary form: [`FORMAT`], then bincode.
     pub fn to_bytes(&self) -> Result<Vec<u8>, HistoryError> {
-        bincode::serialize(self).map_err(|e| HistoryError::Checkpoint {
+        let mut bytes = FORMAT.to_vec();
+        bincode::serialize_into(&mut bytes, self).map_err(|e| HistoryError::Checkpoint {
             reason: e.to_string(),
-        })
+        })?;
+        Ok(bytes)
     }
 
-    /// Reads the binary form written by [`Self::to_bytes`].
+    /// Reads the binary form written by [`Self::to_bytes`]; the form of another format is
+    /// refused.
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, HistoryError> {
-        bincode::deserialize(bytes).map_err(|e| HistoryError::Checkpoint {
+        let body =
+            bytes
+                .strip_prefix(FORMAT.as_slice())
+                .ok_or_else(|| HistoryError::Checkpoint {
+                    reason: "not a checkpoint of this format (written by another build?)".into(),
+                })?;
+        bincode::deserialize(body).map_err(|e| HistoryError::Checkpoint {
             reason: e.to_string(),
         })
     }
