@@ -20,6 +20,7 @@ pub mod design;
 pub mod error;
 pub mod fatigue;
 pub mod fidelity;
+pub mod mild_seas;
 pub mod payload;
 pub mod resolve;
 pub mod screening;

@@ -288,6 +288,13 @@ pub struct StrandSpec {
     /// measured on it (`docs/reduced-strand.md`).
     #[serde(default, skip_serializing_if = "is_false")]
     pub shared_calibration: bool,
+    /// Mild sea states a hot spot skips (`reduced`, `auto`; [`crate::mild_seas`]): per hot spot,
+    /// the first-seed sea states of the smallest fibre-strain measure whose tension-bending
+    /// proxy together stays within this fraction of the hot spot's total are not run through the
+    /// strand model; the design check charges the hot spot's damage by 1 / (1 − the skipped
+    /// proxy share), the bound on what they hold. 0 (default) runs every sea state.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub skip_mild_share: f64,
     /// EA of the tension → strain conversion ([`crate::stiffness`]): `strand_model` or
     /// `line_type`. A campaign file without it takes `strand_model`, and the resolved campaign
     /// stores that choice; stored inputs without it belong to campaigns planned before the
@@ -307,6 +314,10 @@ fn is_true(b: &bool) -> bool {
 
 fn is_false(b: &bool) -> bool {
     !*b
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 fn default_calibration_margin() -> f64 {
@@ -787,6 +798,21 @@ impl CampaignSpec {
                 "must be in [0, 1]",
             ));
         }
+        let share = st.skip_mild_share;
+        if !(share.is_finite() && (0.0..=crate::mild_seas::MAX_SKIP_SHARE).contains(&share)) {
+            return Err(invalid(
+                "strand.skip_mild_share",
+                share,
+                &format!("must be in [0, {}]", crate::mild_seas::MAX_SKIP_SHARE),
+            ));
+        }
+        if share > 0.0 && !st.fidelity.uses_reduced() {
+            return Err(invalid(
+                "strand.skip_mild_share",
+                share,
+                "skips reduced strand jobs only: needs strand.fidelity reduced or auto",
+            ));
+        }
         if !(1..=MAX_STRAND_THREADS).contains(&st.threads) {
             return Err(invalid(
                 "strand.threads",
@@ -1088,6 +1114,18 @@ mod tests {
             (
                 serde_json::json!({"calibration_hs_fraction": -0.2}),
                 "strand.calibration_hs_fraction",
+            ),
+            (
+                serde_json::json!({"skip_mild_share": 0.2, "fidelity": "reduced"}),
+                "strand.skip_mild_share",
+            ),
+            (
+                serde_json::json!({"skip_mild_share": -0.01, "fidelity": "auto"}),
+                "strand.skip_mild_share",
+            ),
+            (
+                serde_json::json!({"skip_mild_share": 0.01}),
+                "strand.skip_mild_share",
             ),
             (
                 serde_json::json!({"turning_point_scale": {"strain": 1e-4, "curvature_per_m": -1.0}}),

@@ -48,6 +48,8 @@ pub struct DesignCheck {
     pub sectors: Vec<SectorDamage>,
     /// The hot spots found by screening (`"hot_spots": "auto"`), with their proxy.
     pub screening: Vec<moorfret_campaign::screening::ScreenedHotSpot>,
+    /// Per hot spot, the mild sea states it skipped (none without `strand.skip_mild_share`).
+    pub mild_seas: Vec<MildSkip>,
 }
 
 /// One damage figure and its utilisation.
@@ -75,6 +77,25 @@ pub struct Figure {
     pub year_covered: f64,
     /// Pass, fail or incomplete.
     pub verdict: Verdict,
+    /// Share of the year in mild sea states its hot spot skipped (`strand.skip_mild_share`),
+    /// counted in `year_covered`; their damage is charged through `annual_damage`, which is the
+    /// damage of the sea states run times 1 / (1 − q) (`moorfret_campaign::mild_seas`).
+    pub year_skipped: f64,
+}
+
+/// The mild sea states a hot spot skipped (`strand.skip_mild_share`).
+#[derive(Debug, Clone, Serialize)]
+pub struct MildSkip {
+    /// Hot spot index in the campaign.
+    pub hot_spot_index: i64,
+    /// Skipped sea states.
+    pub sea_states: usize,
+    /// Their share of the year.
+    pub year_share: f64,
+    /// q: their share of the hot spot's tension-bending proxy.
+    pub proxy_share: f64,
+    /// The factor 1 / (1 − q) on the strand figures of the hot spot.
+    pub damage_factor: f64,
 }
 
 /// The verdict of one mooring line.
@@ -161,6 +182,8 @@ pub async fn check(store: &Store, campaign: CampaignId) -> anyhow::Result<Option
             ));
     }
 
+    let mild_seas = mild_skips(store, campaign).await?;
+    let mild_of = |h: i64| mild_seas.iter().find(|m| m.hot_spot_index == h);
     let hot_spot = |i: i64| spec.hot_spots.get(i as usize);
     let mut figures = Vec::new();
     let mut push = |hot_spot_index: i64,
@@ -180,6 +203,12 @@ pub async fn check(store: &Store, campaign: CampaignId) -> anyhow::Result<Option
         } else {
             "design"
         };
+        // the strand figures of a hot spot that skipped mild sea states carry their bound
+        let (annual_damage, year_skipped) = match mild_of(hot_spot_index) {
+            Some(m) if class_measure => (annual_damage * m.damage_factor, m.year_share),
+            _ => (annual_damage, 0.0),
+        };
+        let year_covered = year_covered + year_skipped;
         let u = utilisation(annual_damage, life, factor);
         figures.push(Figure {
             line: h.line,
@@ -193,6 +222,7 @@ pub async fn check(store: &Store, campaign: CampaignId) -> anyhow::Result<Option
             utilisation: u,
             year_covered,
             verdict: Verdict::of(u, year_covered),
+            year_skipped,
         });
     };
     for r in store.lifetime_class_damage(campaign).await? {
@@ -295,7 +325,38 @@ pub async fn check(store: &Store, campaign: CampaignId) -> anyhow::Result<Option
         lines,
         sectors,
         screening: inputs.hot_spot_screening.clone(),
+        mild_seas,
     }))
+}
+
+/// Per hot spot, the mild sea states its reduced jobs skipped, from their results
+/// (`"skipped": "mild"`, written by the worker's gate).
+async fn mild_skips(store: &Store, campaign: CampaignId) -> anyhow::Result<Vec<MildSkip>> {
+    let mut per_hot_spot: BTreeMap<i64, MildSkip> = BTreeMap::new();
+    for job in store.jobs_of_campaign(campaign).await? {
+        let Some(result) = &job.result else {
+            continue;
+        };
+        if result["skipped"] != "mild" {
+            continue;
+        }
+        let (Some(h), Some(q), Some(year), Some(n)) = (
+            result["hot_spot_index"].as_i64(),
+            result["mild_seas"]["proxy_share"].as_f64(),
+            result["mild_seas"]["occurrence_fraction"].as_f64(),
+            result["mild_seas"]["skipped"].as_u64(),
+        ) else {
+            continue;
+        };
+        per_hot_spot.entry(h).or_insert(MildSkip {
+            hot_spot_index: h,
+            sea_states: n as usize,
+            year_share: year,
+            proxy_share: q,
+            damage_factor: 1.0 / (1.0 - q),
+        });
+    }
+    Ok(per_hot_spot.into_values().collect())
 }
 
 /// `interface <i> / <position>` of a contact class.

@@ -1102,6 +1102,137 @@ fn a_load_outside_the_first_calibration_makes_the_check_calibrate_again() {
     });
 }
 
+/// `strand.skip_mild_share` end to end on four short demo cells (reduced): the test computes
+/// each cell's fibre-strain measure x = σ_T/EA + (D/2) σ_κ and proxy w x^4.8/T_p from the stored
+/// global summaries itself, and the cells skipped must be the mildest by x whose proxy fits the
+/// share; the skipped reduced jobs end without rows (settled or gated), the others run; the
+/// design check counts the skipped year as covered and charges the strand figures by
+/// 1/(1 − q).
+#[test]
+fn mild_sea_states_are_skipped_within_their_proxy_share_and_charged_in_the_design_check() {
+    let _serial = serial();
+    let dir = tempfile::tempdir().unwrap();
+    let share = 0.05;
+    let (db, id) = launch_to_end(
+        dir.path(),
+        "mild",
+        "lower\tupper\t11\t12\t14\ttotal\n2\t2,5\t1,354\t0\t0\t1,354\n\
+         4\t4,5\t0\t0,423\t0\t0,423\n6\t6,5\t0\t0\t0,2\t0,2\n8\t8,5\t0,05\t0\t0\t0,05\n",
+        |spec| {
+            spec["strand"]["fidelity"] = serde_json::json!("reduced");
+            spec["strand"]["contact_records"] = serde_json::json!(false);
+            spec["strand"]["skip_mild_share"] = serde_json::json!(share);
+        },
+    );
+    let inputs = moorfret_campaign::resolve(&dir.path().join("demo.json"))
+        .unwrap()
+        .inputs;
+    let diameter = inputs.profile.validate().unwrap().outer_diameter_m();
+    let (skipped, q, year_skipped, lifetime) = rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let jobs = store.jobs_of_campaign(id).await.unwrap();
+        let attempts = store.attempts_of_campaign(id).await.unwrap();
+        let states = store.sea_state_status(id).await.unwrap();
+        let occurrence = |i: i64| {
+            states
+                .iter()
+                .find(|s| s.sea_state_index == i)
+                .unwrap()
+                .occurrence_fraction
+        };
+        // EA from a reduced job that ran
+        let mut ea = None;
+        let mut skipped = Vec::new();
+        let mut q_stored = None;
+        for job in jobs.iter().filter(|j| j.kind == JobKind::StrandReduced) {
+            let results = store.results_of(job.id).await.unwrap();
+            let index = job.payload["global"]["sea_state_index"].as_i64().unwrap();
+            if results.result["skipped"] == "mild" {
+                assert!(results.class_damage_inputs.is_empty() && results.artifacts.is_empty());
+                if results.result.get("settled_by").is_some() {
+                    assert!(attempts.iter().all(|a| a.job != job.id));
+                }
+                q_stored = results.result["mild_seas"]["proxy_share"].as_f64();
+                skipped.push(index);
+            } else {
+                assert!(!results.class_damage_inputs.is_empty());
+                ea = results.result["axial_stiffness"]["ea_n"].as_f64();
+            }
+        }
+        let ea = ea.expect("a reduced job ran");
+        // (sea state, w, T_p, x) from the global summaries
+        let mut cells = Vec::new();
+        for job in jobs.iter().filter(|j| j.kind == JobKind::Global) {
+            let results = store.results_of(job.id).await.unwrap();
+            let s = &results.hot_spots[0].summary;
+            let x = s["tension_n"]["std"].as_f64().unwrap() / ea
+                + 0.5 * diameter * s["curvature_per_m"]["std"].as_f64().unwrap();
+            let index = job.payload["sea_state_index"].as_i64().unwrap();
+            let tp = job.payload["tp_s"].as_f64().unwrap();
+            cells.push((index, occurrence(index), tp, x));
+        }
+        cells.sort_by(|a, b| a.3.total_cmp(&b.3));
+        let proxy = |c: &(i64, f64, f64, f64)| c.1 * c.3.powf(4.8) / c.2;
+        let total: f64 = cells.iter().map(proxy).sum();
+        let mut expected = Vec::new();
+        let mut held = 0.0;
+        for c in &cells {
+            if held + proxy(c) > share * total {
+                break;
+            }
+            held += proxy(c);
+            expected.push(c.0);
+        }
+        skipped.sort_unstable();
+        expected.sort_unstable();
+        assert_eq!(skipped, expected, "cells (index, w, Tp, x): {cells:?}");
+        assert!(
+            !skipped.is_empty() && skipped.len() < cells.len(),
+            "{cells:?}"
+        );
+        let q = held / total;
+        assert!(q <= share);
+        assert!((q_stored.unwrap() - q).abs() < 1e-12 * q.max(1e-300));
+        let year_skipped: f64 = skipped.iter().map(|&i| occurrence(i)).sum();
+        let lifetime = store.lifetime_class_damage(id).await.unwrap();
+        store.close().await;
+        (skipped, q, year_skipped, lifetime)
+    });
+    eprintln!("skipped {skipped:?}, q {q:e}");
+    let figures: Vec<serde_json::Value> = serde_json::from_slice(&query_output(
+        &db,
+        "mild",
+        "utilisation",
+        &["--format", "json"],
+    ))
+    .unwrap();
+    let mut checked = 0;
+    for l in lifetime.iter().filter(|l| l.measure == "fretting_max") {
+        let position = serde_json::to_value(&l.angular_position).unwrap();
+        let class = format!(
+            "interface {} / {}",
+            l.layer_interface,
+            position.as_str().unwrap()
+        );
+        let f = figures
+            .iter()
+            .find(|f| f["measure"] == "fretting_max" && f["class"] == class.as_str())
+            .unwrap_or_else(|| panic!("no figure for {l:?}"));
+        let charged = f["annual_damage"].as_f64().unwrap();
+        assert!(
+            (charged - l.annual_damage / (1.0 - q)).abs() <= 1e-12 * charged,
+            "{f} {l:?}"
+        );
+        let covered = f["year_covered"].as_f64().unwrap();
+        assert!(
+            (covered - (l.occurrence_covered + year_skipped)).abs() < 1e-12,
+            "{f} {l:?}"
+        );
+        checked += 1;
+    }
+    assert!(checked > 0);
+}
+
 /// `simulation.extra_seeds` end to end: three short sea states of the demo campaign (FE
 /// strand), one seed each, and two seeds in all for the sea states holding half of the
 /// governing class's first-seed fretting damage. Every job is done once (or settled); the

@@ -1,13 +1,16 @@
 //! Gated jobs: jobs that run only if a selection over stored results picks their sea state.
 //!
-//! Two gates, both pure functions of stored rows (no driver, no planning job):
+//! Three gates, all pure functions of stored rows (no driver, no planning job):
 //!
 //! - the FE jobs of an `auto` campaign (`StrandPayload::if_selected`): selected by the reduced
 //!   first-seed results of their hot spot (`moorfret_campaign::fidelity::select_fe_sea_states`);
 //! - the jobs of an extra seed (`GlobalPayload::extra_seed`, `simulation.extra_seeds`): selected
 //!   by the first-seed strand results of the campaign, FE with `fe` and reduced with `reduced`
 //!   and `auto` (`moorfret_campaign::seeds`); a global job for any hot spot, a strand job for
-//!   its own.
+//!   its own;
+//! - the first-seed reduced jobs under `strand.skip_mild_share`: skipped when their hot spot's
+//!   mild sea states (`moorfret_campaign::mild_seas`, from the first-seed global results, all
+//!   done before the calibration every reduced job depends on) include their sea state.
 //!
 //! Every gated job depends on every job whose rows its selection reads, so all of them find
 //! the same selection. The first gated job to compute it also settles, in one store
@@ -17,15 +20,19 @@
 //! that another worker is already running reaches the same answer itself.
 
 use std::collections::BTreeMap;
+use std::sync::{Arc, Mutex};
 
 use serde_json::{json, Value};
 
 use crate::context::StageContext;
 use crate::failure::transient;
 use moorfret_campaign::fidelity::{select_fe_sea_states, ClassDamageRate, Selection};
+use moorfret_campaign::mild_seas::{mild_sea_states, MildSeas, SeaStateLoad};
 use moorfret_campaign::seeds::select_extra_seed_sea_states;
 use moorfret_campaign::{GlobalPayload, StrandPayload};
-use moorfret_store::{FailureClass, JobFailure, JobId, JobKind, JobRecord, JobResults, JobState};
+use moorfret_store::{
+    CampaignId, FailureClass, JobFailure, JobId, JobKind, JobRecord, JobResults, JobState,
+};
 
 impl StageContext<'_> {
     /// The class rows of the campaign's done jobs of `kind` with seed index below the first
@@ -222,6 +229,168 @@ pub(crate) fn extra_seed_gate(
     }
     Ok(Some(JobResults {
         result: unselected_extra_result(global, hot_spot, &selections),
+        ..JobResults::default()
+    }))
+}
+
+/// The mild-sea selections of the campaigns this process has served: the first-seed global
+/// results are all done before any reduced job runs, so one selection serves every job.
+static MILD_SEAS: Mutex<Vec<(CampaignId, Arc<Vec<MildSeas>>)>> = Mutex::new(Vec::new());
+
+/// The mild sea states of every hot spot (`moorfret_campaign::mild_seas`), from the
+/// campaign's done first-seed global jobs: each one's hot-spot tension and curvature
+/// standard deviations, the strand's EA per hot spot and its outer diameter.
+fn mild_seas_of_campaign(ctx: &StageContext<'_>) -> Result<Vec<MildSeas>, JobFailure> {
+    let inputs = ctx.inputs;
+    let first = i64::from(inputs.spec.simulation.seeds_per_sea_state);
+    let campaign = ctx.lease.campaign;
+    let jobs = ctx
+        .rt
+        .block_on(
+            ctx.retry
+                .run("list jobs", || ctx.store.jobs_of_campaign(campaign)),
+        )
+        .map_err(|e| transient(FailureClass::Store, e))?;
+    let states = ctx
+        .rt
+        .block_on(
+            ctx.retry
+                .run("read sea states", || ctx.store.sea_state_status(campaign)),
+        )
+        .map_err(|e| transient(FailureClass::Store, e))?;
+    let occurrence: BTreeMap<i64, f64> = states
+        .iter()
+        .map(|s| (s.sea_state_index, s.occurrence_fraction))
+        .collect();
+    let diameter = crate::strand_stage::campaign_strand(inputs)?.outer_diameter_m();
+    let hot_spots = inputs.spec.hot_spots.len();
+    let ea: Vec<f64> = (0..hot_spots)
+        .map(|h| {
+            crate::strand_stage::axial_stiffness(inputs, h, ctx.artifacts, None).map(|s| s.ea_n)
+        })
+        .collect::<Result<_, _>>()?;
+    let mut loads = vec![Vec::new(); hot_spots];
+    for job in &jobs {
+        if job.kind != JobKind::Global || job.state != JobState::Done {
+            continue;
+        }
+        let Ok(g) = serde_json::from_value::<GlobalPayload>(job.payload.clone()) else {
+            continue;
+        };
+        if g.extra_seed || g.seed_index as i64 >= first {
+            continue;
+        }
+        let results = ctx
+            .rt
+            .block_on(
+                ctx.retry
+                    .run("read global results", || ctx.store.results_of(job.id)),
+            )
+            .map_err(|e| transient(FailureClass::Store, e))?;
+        for s in &results.hot_spots {
+            let h = s.hot_spot_index as usize;
+            let std = |what: &str| s.summary[what]["std"].as_f64().unwrap_or(f64::NAN);
+            if let (Some(list), Some(&ea)) = (loads.get_mut(h), ea.get(h)) {
+                let sea_state = g.sea_state_index as i64;
+                list.push(SeaStateLoad {
+                    sea_state_index: sea_state,
+                    occurrence_fraction: occurrence.get(&sea_state).copied().unwrap_or(f64::NAN),
+                    tp_s: g.tp_s,
+                    measure: SeaStateLoad::fibre_strain_measure(
+                        std("tension_n"),
+                        std("curvature_per_m"),
+                        ea,
+                        diameter,
+                    ),
+                });
+            }
+        }
+    }
+    let share = inputs.spec.strand.skip_mild_share;
+    Ok(loads.iter().map(|l| mild_sea_states(l, share)).collect())
+}
+
+/// The result of a reduced job whose sea state its hot spot skips as mild.
+fn skipped_mild_result(payload: &StrandPayload, mild: &MildSeas) -> Value {
+    json!({
+        "fidelity": "reduced",
+        "skipped": "mild",
+        "hot_spot_index": payload.hot_spot_index,
+        "sea_state_index": payload.global.sea_state_index,
+        "seed_index": payload.global.seed_index,
+        "mild_seas": {
+            "share": mild.share,
+            "proxy_share": mild.proxy_share,
+            "occurrence_fraction": mild.occurrence_fraction,
+            "largest_skipped_measure": mild.largest_skipped_measure,
+            "skipped": mild.skipped.len(),
+            "sea_states": mild.sea_states,
+        },
+    })
+}
+
+/// The gate of a first-seed reduced job under `strand.skip_mild_share`: `Some(results)` to end
+/// with when its hot spot skips its sea state as mild, `None` to run. The first job of a
+/// campaign in this process computes the selections of every hot spot and settles every
+/// skipped reduced job that still waits.
+pub(crate) fn mild_seas_gate(
+    ctx: &StageContext<'_>,
+    payload: &StrandPayload,
+) -> Result<Option<JobResults>, JobFailure> {
+    if ctx.inputs.spec.strand.skip_mild_share <= 0.0 || payload.global.extra_seed {
+        return Ok(None);
+    }
+    let campaign = ctx.lease.campaign;
+    let known = |cache: &Vec<(CampaignId, Arc<Vec<MildSeas>>)>| {
+        cache
+            .iter()
+            .find(|(c, _)| *c == campaign)
+            .map(|(_, m)| m.clone())
+    };
+    // a poisoned lock only means another job panicked while holding it: the entries are whole
+    let cached = known(&MILD_SEAS.lock().unwrap_or_else(|e| e.into_inner()));
+    let selections = match cached {
+        Some(s) => s,
+        None => {
+            let selections = Arc::new(mild_seas_of_campaign(ctx)?);
+            for (h, m) in selections.iter().enumerate() {
+                tracing::info!(job = %ctx.lease.job, hot_spot = h, skipped = m.skipped.len(),
+                    sea_states = m.sea_states, proxy_share = m.proxy_share,
+                    year_share = m.occurrence_fraction, "mild sea states skipped");
+            }
+            let mut skipped = Vec::new();
+            for job in ctx.waiting_jobs()? {
+                if job.kind != JobKind::StrandReduced {
+                    continue;
+                }
+                let Ok(p) = serde_json::from_value::<StrandPayload>(job.payload.clone()) else {
+                    continue;
+                };
+                let Some(m) = selections.get(p.hot_spot_index) else {
+                    continue;
+                };
+                if !p.global.extra_seed && m.skips(p.global.sea_state_index as i64) {
+                    let mut result = skipped_mild_result(&p, m);
+                    result["settled_by"] = json!(ctx.lease.job.0);
+                    skipped.push((job.id, result));
+                }
+            }
+            ctx.settle(skipped)?;
+            let mut cache = MILD_SEAS.lock().unwrap_or_else(|e| e.into_inner());
+            if known(&cache).is_none() {
+                cache.push((campaign, selections.clone()));
+            }
+            selections
+        }
+    };
+    let Some(mild) = selections.get(payload.hot_spot_index) else {
+        return Ok(None);
+    };
+    if !mild.skips(payload.global.sea_state_index as i64) {
+        return Ok(None);
+    }
+    Ok(Some(JobResults {
+        result: skipped_mild_result(payload, mild),
         ..JobResults::default()
     }))
 }

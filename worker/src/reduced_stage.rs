@@ -15,7 +15,9 @@
 //!   and calibrates again over all of them otherwise. The reduced jobs read the check's.
 //! - `strand_reduced` (one job per sea state, seed and hot spot): the strand load of its global
 //!   job through the calibrated response; results as an FE strand job's (contact records,
-//!   contact rows, damage inputs), marked `"fidelity": "reduced"`.
+//!   contact rows, damage inputs), marked `"fidelity": "reduced"`. Under
+//!   `strand.skip_mild_share` a first-seed job whose sea state its hot spot skips as mild ends
+//!   at once without rows (`"skipped": "mild"`, [`crate::gate`]).
 
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
@@ -33,6 +35,7 @@ use serde_json::json;
 
 use crate::context::StageContext;
 use crate::failure::{permanent, transient};
+use crate::gate::mild_seas_gate;
 use crate::strand::AxialStiffness;
 use crate::strand_stage::{
     axial_stiffness, campaign_strand, model_parameters, series_of, strand_load, strand_results,
@@ -341,6 +344,9 @@ pub fn run_strand_reduced(
             "a strand_reduced job needs calibration_cache_key",
         )
     })?;
+    if let Some(ended) = mild_seas_gate(ctx, payload)? {
+        return Ok(ended);
+    }
     let mut clock = PhaseClock::start();
     let reduced = cached_calibration(ctx, key)?;
     clock.lap("calibration");

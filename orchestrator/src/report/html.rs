@@ -96,6 +96,25 @@ fn design_section(data: &ReportData) -> anyhow::Result<String> {
     if !d.screening.is_empty() {
         body += &screening_html(&d.screening)?;
     }
+    if !d.mild_seas.is_empty() {
+        body += "<h3>Mild sea states skipped</h3>\n<p>Per hot spot, the first-seed sea states of \
+                 the smallest fibre-strain measure x = σ<sub>T</sub>/EA + (D/2) σ<sub>κ</sub> \
+                 whose tension-bending proxy w x<sup>4.8</sup>/T<sub>p</sub> together stays \
+                 within <code>strand.skip_mild_share</code> of the hot spot's were not run \
+                 through the strand model. For any damage growing with x at least as fast as \
+                 x<sup>4.8</sup>, they hold at most the share q of the hot spot's damage: its \
+                 strand figures are charged by 1/(1 − q) and count their year as covered.</p>\n";
+        body += &table_html(&Table::from_rows(
+            &[
+                "hot_spot_index",
+                "sea_states",
+                "year_share",
+                "proxy_share",
+                "damage_factor",
+            ],
+            &d.mild_seas,
+        )?);
+    }
     if d.lines.is_empty() {
         body += "<p class=\"empty\">No damage figure stored yet.</p>\n";
         return Ok(body);
