@@ -267,8 +267,9 @@ pub struct StrandSpec {
     /// first-seed global jobs of the sea states with Hs at least this fraction of the
     /// diagram's largest are done, over their load range widened by `calibration_margin`,
     /// side by side with the other global jobs. A check after every global job keeps that
-    /// calibration if its range covers every global job's load, and calibrates again over all
-    /// of them if not. 0 waits for every global job (one calibration, no check).
+    /// calibration if its range covers every global job's load that a calibration can serve
+    /// (up to the strand's admissible fibre strain), and calibrates again over all of them if
+    /// not. 0 waits for every global job (one calibration, no check).
     #[serde(
         default = "default_calibration_hs_fraction",
         skip_serializing_if = "is_default_calibration_hs_fraction"

@@ -1105,9 +1105,9 @@ fn a_load_outside_the_first_calibration_makes_the_check_calibrate_again() {
 /// `strand.skip_mild_share` end to end on four short demo cells (reduced): the test computes
 /// each cell's fibre-strain measure x = σ_T/EA + (D/2) σ_κ and proxy w x^4.8/T_p from the stored
 /// global summaries itself, and the cells skipped must be the mildest by x whose proxy fits the
-/// share; the skipped reduced jobs end without rows (settled or gated), the others run; the
-/// design check counts the skipped year as covered and charges the strand figures by
-/// 1/(1 − q).
+/// share; the skipped reduced jobs write the T-N rows of the tension and no strand rows, the
+/// others run the strand model; the design check counts the skipped year as covered and
+/// charges the strand figures by 1/(1 − q), and the T-N figures cover every sea state.
 #[test]
 fn mild_sea_states_are_skipped_within_their_proxy_share_and_charged_in_the_design_check() {
     let _serial = serial();
@@ -1148,10 +1148,15 @@ fn mild_sea_states_are_skipped_within_their_proxy_share_and_charged_in_the_desig
             let results = store.results_of(job.id).await.unwrap();
             let index = job.payload["global"]["sea_state_index"].as_i64().unwrap();
             if results.result["skipped"] == "mild" {
+                // no strand model: no contact or class rows, the T-N rows of the tension only
                 assert!(results.class_damage_inputs.is_empty() && results.artifacts.is_empty());
-                if results.result.get("settled_by").is_some() {
-                    assert!(attempts.iter().all(|a| a.job != job.id));
-                }
+                assert!(results.contacts.is_empty());
+                assert!(!results.damage_inputs.is_empty());
+                assert!(results
+                    .damage_inputs
+                    .iter()
+                    .all(|d| d.measure.starts_with("tn_")));
+                assert!(attempts.iter().any(|a| a.job == job.id));
                 q_stored = results.result["mild_seas"]["proxy_share"].as_f64();
                 skipped.push(index);
             } else {
@@ -1206,6 +1211,21 @@ fn mild_sea_states_are_skipped_within_their_proxy_share_and_charged_in_the_desig
         &["--format", "json"],
     ))
     .unwrap();
+    let year: f64 = rt().block_on(async {
+        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
+        let states = store.sea_state_status(id).await.unwrap();
+        store.close().await;
+        states.iter().map(|s| s.occurrence_fraction).sum()
+    });
+    let tn: Vec<_> = figures
+        .iter()
+        .filter(|f| f["measure"].as_str().is_some_and(|m| m.starts_with("tn_")))
+        .collect();
+    assert!(!tn.is_empty());
+    for f in tn {
+        let covered = f["year_covered"].as_f64().unwrap();
+        assert!((covered - year).abs() < 1e-12, "{f}");
+    }
     let mut checked = 0;
     for l in lifetime.iter().filter(|l| l.measure == "fretting_max") {
         let position = serde_json::to_value(&l.angular_position).unwrap();

@@ -311,7 +311,7 @@ fn mild_seas_of_campaign(ctx: &StageContext<'_>) -> Result<Vec<MildSeas>, JobFai
 }
 
 /// The result of a reduced job whose sea state its hot spot skips as mild.
-fn skipped_mild_result(payload: &StrandPayload, mild: &MildSeas) -> Value {
+pub(crate) fn skipped_mild_result(payload: &StrandPayload, mild: &MildSeas) -> Value {
     json!({
         "fidelity": "reduced",
         "skipped": "mild",
@@ -329,14 +329,15 @@ fn skipped_mild_result(payload: &StrandPayload, mild: &MildSeas) -> Value {
     })
 }
 
-/// The gate of a first-seed reduced job under `strand.skip_mild_share`: `Some(results)` to end
-/// with when its hot spot skips its sea state as mild, `None` to run. The first job of a
-/// campaign in this process computes the selections of every hot spot and settles every
-/// skipped reduced job that still waits.
+/// The gate of a first-seed reduced job under `strand.skip_mild_share`: its hot spot's mild
+/// sea states when they include the job's (the job then skips the strand model), `None` to
+/// run. The first job of a campaign in this process computes the selections of every hot spot
+/// from the stored global results and keeps them: every reduced job depends on the calibration,
+/// which waits for every first-seed global job, so all find the same selection.
 pub(crate) fn mild_seas_gate(
     ctx: &StageContext<'_>,
     payload: &StrandPayload,
-) -> Result<Option<JobResults>, JobFailure> {
+) -> Result<Option<MildSeas>, JobFailure> {
     if ctx.inputs.spec.strand.skip_mild_share <= 0.0 || payload.global.extra_seed {
         return Ok(None);
     }
@@ -358,24 +359,6 @@ pub(crate) fn mild_seas_gate(
                     sea_states = m.sea_states, proxy_share = m.proxy_share,
                     year_share = m.occurrence_fraction, "mild sea states skipped");
             }
-            let mut skipped = Vec::new();
-            for job in ctx.waiting_jobs()? {
-                if job.kind != JobKind::StrandReduced {
-                    continue;
-                }
-                let Ok(p) = serde_json::from_value::<StrandPayload>(job.payload.clone()) else {
-                    continue;
-                };
-                let Some(m) = selections.get(p.hot_spot_index) else {
-                    continue;
-                };
-                if !p.global.extra_seed && m.skips(p.global.sea_state_index as i64) {
-                    let mut result = skipped_mild_result(&p, m);
-                    result["settled_by"] = json!(ctx.lease.job.0);
-                    skipped.push((job.id, result));
-                }
-            }
-            ctx.settle(skipped)?;
             let mut cache = MILD_SEAS.lock().unwrap_or_else(|e| e.into_inner());
             if known(&cache).is_none() {
                 cache.push((campaign, selections.clone()));
@@ -383,14 +366,8 @@ pub(crate) fn mild_seas_gate(
             selections
         }
     };
-    let Some(mild) = selections.get(payload.hot_spot_index) else {
-        return Ok(None);
-    };
-    if !mild.skips(payload.global.sea_state_index as i64) {
-        return Ok(None);
-    }
-    Ok(Some(JobResults {
-        result: skipped_mild_result(payload, mild),
-        ..JobResults::default()
-    }))
+    Ok(selections
+        .get(payload.hot_spot_index)
+        .filter(|m| m.skips(payload.global.sea_state_index as i64))
+        .cloned())
 }

@@ -12,12 +12,14 @@
 //!   spot has two such jobs: the first over the largest seas' global jobs, which runs beside
 //!   the other global jobs, and a check (`check_of`) after every global job, which keeps the
 //!   first calibration (same artifact, no FE run) if its range covers every global job's load
-//!   and calibrates again over all of them otherwise. The reduced jobs read the check's.
+//!   that a calibration can serve (up to the admissible fibre strain, beyond which a load fails
+//!   under any calibration) and calibrates again over all of them otherwise. The reduced jobs read the check's.
 //! - `strand_reduced` (one job per sea state, seed and hot spot): the strand load of its global
 //!   job through the calibrated response; results as an FE strand job's (contact records,
 //!   contact rows, damage inputs), marked `"fidelity": "reduced"`. Under
-//!   `strand.skip_mild_share` a first-seed job whose sea state its hot spot skips as mild ends
-//!   at once without rows (`"skipped": "mild"`, [`crate::gate`]).
+//!   `strand.skip_mild_share` a first-seed job whose sea state its hot spot skips as mild
+//!   (`"skipped": "mild"`, [`crate::gate`]) does not run the strand model: it writes the T-N
+//!   rows of the hot-spot tension only, and no contact or class rows.
 
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
@@ -35,12 +37,13 @@ use serde_json::json;
 
 use crate::context::StageContext;
 use crate::failure::{permanent, transient};
-use crate::gate::mild_seas_gate;
+use crate::gate::{mild_seas_gate, skipped_mild_result};
 use crate::strand::AxialStiffness;
 use crate::strand_stage::{
-    axial_stiffness, campaign_strand, model_parameters, series_of, strand_load, strand_results,
-    upstream_series, Upstream,
+    axial_stiffness, campaign_strand, damage_inputs, damage_rows, model_parameters, series_of,
+    strand_load, strand_results, upstream_series, Upstream,
 };
+use moorfret_campaign::mild_seas::MildSeas;
 use moorfret_campaign::{CalibratePayload, CampaignInputs, StrandPayload};
 use moorfret_store::{
     ArtifactRole, ArtifactStore, FailureClass, JobArtifact, JobFailure, JobResults,
@@ -109,11 +112,29 @@ pub fn run_calibrate(
             "the campaign's global jobs gave no strand load samples",
         )
     })?;
+    let options = calibration_options(inputs);
+    let widened = loads.widened(inputs.spec.strand.calibration_margin);
+    let max_fibre_strain = options.history.max_fibre_strain;
+    let range = widened
+        .within_fibre_strain(max_fibre_strain, strand.outer_diameter_m())
+        .ok_or_else(|| {
+            permanent(
+                FailureClass::StrandHistory,
+                format!(
+                    "the hot spots' curvature alone ({:?} 1/m) takes the strand's surface beyond \
+                     the admissible fibre strain {max_fibre_strain:e}: no load range to calibrate",
+                    widened.curvature_per_m
+                ),
+            )
+        })?;
     if let Some(first) = &payload.check_of {
         let (bytes, kept) = calibration_of(ctx, first)?;
-        if kept.range.covers(&loads) {
+        // loads beyond the range a new calibration would take (beyond the strand's elastic
+        // range) fail at their hot spots under any calibration: no reason to calibrate again
+        if kept.range.serves(&loads, &range) {
             tracing::info!(job = %lease.job, global_jobs = payload.global_cache_keys.len(),
-                "every global job's load lies within the first calibration's range: kept");
+                "every global job's load that a calibration can serve lies within the first \
+                 calibration's range: kept");
             // the same artifact, no FE run of its own
             let artifact = put_calibration(artifacts, &bytes)?;
             let mut result = calibration_result(payload, stiffness, loads, &kept, &artifact);
@@ -131,21 +152,6 @@ pub fn run_calibrate(
             "a global job's load leaves the first calibration's range: calibrating again over \
              every global job");
     }
-    let options = calibration_options(inputs);
-    let widened = loads.widened(inputs.spec.strand.calibration_margin);
-    let max_fibre_strain = options.history.max_fibre_strain;
-    let range = widened
-        .within_fibre_strain(max_fibre_strain, strand.outer_diameter_m())
-        .ok_or_else(|| {
-            permanent(
-                FailureClass::StrandHistory,
-                format!(
-                    "the hot spots' curvature alone ({:?} 1/m) takes the strand's surface beyond \
-                     the admissible fibre strain {max_fibre_strain:e}: no load range to calibrate",
-                    widened.curvature_per_m
-                ),
-            )
-        })?;
     if range.strain[1] < widened.strain[1] {
         tracing::warn!(job = %lease.job, load_strain = ?loads.strain,
             calibrated_strain = ?range.strain, max_fibre_strain,
@@ -309,26 +315,88 @@ impl PhaseClock {
 
 /// The diagnostic of a load beyond the strand model's elastic range, when that is why the
 /// reduced response refused it: a sample whose fibre strain ε + |κ| D/2 exceeds the admissible
-/// one lies beyond every calibration (which stops there).
+/// one lies beyond every calibration (which stops there); so does, within the elastic range, a
+/// strain above a calibration whose highest strain that limit set at the range's largest
+/// curvature (a calibration range is a box in (ε, κ)).
 fn beyond_elastic_range(
     error: &ReducedError,
     strand: &Strand,
+    range: &LoadRange,
     samples: &[LoadSample],
     options: &HistoryOptions,
 ) -> Option<String> {
-    let ReducedError::OutOfRange { index, time_s, .. } = error else {
+    let ReducedError::OutOfRange {
+        index,
+        time_s,
+        field,
+        ..
+    } = error
+    else {
         return None;
     };
     let s = samples.get(*index)?;
-    let fibre = s.strain + s.bending_strain(strand.outer_diameter_m());
-    (fibre > options.max_fibre_strain).then(|| {
+    let diameter = strand.outer_diameter_m();
+    let max = options.max_fibre_strain;
+    let fibre = s.strain + s.bending_strain(diameter);
+    if fibre > max {
+        return Some(format!(
+            "load sample {index} (t = {time_s} s): strain {:.3e} and curvature {:.3e} 1/m give              the fibre strain {fibre:.3e} at the strand surface, beyond the admissible {max:.3e}              of the strand model's elastic range (the wires would yield): this hot spot's              fretting is not computed in this sea state, whose tension calls for an extreme-load              check",
+            s.strain, s.curvature_per_m
+        ));
+    }
+    let bent = range.curvature_per_m[0]
+        .abs()
+        .max(range.curvature_per_m[1].abs())
+        * 0.5
+        * diameter;
+    // the calibration stopped at the admissible fibre strain at its largest curvature
+    let capped = range.strain[1] + bent >= max * (1.0 - 1e-6);
+    (*field == "strain" && s.strain > range.strain[1] && capped).then(|| {
         format!(
-            "load sample {index} (t = {time_s} s): strain {:.3e} and curvature {:.3e} 1/m give \
-             the fibre strain {fibre:.3e} at the strand surface, beyond the admissible {:.3e} of \
-             the strand model's elastic range (the wires would yield): this hot spot's fretting \
-             is not computed in this sea state, whose tension calls for an extreme-load check",
-            s.strain, s.curvature_per_m, options.max_fibre_strain
+            "load sample {index} (t = {time_s} s): strain {:.3e} lies above the calibrated              range's highest {:.3e}, where the calibration stops so that its largest curvature              ({:.3e} 1/m) keeps the fibre strain within the admissible {max:.3e}; at this              instant's curvature ({:.3e} 1/m) the fibre strain {fibre:.3e} is within {:.0} % of              that elastic limit: this hot spot's fretting is not computed in this sea state,              whose tension calls for an extreme-load check (or an FE strand run, fidelity fe)",
+            s.strain,
+            range.strain[1],
+            bent / (0.5 * diameter),
+            s.curvature_per_m,
+            100.0 * (1.0 - fibre / max)
         )
+    })
+}
+
+/// A reduced job whose sea state its hot spot skips as mild: no strand model, but the T-N
+/// damage of the hot-spot tension (the rope's design curves), which needs only the global
+/// series, so that those figures still cover the whole year. The run-in is the campaign's
+/// fixed one (`fatigue.run_in_s`), none where the campaign detects it on a strand run.
+fn skipped_mild(
+    ctx: &StageContext<'_>,
+    payload: &StrandPayload,
+    mild: &MildSeas,
+) -> Result<JobResults, JobFailure> {
+    let inputs = ctx.inputs;
+    let series = upstream_series(ctx, payload)?;
+    let stiffness = axial_stiffness(inputs, payload.hot_spot_index, ctx.artifacts, None)?;
+    let load = strand_load(inputs, series, stiffness)?;
+    let strand = campaign_strand(inputs)?;
+    let run_in_samples = inputs
+        .spec
+        .fatigue
+        .fixed_run_in_samples(inputs.spec.strand.load_interval_s)
+        .unwrap_or(0);
+    let damage = damage_inputs(inputs, payload, &strand, &load, run_in_samples, &[])?;
+    let (damage_inputs, _) = damage_rows(
+        payload.hot_spot_index as i64,
+        payload.global.seed_index as i64,
+        &damage,
+    )
+    .map_err(|e| permanent(FailureClass::SerialiseResults, e))?;
+    let mut result = skipped_mild_result(payload, mild);
+    result["effective_duration_s"] = json!(damage.effective_duration_s);
+    result["run_in_samples"] = json!(run_in_samples);
+    result["axial_stiffness"] = load.axial_stiffness.job_result();
+    Ok(JobResults {
+        result,
+        damage_inputs,
+        ..JobResults::default()
     })
 }
 
@@ -344,8 +412,8 @@ pub fn run_strand_reduced(
             "a strand_reduced job needs calibration_cache_key",
         )
     })?;
-    if let Some(ended) = mild_seas_gate(ctx, payload)? {
-        return Ok(ended);
+    if let Some(mild) = mild_seas_gate(ctx, payload)? {
+        return skipped_mild(ctx, payload, &mild);
     }
     let mut clock = PhaseClock::start();
     let reduced = cached_calibration(ctx, key)?;
@@ -357,7 +425,9 @@ pub fn run_strand_reduced(
     let options = inputs.spec.strand.history_options();
     clock.lap("load");
     let result = run_reduced(&reduced, &load.samples, &options).map_err(|e| {
-        if let Some(beyond) = beyond_elastic_range(&e, &strand, &load.samples, &options) {
+        if let Some(beyond) =
+            beyond_elastic_range(&e, &strand, &reduced.range, &load.samples, &options)
+        {
             return permanent(FailureClass::StrandHistory, beyond);
         }
         // an extra seed is loaded through the calibration of the first seeds' load range
@@ -386,4 +456,79 @@ pub fn run_strand_reduced(
     });
     results.result["samples_below_design_strain"] = json!(below);
     Ok(results)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    /// The diagnostics of a load the calibrated range refuses, on the six-layer paper strand
+    /// (D from its profile) with the admissible fibre strain 7e-3: beyond the elastic range at
+    /// the sample; above a range capped by that limit at its largest curvature (the whole-year
+    /// campaign's 6.32e-3 against 6.24e-3, at a small curvature); and no such diagnostic for a
+    /// curvature outside the range or for a strain above a range the limit did not cap.
+    #[test]
+    fn a_refused_load_is_blamed_on_the_elastic_range_only_when_it_set_the_range() {
+        let paper = Path::new(env!("CARGO_MANIFEST_DIR")).join("../campaigns/paper.json");
+        let inputs = moorfret_campaign::resolve(&paper).unwrap().inputs;
+        let strand = campaign_strand(&inputs).unwrap();
+        let d = strand.outer_diameter_m();
+        let options = HistoryOptions::default();
+        let max = options.max_fibre_strain;
+        let kappa = [-0.0031, 0.025];
+        let capped = LoadRange {
+            strain: [0.0, (max - kappa[1] * 0.5 * d) * (1.0 - 1e-9)],
+            curvature_per_m: kappa,
+        };
+        let sample = |strain: f64, curvature_per_m: f64| LoadSample {
+            time_s: 268.7,
+            strain,
+            curvature_per_m,
+        };
+        let refused = |field: &'static str, value: f64, range: &LoadRange| {
+            let [low, high] = if field == "strain" {
+                range.strain
+            } else {
+                range.curvature_per_m
+            };
+            ReducedError::OutOfRange {
+                index: 0,
+                time_s: 268.7,
+                field,
+                value,
+                low,
+                high,
+            }
+        };
+        let message = |s: LoadSample, e: ReducedError, range: &LoadRange| {
+            beyond_elastic_range(&e, &strand, range, &[s], &options)
+        };
+        // beyond the elastic range at the sample itself
+        let s = sample(max, 0.01);
+        let m = message(s, refused("strain", s.strain, &capped), &capped).unwrap();
+        assert!(m.contains("beyond the admissible"), "{m}");
+        // within it, above the capped range
+        let s = sample(
+            capped.strain[1] + 0.5 * (max - capped.strain[1]) * 0.5,
+            0.002,
+        );
+        assert!(s.strain + s.bending_strain(d) < max);
+        let m = message(s, refused("strain", s.strain, &capped), &capped).unwrap();
+        assert!(
+            m.contains("lies above the calibrated range's highest"),
+            "{m}"
+        );
+        assert!(m.contains("extreme-load check"), "{m}");
+        // a curvature outside the range is no question of the elastic range
+        let s = sample(1e-3, 0.03);
+        assert!(message(s, refused("curvature_per_m", 0.03, &capped), &capped).is_none());
+        // nor a strain above a range the limit did not cap
+        let mild = LoadRange {
+            strain: [0.0, 2e-3],
+            curvature_per_m: kappa,
+        };
+        let s = sample(2.5e-3, 0.002);
+        assert!(message(s, refused("strain", s.strain, &mild), &mild).is_none());
+    }
 }

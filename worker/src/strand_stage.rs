@@ -435,7 +435,7 @@ fn run_in(inputs: &CampaignInputs, result: &HistoryResult) -> (usize, serde_json
 /// contact records with the hot-spot tension at the same samples as the strand load (every
 /// `stride`-th global output sample), the first `run_in_samples` left out, configured by the
 /// campaign's fatigue settings.
-fn damage_inputs(
+pub(crate) fn damage_inputs(
     inputs: &CampaignInputs,
     payload: &StrandPayload,
     strand: &Strand,
@@ -476,7 +476,7 @@ fn damage_inputs(
 }
 
 /// Rows of one (sea state, seed, hot spot): T-N damage per curve, fretting inputs per class.
-fn damage_rows(
+pub(crate) fn damage_rows(
     hot_spot_index: i64,
     seed_index: i64,
     inputs: &SeaStateInputs,

@@ -261,6 +261,17 @@ impl LoadRange {
             && self.curvature_per_m[1] >= inner.curvature_per_m[1]
     }
 
+    /// Whether a calibration over `self` serves every load of `loads` that a calibration over
+    /// `calibration` (the range a new one would take: `loads` widened, its strain kept within
+    /// the admissible fibre strain) could serve: the loads up to `calibration`'s highest
+    /// strain lie within `self`. The loads beyond that strain take the wires beyond their
+    /// elastic range and fail under any calibration.
+    pub fn serves(&self, loads: &Self, calibration: &Self) -> bool {
+        let mut served = *loads;
+        served.strain[1] = served.strain[1].min(calibration.strain[1]);
+        self.covers(&served)
+    }
+
     /// Checks the bounds: finite, ordered, strain ≥ 0, and a strain range that is not empty
     /// (a calibration needs the tension to vary to separate its effect from the curvature's).
     pub fn validated(self) -> Result<Self, ReducedError> {

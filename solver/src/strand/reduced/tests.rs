@@ -524,3 +524,50 @@ fn the_calibrated_range_stops_at_the_admissible_fibre_strain() {
     };
     assert_eq!(bent.within_fibre_strain(7e-3, 0.1), None);
 }
+
+/// The check of an early calibration keeps it when the loads it misses lie beyond the elastic
+/// range (they fail under any calibration), as in the whole-year campaign: the first range
+/// from the largest seas, strain to 1.37e-2 with curvatures 1.3e-4 to 0.0218 1/m, margin 0.15,
+/// D = 0.061 m, stops at a strain of 6.2e-3, the same as a calibration over every load would.
+/// A load of a larger curvature, or of a larger strain within the elastic range, is not served.
+#[test]
+fn an_early_calibration_serves_the_loads_any_calibration_can() {
+    let (margin, max_fibre, diameter) = (0.15, 7e-3, 0.061);
+    let new_calibration = |loads: &LoadRange| {
+        loads
+            .widened(margin)
+            .within_fibre_strain(max_fibre, diameter)
+            .unwrap()
+    };
+    let early = LoadRange {
+        strain: [0.0, 1.372e-2],
+        curvature_per_m: [1.275e-4, 0.02178],
+    };
+    let kept = new_calibration(&early);
+    assert!((kept.strain[1] - 6.24e-3).abs() < 1e-5, "{kept:?}");
+    // every load: a few more sea states inside the early ones' envelope
+    let all = LoadRange {
+        strain: [0.0, 1.2e-2],
+        ..early
+    };
+    assert!(!kept.covers(&all), "the plain test would calibrate again");
+    assert!(kept.serves(&all, &new_calibration(&all)));
+    // a curvature beyond the early range: a new calibration serves more
+    let bent = LoadRange {
+        curvature_per_m: [1.275e-4, 0.026],
+        ..all
+    };
+    assert!(!kept.serves(&bent, &new_calibration(&bent)));
+    // within the elastic range: an early range of milder seas misses a larger strain
+    let mild = LoadRange {
+        strain: [0.0, 2e-3],
+        ..early
+    };
+    let within = LoadRange {
+        strain: [0.0, 3e-3],
+        ..early
+    };
+    let kept_mild = new_calibration(&mild);
+    assert!(!kept_mild.serves(&within, &new_calibration(&within)));
+    assert!(kept_mild.serves(&mild, &new_calibration(&mild)));
+}
