@@ -243,7 +243,8 @@ mod tests {
                 .wrapping_add(1_442_695_040_888_963_407);
             (state >> 11) as f64 / (1u64 << 53) as f64
         };
-        let laws: [(&str, fn(f64) -> f64); 4] = [
+        type Law = (&'static str, fn(f64) -> f64);
+        let laws: [Law; 4] = [
             ("x^4.8", |_| 1.0),
             ("x^6", |x| x.powf(1.2)),
             ("x^10", |x| x.powf(5.2)),
@@ -269,8 +270,8 @@ mod tests {
                     };
                     let (skipped, run): (Vec<_>, Vec<_>) =
                         loads.iter().partition(|l| m.skips(l.sea_state_index));
-                    let d_skipped: f64 = skipped.iter().map(|l| damage(l)).sum();
-                    let d_run: f64 = run.iter().map(|l| damage(l)).sum();
+                    let d_skipped: f64 = skipped.iter().copied().map(&damage).sum();
+                    let d_run: f64 = run.iter().copied().map(&damage).sum();
                     let bound = d_run * m.proxy_share / (1.0 - m.proxy_share);
                     assert!(
                         d_skipped <= bound * (1.0 + 1e-12),

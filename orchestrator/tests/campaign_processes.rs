@@ -1228,7 +1228,7 @@ fn mild_sea_states_are_skipped_within_their_proxy_share_and_charged_in_the_desig
     }
     let mut checked = 0;
     for l in lifetime.iter().filter(|l| l.measure == "fretting_max") {
-        let position = serde_json::to_value(&l.angular_position).unwrap();
+        let position = serde_json::to_value(l.angular_position).unwrap();
         let class = format!(
             "interface {} / {}",
             l.layer_interface,
