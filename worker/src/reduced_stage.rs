@@ -340,7 +340,11 @@ fn beyond_elastic_range(
     let fibre = s.strain + s.bending_strain(diameter);
     if fibre > max {
         return Some(format!(
-            "load sample {index} (t = {time_s} s): strain {:.3e} and curvature {:.3e} 1/m give              the fibre strain {fibre:.3e} at the strand surface, beyond the admissible {max:.3e}              of the strand model's elastic range (the wires would yield): this hot spot's              fretting is not computed in this sea state, whose tension calls for an extreme-load              check",
+            "load sample {index} (t = {time_s} s): strain {:.3e} and curvature {:.3e} 1/m give \
+             the fibre strain {fibre:.3e} at the strand surface, beyond the admissible {max:.3e} \
+             of the strand model's elastic range (the wires would yield): this hot spot's \
+             fretting is not computed in this sea state, whose tension calls for an extreme-load \
+             check",
             s.strain, s.curvature_per_m
         ));
     }
@@ -353,7 +357,12 @@ fn beyond_elastic_range(
     let capped = range.strain[1] + bent >= max * (1.0 - 1e-6);
     (*field == "strain" && s.strain > range.strain[1] && capped).then(|| {
         format!(
-            "load sample {index} (t = {time_s} s): strain {:.3e} lies above the calibrated              range's highest {:.3e}, where the calibration stops so that its largest curvature              ({:.3e} 1/m) keeps the fibre strain within the admissible {max:.3e}; at this              instant's curvature ({:.3e} 1/m) the fibre strain {fibre:.3e} is within {:.0} % of              that elastic limit: this hot spot's fretting is not computed in this sea state,              whose tension calls for an extreme-load check (or an FE strand run, fidelity fe)",
+            "load sample {index} (t = {time_s} s): strain {:.3e} lies above the calibrated \
+             range's highest {:.3e}, where the calibration stops so that its largest curvature \
+             ({:.3e} 1/m) keeps the fibre strain within the admissible {max:.3e}; at this \
+             instant's curvature ({:.3e} 1/m) the fibre strain {fibre:.3e} is within {:.0} % of \
+             that elastic limit: this hot spot's fretting is not computed in this sea state, \
+             whose tension calls for an extreme-load check (or an FE strand run, fidelity fe)",
             s.strain,
             range.strain[1],
             bent / (0.5 * diameter),
