@@ -77,10 +77,6 @@ pub struct Figure {
     pub year_covered: f64,
     /// Pass, fail or incomplete.
     pub verdict: Verdict,
-    /// Share of the year in mild sea states its hot spot skipped (`strand.skip_mild_share`),
-    /// counted in `year_covered`; their damage is charged through `annual_damage`, which is the
-    /// damage of the sea states run times 1 / (1 − q) (`moorfret_campaign::mild_seas`).
-    pub year_skipped: f64,
 }
 
 /// The mild sea states a hot spot skipped (`strand.skip_mild_share`).
@@ -204,6 +200,7 @@ pub async fn check(store: &Store, campaign: CampaignId) -> anyhow::Result<Option
             "design"
         };
         // the strand figures of a hot spot that skipped mild sea states carry their bound
+        // (`annual_damage` times 1/(1 − q), `moorfret_campaign::mild_seas`) and cover their year
         let (annual_damage, year_skipped) = match mild_of(hot_spot_index) {
             Some(m) if class_measure => (annual_damage * m.damage_factor, m.year_share),
             _ => (annual_damage, 0.0),
@@ -222,7 +219,6 @@ pub async fn check(store: &Store, campaign: CampaignId) -> anyhow::Result<Option
             utilisation: u,
             year_covered,
             verdict: Verdict::of(u, year_covered),
-            year_skipped,
         });
     };
     for r in store.lifetime_class_damage(campaign).await? {

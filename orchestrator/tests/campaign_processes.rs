@@ -1128,7 +1128,7 @@ fn mild_sea_states_are_skipped_within_their_proxy_share_and_charged_in_the_desig
         .unwrap()
         .inputs;
     let diameter = inputs.profile.validate().unwrap().outer_diameter_m();
-    let (skipped, q, year_skipped, lifetime) = rt().block_on(async {
+    let (skipped, q, year_skipped, year, lifetime) = rt().block_on(async {
         let store = Store::open(&db, StoreOptions::default()).await.unwrap();
         let jobs = store.jobs_of_campaign(id).await.unwrap();
         let attempts = store.attempts_of_campaign(id).await.unwrap();
@@ -1199,9 +1199,10 @@ fn mild_sea_states_are_skipped_within_their_proxy_share_and_charged_in_the_desig
         assert!(q <= share);
         assert!((q_stored.unwrap() - q).abs() < 1e-12 * q.max(1e-300));
         let year_skipped: f64 = skipped.iter().map(|&i| occurrence(i)).sum();
+        let year: f64 = states.iter().map(|s| s.occurrence_fraction).sum();
         let lifetime = store.lifetime_class_damage(id).await.unwrap();
         store.close().await;
-        (skipped, q, year_skipped, lifetime)
+        (skipped, q, year_skipped, year, lifetime)
     });
     eprintln!("skipped {skipped:?}, q {q:e}");
     let figures: Vec<serde_json::Value> = serde_json::from_slice(&query_output(
@@ -1211,12 +1212,6 @@ fn mild_sea_states_are_skipped_within_their_proxy_share_and_charged_in_the_desig
         &["--format", "json"],
     ))
     .unwrap();
-    let year: f64 = rt().block_on(async {
-        let store = Store::open(&db, StoreOptions::default()).await.unwrap();
-        let states = store.sea_state_status(id).await.unwrap();
-        store.close().await;
-        states.iter().map(|s| s.occurrence_fraction).sum()
-    });
     let tn: Vec<_> = figures
         .iter()
         .filter(|f| f["measure"].as_str().is_some_and(|m| m.starts_with("tn_")))

@@ -13,7 +13,7 @@
 //!   done before the calibration every reduced job depends on) include their sea state.
 //!
 //! Every gated job depends on every job whose rows its selection reads, so all of them find
-//! the same selection. The first gated job to compute it also settles, in one store
+//! the same selection. In the first two gates, the first gated job to compute it also settles, in one store
 //! transaction ([`Store::settle`]), every job of its group that is not selected and still
 //! waits (ready or blocked): done, no rows, a result that says `selected: false` and which job
 //! settled it. The unselected jobs thus never wait in the queue behind the selected ones; one
@@ -25,7 +25,6 @@ use std::sync::{Arc, Mutex};
 use serde_json::{json, Value};
 
 use crate::context::StageContext;
-use crate::failure::transient;
 use moorfret_campaign::fidelity::{select_fe_sea_states, ClassDamageRate, Selection};
 use moorfret_campaign::mild_seas::{mild_sea_states, MildSeas, SeaStateLoad};
 use moorfret_campaign::seeds::select_extra_seed_sea_states;
@@ -42,12 +41,9 @@ impl StageContext<'_> {
         kind: JobKind,
     ) -> Result<BTreeMap<i64, Vec<ClassDamageRate>>, JobFailure> {
         let first = i64::from(self.inputs.spec.simulation.seeds_per_sea_state);
-        let rows = self
-            .rt
-            .block_on(self.retry.run("read first-seed strand results", || {
-                self.store.class_rows_of_kind(self.lease.campaign, kind)
-            }))
-            .map_err(|e| transient(FailureClass::Store, e))?;
+        let rows = self.store_call("read first-seed strand results", || {
+            self.store.class_rows_of_kind(self.lease.campaign, kind)
+        })?;
         let mut per_hot_spot: BTreeMap<i64, Vec<ClassDamageRate>> = BTreeMap::new();
         for (sea_state_index, occurrence_fraction, c) in &rows {
             if c.seed_index >= first {
@@ -72,13 +68,7 @@ impl StageContext<'_> {
         if jobs.is_empty() {
             return Ok(());
         }
-        let settled = self
-            .rt
-            .block_on(
-                self.retry
-                    .run("settle unselected jobs", || self.store.settle(&jobs)),
-            )
-            .map_err(|e| transient(FailureClass::Store, e))?;
+        let settled = self.store_call("settle unselected jobs", || self.store.settle(&jobs))?;
         tracing::info!(job = %self.lease.job, settled = settled.len(),
             "unselected gated jobs settled");
         Ok(())
@@ -86,12 +76,9 @@ impl StageContext<'_> {
 
     /// The campaign's jobs that still wait (ready or blocked).
     fn waiting_jobs(&self) -> Result<Vec<JobRecord>, JobFailure> {
-        let jobs = self
-            .rt
-            .block_on(self.retry.run("list jobs", || {
-                self.store.jobs_of_campaign(self.lease.campaign)
-            }))
-            .map_err(|e| transient(FailureClass::Store, e))?;
+        let jobs = self.store_call("list jobs", || {
+            self.store.jobs_of_campaign(self.lease.campaign)
+        })?;
         Ok(jobs
             .into_iter()
             .filter(|j| {
@@ -244,20 +231,8 @@ fn mild_seas_of_campaign(ctx: &StageContext<'_>) -> Result<Vec<MildSeas>, JobFai
     let inputs = ctx.inputs;
     let first = i64::from(inputs.spec.simulation.seeds_per_sea_state);
     let campaign = ctx.lease.campaign;
-    let jobs = ctx
-        .rt
-        .block_on(
-            ctx.retry
-                .run("list jobs", || ctx.store.jobs_of_campaign(campaign)),
-        )
-        .map_err(|e| transient(FailureClass::Store, e))?;
-    let states = ctx
-        .rt
-        .block_on(
-            ctx.retry
-                .run("read sea states", || ctx.store.sea_state_status(campaign)),
-        )
-        .map_err(|e| transient(FailureClass::Store, e))?;
+    let jobs = ctx.store_call("list jobs", || ctx.store.jobs_of_campaign(campaign))?;
+    let states = ctx.store_call("read sea states", || ctx.store.sea_state_status(campaign))?;
     let occurrence: BTreeMap<i64, f64> = states
         .iter()
         .map(|s| (s.sea_state_index, s.occurrence_fraction))
@@ -280,13 +255,7 @@ fn mild_seas_of_campaign(ctx: &StageContext<'_>) -> Result<Vec<MildSeas>, JobFai
         if g.extra_seed || g.seed_index as i64 >= first {
             continue;
         }
-        let results = ctx
-            .rt
-            .block_on(
-                ctx.retry
-                    .run("read global results", || ctx.store.results_of(job.id)),
-            )
-            .map_err(|e| transient(FailureClass::Store, e))?;
+        let results = ctx.store_call("read global results", || ctx.store.results_of(job.id))?;
         for s in &results.hot_spots {
             let h = s.hot_spot_index as usize;
             let std = |what: &str| s.summary[what]["std"].as_f64().unwrap_or(f64::NAN);

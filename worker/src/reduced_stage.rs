@@ -13,7 +13,8 @@
 //!   the other global jobs, and a check (`check_of`) after every global job, which keeps the
 //!   first calibration (same artifact, no FE run) if its range covers every global job's load
 //!   that a calibration can serve (up to the admissible fibre strain, beyond which a load fails
-//!   under any calibration) and calibrates again over all of them otherwise. The reduced jobs read the check's.
+//!   under any calibration) and calibrates again over all of them otherwise. The reduced jobs
+//!   read the check's.
 //! - `strand_reduced` (one job per sea state, seed and hot spot): the strand load of its global
 //!   job through the calibrated response; results as an FE strand job's (contact records,
 //!   contact rows, damage inputs), marked `"fidelity": "reduced"`. Under
@@ -348,11 +349,7 @@ fn beyond_elastic_range(
             s.strain, s.curvature_per_m
         ));
     }
-    let bent = range.curvature_per_m[0]
-        .abs()
-        .max(range.curvature_per_m[1].abs())
-        * 0.5
-        * diameter;
+    let bent = range.largest_bending_strain(diameter);
     // the calibration stopped at the admissible fibre strain at its largest curvature
     let capped = range.strain[1] + bent >= max * (1.0 - 1e-6);
     (*field == "strain" && s.strain > range.strain[1] && capped).then(|| {

@@ -101,24 +101,19 @@ impl Upstream<'_> {
 
     /// The content address (sha256) of the artifact, without reading it.
     pub(crate) fn artifact_sha256(&self, ctx: &StageContext<'_>) -> Result<String, JobFailure> {
-        let StageContext {
-            store, retry, rt, ..
-        } = *ctx;
+        let store = ctx.store;
         let what = self.what;
-        let source = rt
-            .block_on(retry.run("look up upstream job", || {
+        let source = ctx
+            .store_call("look up upstream job", || {
                 store.lookup_cache(self.cache_key)
-            }))
-            .map_err(|e| transient(FailureClass::Store, e))?
+            })?
             .ok_or_else(|| {
                 transient(
                     FailureClass::UpstreamMissing,
                     format!("no done {what} job carries this job's {what} cache key"),
                 )
             })?;
-        let results = rt
-            .block_on(retry.run("read upstream results", || store.results_of(source)))
-            .map_err(|e| transient(FailureClass::Store, e))?;
+        let results = ctx.store_call("read upstream results", || store.results_of(source))?;
         results
             .artifacts
             .into_iter()

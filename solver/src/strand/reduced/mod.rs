@@ -239,11 +239,7 @@ impl LoadRange {
     /// `max_fibre_strain` (the strand model's elastic range, which every FE run checks); `None`
     /// when no strain above the lowest is left.
     pub fn within_fibre_strain(self, max_fibre_strain: f64, outer_diameter_m: f64) -> Option<Self> {
-        let bending = self.curvature_per_m[0]
-            .abs()
-            .max(self.curvature_per_m[1].abs())
-            * 0.5
-            * outer_diameter_m;
+        let bending = self.largest_bending_strain(outer_diameter_m);
         // a hair below the limit: the check of each load is `fibre > max`, with round-off
         let cap = (max_fibre_strain - bending) * (1.0 - 1e-9);
         let highest = self.strain[1].min(cap);
@@ -251,6 +247,16 @@ impl LoadRange {
             strain: [self.strain[0], highest],
             ..self
         })
+    }
+
+    /// The bending strain |κ| D/2 at the surface of a strand of diameter `outer_diameter_m` at
+    /// the range's largest |κ|.
+    pub fn largest_bending_strain(&self, outer_diameter_m: f64) -> f64 {
+        self.curvature_per_m[0]
+            .abs()
+            .max(self.curvature_per_m[1].abs())
+            * 0.5
+            * outer_diameter_m
     }
 
     /// Whether `inner` lies within `self`.
