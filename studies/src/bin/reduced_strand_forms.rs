@@ -65,13 +65,17 @@ const PROFILES: &str = include_str!(concat!(
 
 type Error = Box<dyn std::error::Error>;
 
-/// The paper campaign's strand model.
-fn model() -> Result<(StrandModel, String), Error> {
+/// The paper campaign's strand model, with the contact-mechanics laws if `contact_mechanics`.
+fn model(contact_mechanics: bool) -> Result<(StrandModel, String), Error> {
     let strand = profiles_from_json(PROFILES)?
         .get("paper_six_layer")
         .ok_or("profile paper_six_layer missing")?
         .validate()?;
-    let params = StrandModelParameters::penalty_contact(2e8, 1e-5, EndKind::Periodic);
+    let params = if contact_mechanics {
+        StrandModelParameters::contact_mechanics(EndKind::Periodic)
+    } else {
+        StrandModelParameters::penalty_contact(2e8, 1e-5, EndKind::Periodic)
+    };
     let key = model_key(&strand, &params, &CalibrationOptions::default());
     Ok((StrandModel::new(&strand, &params)?, key))
 }
@@ -143,35 +147,65 @@ impl<W: Write> HistoryObserver for Recorder<W> {
 
 /// Runs every chain of `chains` through the FE model, one run each, and writes every sample
 /// they solve to `path`, chain after chain (each chain's times start at 0).
+/// A chain's recording, or why its FE run failed.
+type ChainBytes = Result<Vec<u8>, String>;
+
 fn record(
     model: &StrandModel,
     chains: &[Vec<LoadSample>],
     options: &HistoryOptions,
     path: &str,
 ) -> Result<(), Error> {
-    let mut recorder = Recorder {
-        out: BufWriter::new(std::fs::File::create(path)?),
-        error: None,
-        samples: 0,
+    // the chains run side by side, one thread each, into buffers written in chain order
+    let workers = options.threads.clamp(1, chains.len().max(1));
+    let per_run = HistoryOptions {
+        threads: 1,
+        ..*options
     };
+    let next = std::sync::atomic::AtomicUsize::new(0);
     let t = std::time::Instant::now();
-    for (k, samples) in chains.iter().enumerate() {
-        let fe = run_history(model, samples, options, &mut recorder)?;
-        if let Some(e) = recorder.error.take() {
-            return Err(e.into());
+    let buffers: Vec<std::sync::Mutex<Option<ChainBytes>>> =
+        chains.iter().map(|_| std::sync::Mutex::new(None)).collect();
+    std::thread::scope(|scope| {
+        for _ in 0..workers {
+            scope.spawn(|| loop {
+                let k = next.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+                let Some(samples) = chains.get(k) else { break };
+                let mut recorder = Recorder {
+                    out: Vec::new(),
+                    error: None,
+                    samples: 0,
+                };
+                let outcome = run_history(model, samples, &per_run, &mut recorder)
+                    .map(|fe| {
+                        println!(
+                            "chain {k}: {} samples, {} sub-steps, {} Newton iterations, {:.1} s so far",
+                            samples.len(),
+                            fe.stats.substeps,
+                            fe.stats.iterations,
+                            t.elapsed().as_secs_f64()
+                        );
+                        recorder.out
+                    })
+                    .map_err(|e| format!("chain {k}: {e}"));
+                if let Ok(mut slot) = buffers[k].lock() {
+                    *slot = Some(outcome);
+                }
+            });
         }
-        println!(
-            "chain {k}: {} samples, {} sub-steps, {} Newton iterations, {:.1} s so far",
-            samples.len(),
-            fe.stats.substeps,
-            fe.stats.iterations,
-            t.elapsed().as_secs_f64()
-        );
+    });
+    let mut out = BufWriter::new(std::fs::File::create(path)?);
+    for slot in buffers {
+        match slot.into_inner().ok().flatten() {
+            Some(Ok(bytes)) => out.write_all(&bytes)?,
+            Some(Err(e)) => return Err(e.into()),
+            None => return Err("a chain did not run".into()),
+        }
     }
-    recorder.out.flush()?;
+    out.flush()?;
     println!(
-        "recorded {} samples in {:.1} s",
-        recorder.samples,
+        "recorded {} chains in {:.1} s",
+        chains.len(),
         t.elapsed().as_secs_f64()
     );
     Ok(())
@@ -791,6 +825,7 @@ fn main() -> Result<(), Error> {
     let mut pattern = 0usize;
     let mut calibration: Option<String> = None;
     let mut modes_file: Option<String> = None;
+    let mut contact_mechanics = false;
     let mut it = args[1..].iter();
     while let Some(a) = it.next() {
         let mut value = || it.next().cloned().ok_or(format!("{a} needs a value"));
@@ -826,13 +861,14 @@ fn main() -> Result<(), Error> {
             "--pattern" => pattern = value()?.parse()?,
             "--calibration" => calibration = Some(value()?),
             "--modes" => modes_file = Some(value()?),
+            "--contact-mechanics" => contact_mechanics = true,
             _ => positional.push(a.clone()),
         }
     }
     let ea = ea.ok_or("--ea N (the strand model's EA, as `moorfret run strand` prints it)")?;
     let recording = positional.first().ok_or("REC.bin")?.clone();
     let recording = &recording;
-    let (model, key) = model()?;
+    let (model, key) = model(contact_mechanics)?;
     let range = range_of(&loads, ea, margin)?;
     println!(
         "range: strain {:?}, curvature {:?} 1/m",
@@ -1095,6 +1131,10 @@ fn main() -> Result<(), Error> {
             design.iter().map(Vec::len).sum::<usize>(),
             design.len()
         );
+        let history = HistoryOptions {
+            threads: 2,
+            ..history
+        };
         return record(&model, &design, &history, recording);
     }
     let samples = chains_of(read_recording(Path::new(recording))?);

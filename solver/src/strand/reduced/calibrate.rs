@@ -7,7 +7,8 @@ use std::time::Instant;
 
 use super::compare::compare_records;
 use super::design::{design_history_weighted, split_weights, DesignParams};
-use super::fit::FitAccumulator;
+use super::fit::{FitAccumulator, StickStiffness};
+use super::iwan::InitialStiffness;
 use super::{
     CalibrationReport, ChainCost, InterfaceFit, LoadRange, LoadScaling, ModeCoupling, ReducedError,
     ReducedStrand, FORMAT_VERSION, MODES,
@@ -162,22 +163,36 @@ impl HistoryObserver for Learner<'_> {
     }
 }
 
-/// The elastic slip γ_e of the model's tangential law; other laws have no reduced form here.
-fn elastic_slip_of(model: &StrandModel) -> Result<f64, ReducedError> {
+/// The reduced form of the model's tangential law: the elastic slip γ_e of the elastic-slip
+/// law (0 for the others) and the contacts' stick stiffness; the Cattaneo–Mindlin law's
+/// contacts are Iwan banks with the FE elements' initial stiffness ([`super::iwan`]).
+fn tangential_of(model: &StrandModel) -> Result<(f64, StickStiffness), ReducedError> {
     match model.contact_parameters.tangential {
-        TangentialLaw::ElasticSlip { elastic_slip_m } => Ok(elastic_slip_m),
+        TangentialLaw::ElasticSlip { elastic_slip_m } => Ok((
+            elastic_slip_m,
+            StickStiffness::PerNewton(model.strand.friction_coefficient / elastic_slip_m),
+        )),
         TangentialLaw::Mindlin => Err(ReducedError::Calibration {
-            reason: "the reduced response models the elastic-slip tangential law; this model \
-                     uses the Mindlin law"
+            reason: "the reduced response models the elastic-slip and the Cattaneo-Mindlin \
+                     tangential laws; this model uses Mindlin's stiffness up to the Coulomb \
+                     limit (hertz-mindlin): run the FE model (fidelity fe)"
                 .into(),
         }),
-        TangentialLaw::CattaneoMindlin => Err(ReducedError::Calibration {
-            reason: "the reduced response models the elastic-slip tangential law (one Jenkins \
-                     element per contact); this model uses the contact-mechanics laws \
-                     (Cattaneo-Mindlin with memory), which it cannot calibrate yet: run the FE \
-                     model (fidelity fe)"
-                .into(),
-        }),
+        TangentialLaw::CattaneoMindlin => {
+            let stiffness = model
+                .contacts
+                .iter()
+                .enumerate()
+                .map(|(c, pair)| {
+                    InitialStiffness::of(pair.laws()).ok_or(ReducedError::Calibration {
+                        reason: format!(
+                            "contact {c}: its laws have no Cattaneo-Mindlin initial stiffness"
+                        ),
+                    })
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            Ok((0.0, StickStiffness::Initial(stiffness)))
+        }
     }
 }
 
@@ -185,8 +200,8 @@ fn elastic_slip_of(model: &StrandModel) -> Result<f64, ReducedError> {
 struct Prepared {
     range: LoadRange,
     elastic_slip_m: f64,
-    /// `μ / γ_e` (1/m).
-    stick_per_m: f64,
+    /// The contacts' stick stiffness.
+    stick: StickStiffness,
     history: HistoryOptions,
     design: Vec<Vec<LoadSample>>,
     weights: Vec<Vec<f64>>,
@@ -212,35 +227,34 @@ pub fn measure_modes(
 }
 
 impl Prepared {
+    /// Empty sums for every contact and element channel.
+    fn accumulator(&self) -> FitAccumulator {
+        FitAccumulator::new(self.sites.len(), self.element_channels, 0.0)
+            .with_stick(self.stick.clone())
+    }
+
     /// Empty sums for one chain, which take the answer of `modes` off the FE slips.
     fn fitter(&self, chain: usize, modes: Option<&ModeCoupling>) -> Fitter<'_> {
         Fitter {
             scaling: self.scaling,
             weights: &self.weights[chain],
-            fit: FitAccumulator::new(self.sites.len(), self.element_channels, self.stick_per_m)
-                .with_modes(&self.sites, modes),
+            fit: self.accumulator().with_modes(&self.sites, modes),
             buffer: Vec::with_capacity(self.sites.len()),
         }
     }
 }
 
-/// The checked range, the model's elastic slip, the FE run's settings, and the designed
-/// history's chains of a calibration with the least-squares weight of every sample.
+/// The checked range, the FE run's settings, and the designed history's chains of a
+/// calibration with the least-squares weight of every sample.
 type Designed = (
     LoadRange,
-    f64,
     HistoryOptions,
     Vec<Vec<LoadSample>>,
     Vec<Vec<f64>>,
 );
 
-fn designed(
-    model: &StrandModel,
-    range: LoadRange,
-    options: &CalibrationOptions,
-) -> Result<Designed, ReducedError> {
+fn designed(range: LoadRange, options: &CalibrationOptions) -> Result<Designed, ReducedError> {
     let range = range.validated()?;
-    let elastic_slip_m = elastic_slip_of(model)?;
     let history = HistoryOptions {
         turning_point_tolerance: 0.0,
         checkpoint_interval_segments: 0,
@@ -248,7 +262,7 @@ fn designed(
     };
     let (design, weights) =
         split_weights(design_history_weighted(&range, &options.design, &history));
-    Ok((range, elastic_slip_m, history, design, weights))
+    Ok((range, history, design, weights))
 }
 
 fn prepare(
@@ -256,7 +270,8 @@ fn prepare(
     range: LoadRange,
     options: &CalibrationOptions,
 ) -> Result<Prepared, ReducedError> {
-    let (range, elastic_slip_m, history, design, weights) = designed(model, range, options)?;
+    let (elastic_slip_m, stick) = tangential_of(model)?;
+    let (range, history, design, weights) = designed(range, options)?;
     let sites = contact_sites(model);
     let channels = default_channels(model, &sites);
     let element_channels = channels
@@ -268,7 +283,7 @@ fn prepare(
         scaling: LoadScaling::of(&range),
         range,
         elastic_slip_m,
-        stick_per_m: model.strand.friction_coefficient / elastic_slip_m,
+        stick,
         history,
         design,
         weights,
@@ -282,11 +297,11 @@ fn prepare(
 /// runs solve, one run per chain, and what [`fit_recorded`] expects to be given, sample by
 /// sample), and the settings of those runs.
 pub fn calibration_design(
-    model: &StrandModel,
+    _model: &StrandModel,
     range: LoadRange,
     options: &CalibrationOptions,
 ) -> Result<(Vec<Vec<LoadSample>>, HistoryOptions), ReducedError> {
-    let (_, _, history, design, _) = designed(model, range, options)?;
+    let (_, history, design, _) = designed(range, options)?;
     Ok((design, history))
 }
 
@@ -571,7 +586,7 @@ pub fn calibrate(
     let mut p = prepare(model, range, options)?;
     let (modes, runs, modes_wall_time_s) = run_chains(model, &p, observer)?;
     p.modes = Some(modes);
-    let mut fit = FitAccumulator::new(p.sites.len(), p.element_channels, p.stick_per_m);
+    let mut fit = p.accumulator();
     let mut costs = Vec::with_capacity(runs.len());
     for (chain, run) in runs.iter().enumerate() {
         fit.merge(&run.fit);
@@ -630,7 +645,7 @@ where
     let start = Instant::now();
     let mut p = prepare(model, range, options)?;
     p.modes = Some(modes);
-    let mut fit = FitAccumulator::new(p.sites.len(), p.element_channels, p.stick_per_m);
+    let mut fit = p.accumulator();
     for (chain, samples) in chains.into_iter().enumerate() {
         if chain >= p.design.len() {
             return Err(ReducedError::Calibration {
@@ -706,6 +721,10 @@ fn assemble(
         scaling: p.scaling,
         sites: p.sites.clone(),
         modes: p.modes.clone(),
+        cattaneo_mindlin: match &p.stick {
+            StickStiffness::Initial(k0) => Some(k0.clone()),
+            StickStiffness::PerNewton(_) => None,
+        },
         laws: fits.iter().map(|f| f.law).collect(),
         channels: p
             .channels

@@ -241,11 +241,39 @@ pub struct FitAccumulator {
     previous_load: Option<[f64; DRIVE_FEATURES]>,
     /// Every contact's (slip, tangential force, elastic slip) at the previous sample.
     previous_contacts: Vec<(f64, f64, f64)>,
-    /// `μ / γ_e` (1/m): the stick stiffness per unit normal force.
-    stick_per_m: f64,
+    /// The contacts' stick stiffness, with which the stick part `s_e = f_T / k` of a slip
+    /// is taken.
+    stick: StickStiffness,
     /// The interfaces' collective modes, if any: their answer is taken off the FE slips
     /// before the contacts' own laws are fitted.
     modes: Option<ModeTerms>,
+}
+
+/// The stiffness `k` with which a contact sticks, by which the fit takes the stick part
+/// `s_e = f_T / k` of its slip.
+#[derive(Clone, Debug, PartialEq)]
+pub enum StickStiffness {
+    /// The elastic-slip law: `k = (μ / γ_e) f_N`, holding `μ / γ_e` (1/m).
+    PerNewton(f64),
+    /// The Cattaneo–Mindlin law: `k` the Iwan bank's stiffness in stick, a hair below each
+    /// contact's `k₀(f_N)` (mesh contact order; [`super::iwan::stick_fraction`]).
+    Initial(Vec<super::iwan::InitialStiffness>),
+}
+
+impl StickStiffness {
+    /// `k` of contact `c` at normal force `f_n` (0 when open).
+    #[inline]
+    pub fn at(&self, c: usize, f_n: f64) -> f64 {
+        if f_n <= 0.0 {
+            return 0.0;
+        }
+        match self {
+            Self::PerNewton(per_m) => per_m * f_n,
+            Self::Initial(k0) => k0
+                .get(c)
+                .map_or(0.0, |k| super::iwan::stick_fraction() * k.at(f_n)),
+        }
+    }
 }
 
 /// What the fit needs of the interfaces' collective modes ([`ModeCoupling`]).
@@ -335,9 +363,15 @@ impl FitAccumulator {
             elements: vec![ForceSums::default(); elements],
             previous_load: None,
             previous_contacts: Vec::new(),
-            stick_per_m,
+            stick: StickStiffness::PerNewton(stick_per_m),
             modes: None,
         }
+    }
+
+    /// The same sums with the contacts' stick stiffness `stick` instead.
+    pub fn with_stick(mut self, stick: StickStiffness) -> Self {
+        self.stick = stick;
+        self
     }
 
     /// The same sums with the interfaces' collective modes taken off the FE slips (none if
@@ -379,9 +413,9 @@ impl FitAccumulator {
         }
         // the structure equation on the increment from the previous sample: the Jenkins
         // element answers the drive's changes, never its level
-        let stick = self.stick_per_m;
-        let elastic = |f_n: f64, f_t: f64| {
-            let k = stick * f_n;
+        let stick = &self.stick;
+        let elastic = |c: usize, f_n: f64, f_t: f64| {
+            let k = stick.at(c, f_n);
             if k > 0.0 {
                 f_t / k
             } else {
@@ -390,7 +424,13 @@ impl FitAccumulator {
         };
         // the collective modes' answer since the previous sample, per interface
         let mode_change = self.modes.as_mut().map(|m| {
-            let w = m.drive(x, contacts.iter().map(|c| c.0 - elastic(c.1, c.2)));
+            let w = m.drive(
+                x,
+                contacts
+                    .iter()
+                    .enumerate()
+                    .map(|(c, v)| v.0 - elastic(c, v.1, v.2)),
+            );
             let previous = std::mem::replace(&mut m.previous, w.clone());
             if previous.len() == w.len() {
                 w.iter()
@@ -404,7 +444,8 @@ impl FitAccumulator {
         let Some(previous) = self.previous_load.replace(psi) else {
             self.previous_contacts = contacts
                 .iter()
-                .map(|c| (c.0, c.2, elastic(c.1, c.2)))
+                .enumerate()
+                .map(|(c, v)| (v.0, v.2, elastic(c, v.1, v.2)))
                 .collect();
             return;
         };
@@ -421,7 +462,7 @@ impl FitAccumulator {
             .enumerate()
         {
             let (ps, pf, pe) = *prev;
-            let e = elastic(f_n, f_t);
+            let e = elastic(c, f_n, f_t);
             *prev = (s, f_t, e);
             let collective = match (&self.modes, &mode_change) {
                 (Some(m), Some(change)) => {

@@ -85,6 +85,7 @@ mod calibrate;
 pub mod compare;
 pub mod design;
 pub mod fit;
+pub mod iwan;
 pub(crate) mod modes;
 mod run;
 
@@ -626,6 +627,11 @@ pub struct ReducedStrand {
     /// answers alone.
     #[serde(default)]
     pub modes: Option<ModeCoupling>,
+    /// With the FE model's Cattaneo–Mindlin law: every contact's initial tangential stiffness
+    /// k₀(f_N), mesh contact order, and the contacts are Iwan banks ([`iwan`]); none: the
+    /// elastic-slip law of `elastic_slip_m` (one Jenkins element per contact).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cattaneo_mindlin: Option<Vec<iwan::InitialStiffness>>,
 }
 
 /// Number of collective modes of a layer interface: its contacts' irreversible slips uniform,
@@ -786,9 +792,32 @@ impl ReducedStrand {
                 "must be finite and ≥ 0",
             ));
         }
-        let ge = self.elastic_slip_m;
-        if !(ge.is_finite() && ge > 0.0) {
-            return Err(invalid("elastic_slip_m", ge, "must be finite and > 0"));
+        match &self.cattaneo_mindlin {
+            None => {
+                let ge = self.elastic_slip_m;
+                if !(ge.is_finite() && ge > 0.0) {
+                    return Err(invalid("elastic_slip_m", ge, "must be finite and > 0"));
+                }
+            }
+            Some(stiffness) => {
+                if stiffness.len() != self.sites.len() {
+                    return Err(ReducedError::Calibration {
+                        reason: format!(
+                            "cattaneo_mindlin: {} initial stiffnesses for {} contacts",
+                            stiffness.len(),
+                            self.sites.len()
+                        ),
+                    });
+                }
+                if let Some(c) = stiffness.iter().position(|k| !k.is_valid()) {
+                    return Err(ReducedError::Calibration {
+                        reason: format!(
+                            "cattaneo_mindlin: contact {c}: the initial stiffness's \
+                             coefficients must be finite and > 0"
+                        ),
+                    });
+                }
+            }
         }
         let f = self.initial_strain_fraction;
         if !(f > 0.0 && f <= 1.0) {

@@ -14,6 +14,7 @@ use rayon::prelude::*;
 
 mod coupled;
 
+use super::iwan::IwanContact;
 use super::{force_features, JenkinsState, ReducedError, ReducedStrand, FORCE_FEATURES};
 use crate::fretting::{ContactCycleAccumulator, ContactRecord, ContactSample, SlipCycle};
 use crate::strand::history::monitors::{MonitorQuantity, MonitorSeries, MonitorTarget};
@@ -103,27 +104,29 @@ fn run_contact(
     let mut cycles: Vec<SlipCycle> = Vec::new();
     let mut series = Vec::with_capacity(if keep_series { loads.len() } else { 0 });
     let mut max_normal = 0.0_f64;
-    let mut state = JenkinsState::unloaded(law.drive_m(initial.start.0, initial.start.1));
+    let start = law.drive_m(initial.start.0, initial.start.1);
+    let (g, r) = (law.compliance_m_per_n(), law.stick_ratio());
+    let iwan = reduced
+        .cattaneo_mindlin
+        .as_ref()
+        .and_then(|k| k.get(c).copied());
+    let mut jenkins = JenkinsState::unloaded(start);
+    let mut bank = IwanContact::unloaded(start);
+    let mu = reduced.friction_coefficient;
+    let mut step = |drive: f64, normal: f64| match iwan {
+        Some(k) => {
+            let k0 = if normal > 0.0 { k.at(normal) } else { 0.0 };
+            let st = bank.step(drive, normal, k0, g, r, mu);
+            (st.slip_m, st.force_n)
+        }
+        None => jenkins.step(drive, normal, g, r, stick_per_m, reduced.elastic_slip_m),
+    };
     for &(x, y) in &initial.path {
-        state.step(
-            law.drive_m(x, y),
-            law.normal_force_n(&force_features(x, y)),
-            law.compliance_m_per_n(),
-            law.stick_ratio(),
-            stick_per_m,
-            reduced.elastic_slip_m,
-        );
+        step(law.drive_m(x, y), law.normal_force_n(&force_features(x, y)));
     }
     for (&(x, y), f) in loads.iter().zip(features) {
         let normal = law.normal_force_n(f);
-        let (slip, tangential) = state.step(
-            law.drive_m(x, y),
-            normal,
-            law.compliance_m_per_n(),
-            law.stick_ratio(),
-            stick_per_m,
-            reduced.elastic_slip_m,
-        );
+        let (slip, tangential) = step(law.drive_m(x, y), normal);
         let sample = ContactSample {
             slip_m: slip,
             normal_force_n: normal,

@@ -12,6 +12,7 @@
 
 use rayon::prelude::*;
 
+use super::super::iwan::{stick_fraction, IwanContact};
 use super::super::{force_features, ReducedStrand, MODES};
 use super::super::{mode_shapes, slide_factor, JenkinsState, ModeCoupling, ReducedError};
 use super::Scaled;
@@ -34,12 +35,15 @@ const MODE_TOLERANCE_M: f64 = 1e-13;
 const STICK_MARGIN: f64 = 1e-6;
 
 /// One contact at one sample of the coupled run: its drive, normal force and
-/// [`slide_factor`].
+/// [`slide_factor`]; for an Iwan bank, its structure compliance `g + r / k` in `factor` (k its
+/// stiffness in stick) and
+/// its initial stiffness `k₀`.
 #[derive(Clone, Copy, Default)]
 struct Row {
     drive_m: f64,
     normal_force_n: f64,
     factor: f64,
+    k0: f64,
 }
 
 /// Every contact's [`Row`] over a block of samples, in tiles of [`TILE`] contacts, each tile
@@ -156,9 +160,16 @@ fn collective_drives(amp: &[f64], q: &[f64], ni: usize, w: &mut [f64]) {
 /// Adds `ψ ψᵀ` to `sum`.
 #[inline]
 fn add_outer(sum: &mut [[f64; MODES]; MODES], sh: &[f64; MODES]) {
+    add_outer_scaled(sum, sh, 1.0);
+}
+
+/// Adds `ρ ψ ψᵀ` to `sum`: a contact that passes the share `ρ` of a change of its drive to
+/// its irreversible slip.
+#[inline]
+fn add_outer_scaled(sum: &mut [[f64; MODES]; MODES], sh: &[f64; MODES], rate: f64) {
     for m in 0..MODES {
         for l in 0..MODES {
-            sum[m][l] += sh[m] * sh[l];
+            sum[m][l] += rate * sh[m] * sh[l];
         }
     }
 }
@@ -182,6 +193,9 @@ struct Setup<'a> {
     /// The contacts' elastic slip (m) and stick stiffness per newton of normal force (1/m).
     gamma: f64,
     stick_per_m: f64,
+    /// The contacts are Iwan banks (the Cattaneo–Mindlin law) with friction coefficient `mu`.
+    iwan: bool,
+    mu: f64,
     /// The stuck contacts nearer sliding than this (m of drive) are listed after a sample's
     /// first iteration; a later one that moves an interface's drives further steps them all.
     near_m: f64,
@@ -201,7 +215,7 @@ impl Setup<'_> {
     fn step(
         &self,
         tiles: &Tiles,
-        plastic: &[f64],
+        (plastic, banks): (&[f64], &[IwanContact]),
         (c, k): (usize, usize),
         w: &[f64],
         slide: &mut [[[f64; MODES]; MODES]],
@@ -209,6 +223,17 @@ impl Setup<'_> {
         let (geometry, gamma) = (&self.geometry, self.gamma);
         let r = tiles.at(c, k);
         let drive = r.drive_m + geometry.collective(c, w);
+        if self.iwan {
+            // a trial step of the bank: its state is committed once the sample has converged
+            let mut bank = banks[c];
+            let st = bank.step_with(drive, r.normal_force_n, r.k0, r.factor, self.mu);
+            if st.yielded {
+                let sum = &mut slide[geometry.interface[c]];
+                add_outer_scaled(sum, &geometry.shapes[c], st.plastic_rate);
+                return (st.plastic_m, -1.0);
+            }
+            return (st.plastic_m, st.distance_m);
+        }
         if r.normal_force_n <= 0.0 {
             // open: its irreversible slip follows the drive, as sliding
             if drive != plastic[c] {
@@ -233,7 +258,18 @@ impl Setup<'_> {
     /// The margin within which a stuck contact `c` at sample `k` is stepped again.
     #[inline]
     fn margin(&self, tiles: &Tiles, c: usize, k: usize) -> f64 {
-        STICK_MARGIN * self.gamma * tiles.at(c, k).factor
+        let r = tiles.at(c, k);
+        if self.iwan {
+            // δ_s in drive units
+            if r.k0 > 0.0 {
+                let stick = stick_fraction() * r.k0;
+                STICK_MARGIN * 1.5 * self.mu * r.normal_force_n / r.k0 * (1.0 + r.factor * stick)
+            } else {
+                0.0
+            }
+        } else {
+            STICK_MARGIN * self.gamma * r.factor
+        }
     }
 }
 
@@ -241,6 +277,10 @@ impl Setup<'_> {
 struct State {
     /// Every contact's irreversible slip after the last solved sample.
     plastic: Vec<f64>,
+    /// Every contact's Iwan bank after the last solved sample (none for Jenkins elements), and
+    /// at the block's start.
+    banks: Vec<IwanContact>,
+    block_banks: Vec<IwanContact>,
     /// The interfaces' mode amplitudes.
     q: Vec<f64>,
     /// The modes' coupling amplitudes at the current sample's tension.
@@ -294,7 +334,8 @@ impl Newton {
         self.near.clear();
         self.p_first.iter_mut().for_each(|v| *v = 0.0);
         for c in 0..setup.nc {
-            let (s, d) = setup.step(&state.tiles, &state.plastic, (c, k), &self.w, slide);
+            let committed = (state.plastic.as_slice(), state.banks.as_slice());
+            let (s, d) = setup.step(&state.tiles, committed, (c, k), &self.w, slide);
             self.first[c] = s;
             self.distance[c] = d;
             if d < setup.near_m + setup.margin(&state.tiles, c, k) {
@@ -335,7 +376,8 @@ impl Newton {
         for &c in candidates {
             let (i, d) = (setup.geometry.interface[c], self.distance[c]);
             if setup.step_all || d < 0.0 || d <= reach[i] + setup.margin(&state.tiles, c, k) {
-                let (s, _) = setup.step(&state.tiles, &state.plastic, (c, k), &self.w, slide);
+                let committed = (state.plastic.as_slice(), state.banks.as_slice());
+                let (s, _) = setup.step(&state.tiles, committed, (c, k), &self.w, slide);
                 self.trial[c] = s;
                 self.stepped.push(c);
                 setup.geometry.add(&mut change, c, s - self.first[c]);
@@ -403,21 +445,51 @@ impl State {
     fn load_block(&mut self, setup: &Setup, span: &[(f64, f64)]) {
         let reduced = setup.reduced;
         let stick_per_m = setup.stick_per_m;
+        let initial = reduced.cattaneo_mindlin.as_deref();
         self.tiles.tiles_mut().for_each(|(first, tile)| {
             for (j, law) in reduced.laws[first..].iter().take(TILE).enumerate() {
                 let (g, r) = (law.compliance_m_per_n(), law.stick_ratio());
+                let stiffness = initial.and_then(|k| k.get(first + j));
                 for (k, &(x, y)) in span.iter().enumerate() {
                     let normal_force_n = law.normal_force_n(&force_features(x, y));
-                    let (_, factor) = slide_factor(normal_force_n, g, r, stick_per_m);
+                    let (factor, k0) = match stiffness {
+                        Some(s) if normal_force_n > 0.0 => {
+                            let k0 = s.at(normal_force_n);
+                            (g + r / (stick_fraction() * k0), k0)
+                        }
+                        Some(_) => (0.0, 0.0),
+                        None => (slide_factor(normal_force_n, g, r, stick_per_m).1, 0.0),
+                    };
                     tile[k * TILE + j] = Row {
                         drive_m: law.drive_m(x, y),
                         normal_force_n,
                         factor,
+                        k0,
                     };
                 }
             }
         });
         self.block_start.copy_from_slice(&self.plastic);
+        self.block_banks.copy_from_slice(&self.banks);
+    }
+
+    /// Every Iwan bank stepped to sample `k` of the block under the converged collective
+    /// drives `w`: the sample's committed states and irreversible slips (the Newton passes
+    /// step trial copies, and skip the contacts certain to stay stuck, whose stretches still
+    /// move with their slip).
+    fn commit_banks(&mut self, setup: &Setup, k: usize, w: &[f64]) {
+        let (tiles, geometry, mu) = (&self.tiles, &setup.geometry, setup.mu);
+        self.banks
+            .par_iter_mut()
+            .zip(self.plastic.par_iter_mut())
+            .enumerate()
+            .for_each(|(c, (bank, plastic))| {
+                let r = tiles.at(c, k);
+                let drive = r.drive_m + geometry.collective(c, w);
+                *plastic = bank
+                    .step_with(drive, r.normal_force_n, r.k0, r.factor, mu)
+                    .plastic_m;
+            });
     }
 
     /// Solves sample `k` of the block for the mode amplitudes: the last iteration, or `None`
@@ -455,8 +527,9 @@ impl State {
         keep_series: &(dyn Fn(usize) -> bool + Sync),
     ) -> Result<(), ReducedError> {
         let (geometry, nq) = (&setup.geometry, setup.nq);
-        let (gamma, stick_per_m) = (setup.gamma, setup.stick_per_m);
+        let (gamma, stick_per_m, mu) = (setup.gamma, setup.stick_per_m, setup.mu);
         let (converged_w, plastic) = (&self.converged_w, &self.plastic);
+        let (banks, block_banks) = (&self.banks, &self.block_banks);
         counters
             .par_chunks_mut(TILE)
             .zip(self.block_start.par_chunks(TILE))
@@ -468,15 +541,23 @@ impl State {
                     let mut st = JenkinsState {
                         plastic_slip_m: start,
                     };
+                    let mut bank = block_banks.get(c).copied();
                     for (kk, w) in converged_w.chunks_exact(nq).take(k + 1).enumerate() {
                         let r = tile[kk * TILE + j];
-                        let (slip, tangential) = st.step_factored(
-                            r.drive_m + geometry.collective(c, w),
-                            r.normal_force_n,
-                            stick_per_m * r.normal_force_n,
-                            r.factor,
-                            gamma,
-                        );
+                        let drive = r.drive_m + geometry.collective(c, w);
+                        let (slip, tangential) = match bank.as_mut() {
+                            Some(b) => {
+                                let s = b.step_with(drive, r.normal_force_n, r.k0, r.factor, mu);
+                                (s.slip_m, s.force_n)
+                            }
+                            None => st.step_factored(
+                                drive,
+                                r.normal_force_n,
+                                stick_per_m * r.normal_force_n,
+                                r.factor,
+                                gamma,
+                            ),
+                        };
                         if kk < from {
                             continue;
                         }
@@ -496,7 +577,10 @@ impl State {
                             counter.series.push(sample);
                         }
                     }
-                    debug_assert_eq!(st.plastic_slip_m, plastic[c], "contact {c}");
+                    match bank {
+                        Some(b) => debug_assert_eq!(Some(&b), banks.get(c), "contact {c}"),
+                        None => debug_assert_eq!(st.plastic_slip_m, plastic[c], "contact {c}"),
+                    }
                 }
                 Ok::<(), ReducedError>(())
             })
@@ -534,6 +618,12 @@ pub(super) fn run_coupled(
         .iter()
         .map(|law| JenkinsState::unloaded(law.drive_m(x0, y0)).plastic_slip_m)
         .collect();
+    let iwan = reduced.cattaneo_mindlin.is_some();
+    let banks: Vec<IwanContact> = if iwan {
+        plastic.iter().map(|&s| IwanContact::unloaded(s)).collect()
+    } else {
+        Vec::new()
+    };
     let setup = Setup {
         reduced,
         ni,
@@ -541,7 +631,10 @@ pub(super) fn run_coupled(
         nc,
         gamma,
         stick_per_m: reduced.friction_coefficient / gamma,
-        near_m: 0.1 * gamma,
+        iwan,
+        mu: reduced.friction_coefficient,
+        // Iwan banks: a tenth of a micrometre of drive (their slip onsets are 0.2-6 µm)
+        near_m: if iwan { 1e-7 } else { 0.1 * gamma },
         origin: geometry.project(&plastic),
         geometry,
         all: (0..nc).collect(),
@@ -556,6 +649,8 @@ pub(super) fn run_coupled(
         block_start: plastic.clone(),
         converged_w: vec![0.0; setup.nq * BLOCK],
         plastic,
+        block_banks: banks.clone(),
+        banks,
     };
     let steps = h.initial.path.len();
     let points: Vec<(f64, f64)> = h.initial.path.iter().chain(&h.loads).copied().collect();
@@ -575,7 +670,11 @@ pub(super) fn run_coupled(
                 ),
             });
         };
-        newton.commit(last, &mut state.plastic);
+        if setup.iwan {
+            state.commit_banks(&setup, k, &newton.w);
+        } else {
+            newton.commit(last, &mut state.plastic);
+        }
         state.converged_w[k * setup.nq..(k + 1) * setup.nq].copy_from_slice(&newton.w);
         if k + 1 == BLOCK || n + 1 == points.len() {
             let from = steps.saturating_sub(n - k).min(k + 1);
