@@ -145,21 +145,29 @@ fn curvature_cycles(cycles: usize) -> Vec<LoadSample> {
 
 #[test]
 fn modes_without_amplification_leave_every_contact_as_it_answers_alone() {
+    alone_as_with_silent_modes(identical_contacts, [2e-6, 6e-5]);
+}
+
+/// The contacts that `build` makes run alone and coupled by modes without amplification give
+/// the same records, at both `drives`, and they slip.
+fn alone_as_with_silent_modes(
+    build: fn(usize, f64, f64, f64, f64, Option<[f64; MODES]>) -> ReducedStrand,
+    drives: [f64; 2],
+) {
     let h = curvature_cycles(3);
-    for d_m in [2e-6, 6e-5] {
-        let alone = run_reduced(
-            &identical_contacts(5, 400.0, d_m, 2e-8, 0.2, None),
-            &h,
-            &every_sample(),
-        )
-        .expect("runs");
-        let coupled = run_reduced(
-            &identical_contacts(5, 400.0, d_m, 2e-8, 0.2, Some([0.0; MODES])),
-            &h,
-            &every_sample(),
-        )
-        .expect("runs");
+    for d_m in drives {
+        let run = |modes| {
+            run_reduced(&build(5, 400.0, d_m, 2e-8, 0.2, modes), &h, &every_sample()).expect("runs")
+        };
+        let (alone, coupled) = (run(None), run(Some([0.0; MODES])));
         assert_eq!(alone.contacts, coupled.contacts, "drive {d_m}");
+        let cycles: f64 = alone
+            .contacts
+            .iter()
+            .flat_map(|c| &c.cycles)
+            .map(|c| c.slip.count)
+            .sum();
+        assert!(cycles > 0.0, "drive {d_m}: the contacts slip");
     }
 }
 
@@ -233,21 +241,16 @@ fn a_uniform_mode_lengthens_gross_slip_loops_by_its_closed_form() {
     }
 }
 
-/// Contacts on two interfaces coupled both ways, with drives and normal forces that differ
-/// from contact to contact (some open at times): a Newton iteration of the coupled run that
-/// steps only the contacts near sliding gives every series of one that steps them all, to the
-/// bit.
-#[test]
-fn the_coupled_run_steps_the_stuck_contacts_to_the_same_bit_as_all() {
-    let n = 24;
-    let mut reduced = identical_contacts(n, 400.0, 3e-5, 2e-8, 0.2, None);
+/// `reduced`'s contacts spread over two interfaces coupled both ways, with drives and normal
+/// forces that differ from contact to contact (the normal force falls with the curvature: the
+/// last contacts open at times), and a history of varying tension and curvature through it.
+fn on_two_coupled_interfaces(mut reduced: ReducedStrand) -> (ReducedStrand, Vec<LoadSample>) {
     for (c, (site, law)) in reduced.sites.iter_mut().zip(&mut reduced.laws).enumerate() {
         site.interface = c % 2;
         let f = 0.4 + 0.1 * c as f64;
         for v in law.drive.iter_mut() {
             *v *= f;
         }
-        // the normal force falls with the curvature: the last contacts open at times
         law.normal[2] = -40.0 * c as f64;
     }
     reduced.modes = Some(ModeCoupling {
@@ -268,20 +271,38 @@ fn the_coupled_run_steps_the_stuck_contacts_to_the_same_bit_as_all() {
         s.strain = 1e-3 + 4e-4 * (0.37 * i as f64).sin();
         s.curvature_per_m *= 0.6 + 0.4 * (0.05 * i as f64).cos();
     }
+    (reduced, h)
+}
+
+/// Contacts on two interfaces coupled both ways, with drives and normal forces that differ
+/// from contact to contact (some open at times): a Newton iteration of the coupled run that
+/// steps only the contacts near sliding gives every series of one that steps them all, to the
+/// bit.
+#[test]
+fn the_coupled_run_steps_the_stuck_contacts_to_the_same_bit_as_all() {
+    let (reduced, h) =
+        on_two_coupled_interfaces(identical_contacts(24, 400.0, 3e-5, 2e-8, 0.2, None));
     let short = contact_series(&reduced, &h).expect("runs");
     let all = contact_series_stepping_all(&reduced, &h).expect("runs");
     assert_eq!(short, all);
-    let opened = short
-        .iter()
-        .any(|s| s.iter().any(|c| c.normal_force_n <= 0.0));
+    assert_some_open_and_some_slide(&short, 3e-5);
+}
+
+/// Some contact of `series` opens at times and some slips over more than `slip_m`.
+fn assert_some_open_and_some_slide(series: &[Vec<crate::fretting::ContactSample>], slip_m: f64) {
     let range = |s: &[crate::fretting::ContactSample]| {
         let hi = s.iter().map(|c| c.slip_m).fold(f64::MIN, f64::max);
         let lo = s.iter().map(|c| c.slip_m).fold(f64::MAX, f64::min);
         hi - lo
     };
-    assert!(opened, "some contact opens");
     assert!(
-        short.iter().any(|s| range(s) > 3.0 * 1e-5),
+        series
+            .iter()
+            .any(|s| s.iter().any(|c| c.normal_force_n <= 0.0)),
+        "some contact opens"
+    );
+    assert!(
+        series.iter().any(|s| range(s) > slip_m),
         "some contact slides"
     );
 }
@@ -628,29 +649,7 @@ fn identical_iwan_contacts(
 
 #[test]
 fn iwan_modes_without_amplification_leave_every_contact_as_it_answers_alone() {
-    let h = curvature_cycles(3);
-    for d_m in [2e-7, 6e-6] {
-        let alone = run_reduced(
-            &identical_iwan_contacts(5, 400.0, d_m, 2e-8, 0.2, None),
-            &h,
-            &every_sample(),
-        )
-        .expect("runs");
-        let coupled = run_reduced(
-            &identical_iwan_contacts(5, 400.0, d_m, 2e-8, 0.2, Some([0.0; MODES])),
-            &h,
-            &every_sample(),
-        )
-        .expect("runs");
-        assert_eq!(alone.contacts, coupled.contacts, "drive {d_m}");
-        let cycles: f64 = alone
-            .contacts
-            .iter()
-            .flat_map(|c| &c.cycles)
-            .map(|c| c.slip.count)
-            .sum();
-        assert!(cycles > 0.0, "drive {d_m}: the contacts slip");
-    }
+    alone_as_with_silent_modes(identical_iwan_contacts, [2e-7, 6e-6]);
 }
 
 /// A uniform mode under Iwan banks whose loops reach gross slip both ways: from one gross
@@ -692,34 +691,8 @@ fn a_uniform_mode_lengthens_iwan_gross_slip_loops_by_its_closed_form() {
 /// with its slip, so the committed states are stepped again once a sample has converged).
 #[test]
 fn the_coupled_iwan_run_steps_the_stuck_contacts_as_all() {
-    let n = 24;
-    let mut reduced = identical_iwan_contacts(n, 400.0, 3e-6, 2e-8, 0.2, None);
-    for (c, (site, law)) in reduced.sites.iter_mut().zip(&mut reduced.laws).enumerate() {
-        site.interface = c % 2;
-        let f = 0.4 + 0.1 * c as f64;
-        for v in law.drive.iter_mut() {
-            *v *= f;
-        }
-        law.normal[2] = -40.0 * c as f64;
-    }
-    reduced.modes = Some(ModeCoupling {
-        knots: vec![-0.5, 0.5],
-        amplification: vec![
-            vec![
-                vec![[0.5, 0.3, 0.2], [0.0, -0.1, -0.05]],
-                vec![[0.0, -0.15, -0.1], [0.7, 0.4, 0.3]],
-            ],
-            vec![
-                vec![[0.8, 0.5, 0.4], [0.0, -0.2, -0.1]],
-                vec![[0.0, -0.2, -0.15], [0.9, 0.6, 0.5]],
-            ],
-        ],
-    });
-    let mut h = curvature_cycles(4);
-    for (i, s) in h.iter_mut().enumerate() {
-        s.strain = 1e-3 + 4e-4 * (0.37 * i as f64).sin();
-        s.curvature_per_m *= 0.6 + 0.4 * (0.05 * i as f64).cos();
-    }
+    let (reduced, h) =
+        on_two_coupled_interfaces(identical_iwan_contacts(24, 400.0, 3e-6, 2e-8, 0.2, None));
     let short = contact_series(&reduced, &h).expect("runs");
     let all = contact_series_stepping_all(&reduced, &h).expect("runs");
     let mut worst = 0.0_f64;
@@ -730,16 +703,5 @@ fn the_coupled_iwan_run_steps_the_stuck_contacts_as_all() {
         }
     }
     assert!(worst < 1e-15, "slips differ by {worst} m");
-    let range = |s: &[crate::fretting::ContactSample]| {
-        let hi = s.iter().map(|c| c.slip_m).fold(f64::MIN, f64::max);
-        let lo = s.iter().map(|c| c.slip_m).fold(f64::MAX, f64::min);
-        hi - lo
-    };
-    assert!(
-        short
-            .iter()
-            .any(|s| s.iter().any(|c| c.normal_force_n <= 0.0)),
-        "some contact opens"
-    );
-    assert!(short.iter().any(|s| range(s) > 3e-6), "some contact slides");
+    assert_some_open_and_some_slide(&short, 3e-6);
 }
