@@ -148,12 +148,13 @@ fn modes_without_amplification_leave_every_contact_as_it_answers_alone() {
     alone_as_with_silent_modes(identical_contacts, [2e-6, 6e-5]);
 }
 
+/// A builder of identical contacts: count, normal force, drive, compliance, stick ratio and
+/// mode amplifications, as [`identical_contacts`].
+type IdenticalContacts = fn(usize, f64, f64, f64, f64, Option<[f64; MODES]>) -> ReducedStrand;
+
 /// The contacts that `build` makes run alone and coupled by modes without amplification give
 /// the same records, at both `drives`, and they slip.
-fn alone_as_with_silent_modes(
-    build: fn(usize, f64, f64, f64, f64, Option<[f64; MODES]>) -> ReducedStrand,
-    drives: [f64; 2],
-) {
+fn alone_as_with_silent_modes(build: IdenticalContacts, drives: [f64; 2]) {
     let h = curvature_cycles(3);
     for d_m in drives {
         let run = |modes| {
