@@ -229,8 +229,7 @@ pub fn measure_modes(
 impl Prepared {
     /// Empty sums for every contact and element channel.
     fn accumulator(&self) -> FitAccumulator {
-        FitAccumulator::new(self.sites.len(), self.element_channels, 0.0)
-            .with_stick(self.stick.clone())
+        FitAccumulator::new(self.sites.len(), self.element_channels, self.stick.clone())
     }
 
     /// Empty sums for one chain, which take the answer of `modes` off the FE slips.

@@ -351,8 +351,8 @@ impl ModeTerms {
 
 impl FitAccumulator {
     /// Empty sums for `contacts` contacts and `elements` wire-element channels of a model whose
-    /// contacts stick with `stick_per_m = μ / γ_e` (1/m) per unit normal force.
-    pub fn new(contacts: usize, elements: usize, stick_per_m: f64) -> Self {
+    /// contacts stick with the stiffness `stick`.
+    pub fn new(contacts: usize, elements: usize, stick: StickStiffness) -> Self {
         Self {
             force_gram: ForceGram::zeros(),
             drive_gram: SMatrix::zeros(),
@@ -363,15 +363,9 @@ impl FitAccumulator {
             elements: vec![ForceSums::default(); elements],
             previous_load: None,
             previous_contacts: Vec::new(),
-            stick: StickStiffness::PerNewton(stick_per_m),
+            stick,
             modes: None,
         }
-    }
-
-    /// The same sums with the contacts' stick stiffness `stick` instead.
-    pub fn with_stick(mut self, stick: StickStiffness) -> Self {
-        self.stick = stick;
-        self
     }
 
     /// The same sums with the interfaces' collective modes taken off the FE slips (none if
@@ -683,7 +677,7 @@ mod tests {
     #[test]
     fn an_exact_quadratic_force_is_recovered() {
         let truth = [120.0, 30.0, -12.0, 4.0, 2.5, -1.5];
-        let mut acc = FitAccumulator::new(1, 1, STICK);
+        let mut acc = FitAccumulator::new(1, 1, StickStiffness::PerNewton(STICK));
         for i in 0..40 {
             let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.91).cos());
             let f: f64 = force_features(x, y)
@@ -734,7 +728,7 @@ mod tests {
             .map(|i| 1e-6 * ((i as f64 * 1.3).sin() + 0.2))
             .collect();
         let (g, r) = (3e-8, 0.4);
-        let mut acc = FitAccumulator::new(1, 0, STICK);
+        let mut acc = FitAccumulator::new(1, 0, StickStiffness::PerNewton(STICK));
         for i in 0..300 {
             let (x, y, c) = structure_sample(i, &truth, [g, r]);
             acc.add(x, y, 1.0, &c, &[]);
@@ -774,9 +768,9 @@ mod tests {
             (x, y, [(level + s, f_n, f_t)])
         };
         let (mut a, mut b, mut one) = (
-            FitAccumulator::new(1, 0, STICK),
-            FitAccumulator::new(1, 0, STICK),
-            FitAccumulator::new(1, 0, STICK),
+            FitAccumulator::new(1, 0, StickStiffness::PerNewton(STICK)),
+            FitAccumulator::new(1, 0, StickStiffness::PerNewton(STICK)),
+            FitAccumulator::new(1, 0, StickStiffness::PerNewton(STICK)),
         );
         for i in 0..300 {
             let (acc, level) = if i < 150 {
@@ -880,7 +874,7 @@ mod tests {
     #[test]
     fn a_negative_compliance_is_refitted_at_zero() {
         // data made with g < 0: the fit falls back to the pure drive
-        let mut acc = FitAccumulator::new(1, 0, STICK);
+        let mut acc = FitAccumulator::new(1, 0, StickStiffness::PerNewton(STICK));
         for i in 0..60 {
             let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.53).cos());
             let f_t = 40.0 * (i as f64 * 1.7).sin();

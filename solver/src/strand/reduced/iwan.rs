@@ -60,9 +60,12 @@ impl InitialStiffness {
         }
     }
 
-    /// k₀ at normal force `f_n` > 0 (N/m).
+    /// k₀ at normal force `f_n` (N/m; 0 for an open contact, `f_n` ≤ 0).
     #[inline]
     pub fn at(&self, f_n: f64) -> f64 {
+        if f_n <= 0.0 {
+            return 0.0;
+        }
         match *self {
             Self::Point { coefficient } => coefficient * f_n.cbrt(),
             Self::Line {
@@ -102,6 +105,17 @@ const AT_LIMIT: f64 = 1e-12;
 pub fn stick_fraction() -> f64 {
     static FRACTION: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
     *FRACTION.get_or_init(|| iwan_elements().iter().map(|e| e.stiffness_fraction).sum())
+}
+
+/// The structure compliance `c = g + r / k` of a contact with compliance `g`, stick ratio `r`
+/// and initial stiffness `k0`, `k` the bank's stiffness in stick (0 for an open contact).
+#[inline]
+pub(crate) fn structure_compliance(g: f64, r: f64, k0: f64) -> f64 {
+    if k0 > 0.0 {
+        g + r / (stick_fraction() * k0)
+    } else {
+        0.0
+    }
 }
 
 /// One contact's Iwan bank in the reduced response (module docs).
@@ -164,11 +178,7 @@ impl IwanContact {
         stick_ratio: f64,
         mu: f64,
     ) -> IwanStep {
-        let c = if k0 > 0.0 {
-            compliance_m_per_n + stick_ratio / (stick_fraction() * k0)
-        } else {
-            0.0
-        };
+        let c = structure_compliance(compliance_m_per_n, stick_ratio, k0);
         self.step_with(drive_m, normal_n, k0, c, mu)
     }
 

@@ -115,8 +115,7 @@ fn run_contact(
     let mu = reduced.friction_coefficient;
     let mut step = |drive: f64, normal: f64| match iwan {
         Some(k) => {
-            let k0 = if normal > 0.0 { k.at(normal) } else { 0.0 };
-            let st = bank.step(drive, normal, k0, g, r, mu);
+            let st = bank.step(drive, normal, k.at(normal), g, r, mu);
             (st.slip_m, st.force_n)
         }
         None => jenkins.step(drive, normal, g, r, stick_per_m, reduced.elastic_slip_m),

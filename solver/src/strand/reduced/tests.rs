@@ -629,17 +629,10 @@ fn an_early_calibration_serves_the_loads_any_calibration_can() {
     assert!(kept_mild.serves(&mild, &new_calibration(&mild)));
 }
 
-/// [`identical_contacts`] with Iwan banks (the Cattaneo–Mindlin law) of Hertz point contacts,
+/// `reduced` with Iwan banks (the Cattaneo–Mindlin law) of Hertz point contacts,
 /// k₀ = 8 G* c = `coefficient` f_N^{1/3}: 2.2e7 N/m at 400 N.
-fn identical_iwan_contacts(
-    n: usize,
-    f_n: f64,
-    d_m: f64,
-    g: f64,
-    r: f64,
-    modes: Option<[f64; MODES]>,
-) -> ReducedStrand {
-    let mut reduced = identical_contacts(n, f_n, d_m, g, r, modes);
+fn with_iwan_banks(mut reduced: ReducedStrand) -> ReducedStrand {
+    let n = reduced.sites.len();
     reduced.elastic_slip_m = 0.0;
     reduced.cattaneo_mindlin = Some(vec![
         iwan::InitialStiffness::Point { coefficient: 3.0e6 };
@@ -650,7 +643,10 @@ fn identical_iwan_contacts(
 
 #[test]
 fn iwan_modes_without_amplification_leave_every_contact_as_it_answers_alone() {
-    alone_as_with_silent_modes(identical_iwan_contacts, [2e-7, 6e-6]);
+    alone_as_with_silent_modes(
+        |n, f_n, d_m, g, r, modes| with_iwan_banks(identical_contacts(n, f_n, d_m, g, r, modes)),
+        [2e-7, 6e-6],
+    );
 }
 
 /// A uniform mode under Iwan banks whose loops reach gross slip both ways: from one gross
@@ -666,7 +662,7 @@ fn a_uniform_mode_lengthens_iwan_gross_slip_loops_by_its_closed_form() {
     let c = g + r / k;
     let q = 0.12 * f_n;
     for a in [0.0, 0.4, 0.85] {
-        let reduced = identical_iwan_contacts(4, f_n, d_m, g, r, Some([a, 0.3, 0.3]));
+        let reduced = with_iwan_banks(identical_contacts(4, f_n, d_m, g, r, Some([a, 0.3, 0.3])));
         let series = contact_series(&reduced, &h).expect("runs");
         let expected = (2.0 * d_m - 2.0 * q * (c + a / k)) / (1.0 - a);
         for s in &series {
@@ -692,8 +688,9 @@ fn a_uniform_mode_lengthens_iwan_gross_slip_loops_by_its_closed_form() {
 /// with its slip, so the committed states are stepped again once a sample has converged).
 #[test]
 fn the_coupled_iwan_run_steps_the_stuck_contacts_as_all() {
-    let (reduced, h) =
-        on_two_coupled_interfaces(identical_iwan_contacts(24, 400.0, 3e-6, 2e-8, 0.2, None));
+    let (reduced, h) = on_two_coupled_interfaces(with_iwan_banks(identical_contacts(
+        24, 400.0, 3e-6, 2e-8, 0.2, None,
+    )));
     let short = contact_series(&reduced, &h).expect("runs");
     let all = contact_series_stepping_all(&reduced, &h).expect("runs");
     let mut worst = 0.0_f64;

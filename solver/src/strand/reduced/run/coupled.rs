@@ -12,7 +12,7 @@
 
 use rayon::prelude::*;
 
-use super::super::iwan::{stick_fraction, IwanContact};
+use super::super::iwan::{stick_fraction, structure_compliance, IwanContact};
 use super::super::{force_features, ReducedStrand, MODES};
 use super::super::{mode_shapes, slide_factor, JenkinsState, ModeCoupling, ReducedError};
 use super::Scaled;
@@ -453,11 +453,10 @@ impl State {
                 for (k, &(x, y)) in span.iter().enumerate() {
                     let normal_force_n = law.normal_force_n(&force_features(x, y));
                     let (factor, k0) = match stiffness {
-                        Some(s) if normal_force_n > 0.0 => {
+                        Some(s) => {
                             let k0 = s.at(normal_force_n);
-                            (g + r / (stick_fraction() * k0), k0)
+                            (structure_compliance(g, r, k0), k0)
                         }
-                        Some(_) => (0.0, 0.0),
                         None => (slide_factor(normal_force_n, g, r, stick_per_m).1, 0.0),
                     };
                     tile[k * TILE + j] = Row {
