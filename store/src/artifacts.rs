@@ -50,9 +50,32 @@ impl ArtifactStore {
 
     /// The directory `<database file name>.artifacts` next to an SQLite store file.
     pub fn beside_database(database: &Path) -> Result<Self, StoreError> {
+        Self::open(Self::path_beside_database(database))
+    }
+
+    /// Where [`ArtifactStore::beside_database`] puts the directory, without creating it.
+    pub fn path_beside_database(database: &Path) -> PathBuf {
         let mut name = database.file_name().unwrap_or_default().to_os_string();
         name.push(".artifacts");
-        Self::open(database.with_file_name(name))
+        database.with_file_name(name)
+    }
+
+    /// Checks what is already at `dir` without creating anything: nothing there passes (the
+    /// directory is made later), a directory must take files, anything else is refused. A
+    /// caller runs this before it opens a store, so that a refusal leaves the store unopened.
+    pub fn check_existing(dir: &Path) -> Result<(), StoreError> {
+        match fs::metadata(dir) {
+            Err(err) if err.kind() == io::ErrorKind::NotFound => Ok(()),
+            Err(err) => Err(io_error(dir)(err)),
+            Ok(meta) if meta.is_dir() => Self {
+                dir: dir.to_path_buf(),
+            }
+            .check_writable(),
+            Ok(_) => Err(io_error(dir)(io::Error::new(
+                io::ErrorKind::AlreadyExists,
+                "a file is in the way of the directory",
+            ))),
+        }
     }
 
     /// Writes, syncs and removes a probe file: an error here (a file in the way, a read-only

@@ -1786,6 +1786,30 @@ fn artifacts_round_trip_and_identical_content_is_stored_once() {
     ));
 }
 
+/// The check made before a store is opened creates nothing: an absent directory passes and
+/// stays absent, a writable one passes, a file in the way is refused.
+#[test]
+fn existing_artifact_path_is_checked_without_creating_anything() {
+    let dir = tempfile::tempdir().unwrap();
+    let absent = ArtifactStore::path_beside_database(&dir.path().join("c.sqlite"));
+    assert!(absent.ends_with("c.sqlite.artifacts"));
+    ArtifactStore::check_existing(&absent).unwrap();
+    assert!(!absent.exists());
+    std::fs::create_dir(&absent).unwrap();
+    ArtifactStore::check_existing(&absent).unwrap();
+    assert_eq!(std::fs::read_dir(&absent).unwrap().count(), 0);
+    std::fs::remove_dir(&absent).unwrap();
+    std::fs::write(&absent, b"in the way").unwrap();
+    match ArtifactStore::check_existing(&absent) {
+        Err(StoreError::ArtifactIo { path, source }) => {
+            assert_eq!(path, absent);
+            assert_eq!(source.kind(), std::io::ErrorKind::AlreadyExists);
+        }
+        other => panic!("expected ArtifactIo, got {other:?}"),
+    }
+    assert_eq!(std::fs::read(&absent).unwrap(), b"in the way");
+}
+
 #[test]
 fn corrupted_artifact_is_refused_on_read_and_repaired_by_a_new_write() {
     let dir = tempfile::tempdir().unwrap();

@@ -97,6 +97,18 @@ impl StoreConfig {
         }
     }
 
+    /// Checks, without creating anything or opening the store, that what already stands where
+    /// the artifact directory goes can take files (see [`ArtifactStore::check_existing`]).
+    pub fn check_existing_artifacts(&self) -> anyhow::Result<()> {
+        let dir = match (&self.artifacts, StoreLocation::parse(&self.db)?) {
+            (Some(dir), _) => dir.clone(),
+            (None, StoreLocation::Sqlite(path)) => ArtifactStore::path_beside_database(&path),
+            (None, StoreLocation::Postgres(_)) => return Ok(()),
+        };
+        ArtifactStore::check_existing(&dir)
+            .with_context(|| format!("the artifact directory {} cannot take files", dir.display()))
+    }
+
     /// Arguments that hand the same store to a child process.
     pub fn child_args(&self) -> Vec<String> {
         let mut args = vec!["--db".to_owned(), self.db.clone()];

@@ -156,8 +156,11 @@ async fn launch(
 ) -> anyhow::Result<()> {
     let resolved = resolve(file).with_context(|| format!("in campaign file {}", file.display()))?;
     report_climate(&resolved);
-    // An existing file must be a moorfret store (it is refused untouched otherwise); a new
-    // store is created only once the artifact directory is known to take files.
+    // What stands where the artifact directory goes is checked before the store is opened,
+    // so that a refusal leaves the store's files as they were. An existing file must be a
+    // moorfret store (it is refused untouched otherwise); a new store is created only once the
+    // artifact directory is known to take files.
+    args.config().check_existing_artifacts()?;
     let existing = args.config().open_if_present().await?;
     if let Err(err) = check_artifacts_writable(args) {
         if let Some(store) = existing {
