@@ -6,7 +6,7 @@ use std::sync::{mpsc, Mutex, OnceLock};
 use std::time::Instant;
 
 use super::compare::compare_records;
-use super::design::{design_history_weighted, split_weights, DesignParams};
+use super::design::{design_history_weighted, split_weights, DesignParams, LowestTension};
 use super::fit::{FitAccumulator, StickStiffness};
 use super::iwan::InitialStiffness;
 use super::{
@@ -210,6 +210,8 @@ struct Prepared {
     channels: Vec<MonitorChannel>,
     element_channels: usize,
     modes: Option<ModeCoupling>,
+    /// The load points of the modes' measurement ([`super::modes::mode_points`]).
+    mode_points: Vec<(f64, f64)>,
 }
 
 /// The layer interfaces' collective modes of `model` over `range`, measured on the FE model
@@ -252,15 +254,32 @@ type Designed = (
     Vec<Vec<f64>>,
 );
 
-fn designed(range: LoadRange, options: &CalibrationOptions) -> Result<Designed, ReducedError> {
+/// How low in tension the calibration of `model` goes: to the strokes' floor under the
+/// Cattaneo–Mindlin law ([`LowestTension::StrokeFloor`]), near slack under the others.
+fn lowest_tension_of(model: &StrandModel) -> LowestTension {
+    match model.contact_parameters.tangential {
+        TangentialLaw::CattaneoMindlin => LowestTension::StrokeFloor,
+        TangentialLaw::ElasticSlip { .. } | TangentialLaw::Mindlin => LowestTension::NearSlack,
+    }
+}
+
+fn designed(
+    range: LoadRange,
+    options: &CalibrationOptions,
+    lowest: LowestTension,
+) -> Result<Designed, ReducedError> {
     let range = range.validated()?;
     let history = HistoryOptions {
         turning_point_tolerance: 0.0,
         checkpoint_interval_segments: 0,
         ..options.history
     };
-    let (design, weights) =
-        split_weights(design_history_weighted(&range, &options.design, &history));
+    let (design, weights) = split_weights(design_history_weighted(
+        &range,
+        &options.design,
+        &history,
+        lowest,
+    ));
     Ok((range, history, design, weights))
 }
 
@@ -270,7 +289,8 @@ fn prepare(
     options: &CalibrationOptions,
 ) -> Result<Prepared, ReducedError> {
     let (elastic_slip_m, stick) = tangential_of(model)?;
-    let (range, history, design, weights) = designed(range, options)?;
+    let lowest = lowest_tension_of(model);
+    let (range, history, design, weights) = designed(range, options, lowest)?;
     let sites = contact_sites(model);
     let channels = default_channels(model, &sites);
     let element_channels = channels
@@ -279,6 +299,7 @@ fn prepare(
         .count();
     Ok(Prepared {
         modes: None,
+        mode_points: super::modes::mode_points(lowest.mode_floor(&range)),
         scaling: LoadScaling::of(&range),
         range,
         elastic_slip_m,
@@ -296,11 +317,11 @@ fn prepare(
 /// runs solve, one run per chain, and what [`fit_recorded`] expects to be given, sample by
 /// sample), and the settings of those runs.
 pub fn calibration_design(
-    _model: &StrandModel,
+    model: &StrandModel,
     range: LoadRange,
     options: &CalibrationOptions,
 ) -> Result<(Vec<Vec<LoadSample>>, HistoryOptions), ReducedError> {
-    let (_, history, design, _) = designed(range, options)?;
+    let (_, history, design, _) = designed(range, options, lowest_tension_of(model))?;
     Ok((design, history))
 }
 
@@ -337,7 +358,7 @@ enum Task {
     Chain(usize),
 }
 
-/// Measures the collective modes at the knots of [`super::modes::MODE_POINTS`] and runs the
+/// Measures the collective modes at the knots of `p.mode_points` and runs the
 /// FE model through every chain of the design, as many of these tasks at a time as
 /// `p.history.threads` (each on one thread; with more threads than tasks, the threads are
 /// shared out): first one FE run through the knots ([`super::modes::Stroke`]), beside the
@@ -352,7 +373,7 @@ fn run_chains(
     observer: &mut dyn HistoryObserver,
 ) -> Result<(ModeCoupling, Vec<ChainRun>, f64), ReducedError> {
     let start = Instant::now();
-    let knots = &super::modes::MODE_POINTS;
+    let knots = &p.mode_points[..];
     let chains = p.design.len();
     // the stroke, the knots and the chains, in the order of `results`
     let tasks = 1 + knots.len() + chains;

@@ -105,6 +105,43 @@ pub fn design_strain_floor(range: &LoadRange) -> f64 {
     range.strain[0].max(LOW_STRAIN_FRACTION * range.strain[1])
 }
 
+/// How low in tension a calibration's FE runs go.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum LowestTension {
+    /// Down to the near-slack probes at [`design_strain_floor`], and the collective modes
+    /// from the lowest of [`super::modes::MODE_POINTS`].
+    NearSlack,
+    /// Down to the strokes' floor ([`stroke_strain_floor`]) and no lower, the modes' knots
+    /// included: the contact-mechanics laws. Their Hertz normal law and Mindlin's initial
+    /// stiffness `8 G* c ∝ f_N^(1/3)` leave the near-slack strand almost without stiffness,
+    /// and the FE model does not converge there along the design's strokes (the modes'
+    /// stroke to 1.5 % of the paper campaign's highest strain stalled at its first sample).
+    /// Below the floor the reduced response holds its drive at the lowest fitted knot.
+    StrokeFloor,
+}
+
+impl LowestTension {
+    /// The lowest strain of the design over `range`.
+    pub(crate) fn strain(self, range: &LoadRange) -> f64 {
+        match self {
+            Self::NearSlack => design_strain_floor(range),
+            Self::StrokeFloor => stroke_strain_floor(range),
+        }
+    }
+
+    /// The lowest scaled tension of the modes' knots over `range`.
+    pub(crate) fn mode_floor(self, range: &LoadRange) -> f64 {
+        match self {
+            Self::NearSlack => -1.0,
+            Self::StrokeFloor => {
+                LoadScaling::of(range)
+                    .scaled(stroke_strain_floor(range), 0.0)
+                    .0
+            }
+        }
+    }
+}
+
 /// Scaled tension of level `j` of `levels`: the midpoint of the j-th of `levels` equal bins of
 /// [−1, 1].
 pub(crate) fn tension_level(j: usize, levels: usize) -> f64 {
@@ -242,7 +279,13 @@ pub fn design_history(
     params: &DesignParams,
     options: &HistoryOptions,
 ) -> Vec<Vec<LoadSample>> {
-    split_weights(design_history_weighted(range, params, options)).0
+    split_weights(design_history_weighted(
+        range,
+        params,
+        options,
+        LowestTension::NearSlack,
+    ))
+    .0
 }
 
 /// The samples and the weights of weighted chains, each chain by chain.
@@ -263,10 +306,11 @@ pub(crate) fn design_history_weighted(
     range: &LoadRange,
     params: &DesignParams,
     options: &HistoryOptions,
+    lowest: LowestTension,
 ) -> Vec<Vec<(LoadSample, f64)>> {
     let scaling = LoadScaling::of(range);
     let x_stroke_floor = scaling.scaled(stroke_strain_floor(range), 0.0).0;
-    let x_low = scaling.scaled(design_strain_floor(range), 0.0).0;
+    let x_low = scaling.scaled(lowest.strain(range), 0.0).0;
     design_chains(params, x_stroke_floor, x_low)
         .iter()
         .map(|vertices| sampled(&scaling, vertices, options))
@@ -370,6 +414,60 @@ mod tests {
                 "y = {y} below the strokes' floor is not at a probe"
             );
         }
+    }
+
+    #[test]
+    fn under_the_contact_mechanics_laws_nothing_goes_below_the_strokes_floor() {
+        // the same range from slack: the design and the modes' knots stop at a tenth of the
+        // highest strain, where the design under the other laws still has every chain
+        let range = LoadRange {
+            strain: [0.0, 1.2e-3],
+            curvature_per_m: [1e-3, 1.8e-2],
+        };
+        let params = DesignParams::default();
+        let options = HistoryOptions::default();
+        let floor = stroke_strain_floor(&range);
+        let samples = |lowest| -> Vec<LoadSample> {
+            design_history_weighted(&range, &params, &options, lowest)
+                .into_iter()
+                .flatten()
+                .map(|(s, _)| s)
+                .collect()
+        };
+        let (near_slack, stroke_floor) = (
+            samples(LowestTension::NearSlack),
+            samples(LowestTension::StrokeFloor),
+        );
+        let lowest = stroke_floor
+            .iter()
+            .map(|s| s.strain)
+            .fold(f64::INFINITY, f64::min);
+        assert!((lowest - floor).abs() < 1e-15, "{lowest} against {floor}");
+        // what differs is the low-tension probes of the first chain, and only those
+        let above = |h: &[LoadSample]| -> Vec<(f64, f64)> {
+            h.iter()
+                .filter(|s| s.strain >= floor * (1.0 - 1e-12))
+                .map(|s| (s.strain, s.curvature_per_m))
+                .collect()
+        };
+        assert!(stroke_floor.len() < near_slack.len());
+        let (a, b) = (above(&near_slack), above(&stroke_floor));
+        let first_chain_probes = a.len() - b.len();
+        assert!(
+            first_chain_probes > 0 && first_chain_probes < a.len() / 10,
+            "{first_chain_probes}"
+        );
+        // the knots of the modes: the two below the floor merge into one at it
+        let x_floor = LowestTension::StrokeFloor.mode_floor(&range);
+        assert!((x_floor - (-0.8)).abs() < 1e-12, "{x_floor}");
+        let knots = super::super::modes::mode_points(x_floor);
+        assert_eq!(knots.len(), super::super::modes::MODE_POINTS.len() - 1);
+        assert_eq!(knots[0], (x_floor, 0.0));
+        assert_eq!(&knots[1..], &super::super::modes::MODE_POINTS[2..]);
+        assert_eq!(
+            super::super::modes::mode_points(LowestTension::NearSlack.mode_floor(&range)),
+            super::super::modes::MODE_POINTS.to_vec()
+        );
     }
 
     #[test]

@@ -596,10 +596,43 @@ impl FitAccumulator {
             if admissible || idx.len() == DRIVE_FEATURES {
                 let mut drive = [0.0; DRIVE_FEATURES];
                 drive.copy_from_slice(&beta.as_slice()[..DRIVE_FEATURES]);
+                continue_beyond_the_design(&mut drive, &self.drive_gram);
                 return (drive, [g, r], residual(&beta), k > 0 && has_force);
             }
         }
         ([0.0; DRIVE_FEATURES], [0.0; 2], d.ss, false)
+    }
+}
+
+/// Holds the drive constant in tension beyond the knots the design never reached: a knot
+/// whose hat function no sample moved (its column of `gram` is zero, and the solve left its
+/// coefficients at 0) takes the coefficients of the nearest knot the design reached, so that
+/// the drive stays at its last fitted value instead of falling to 0 at that knot. Under the
+/// contact-mechanics laws the design stops at the strokes' floor
+/// ([`super::design::LowestTension::StrokeFloor`]), above the lowest knot.
+fn continue_beyond_the_design(
+    drive: &mut [f64; DRIVE_FEATURES],
+    gram: &SMatrix<f64, DRIVE_FEATURES, DRIVE_FEATURES>,
+) {
+    let knots = TENSION_KNOTS.len();
+    let reached = |k: usize| {
+        (0..CURVATURE_POWERS)
+            .any(|j| gram[(k * CURVATURE_POWERS + j, k * CURVATURE_POWERS + j)] > 0.0)
+    };
+    let Some(lowest) = (0..knots).find(|&k| reached(k)) else {
+        return;
+    };
+    let highest = (0..knots).rev().find(|&k| reached(k)).unwrap_or(lowest);
+    let copy = |drive: &mut [f64; DRIVE_FEATURES], to: usize, from: usize| {
+        for j in 0..CURVATURE_POWERS {
+            drive[to * CURVATURE_POWERS + j] = drive[from * CURVATURE_POWERS + j];
+        }
+    };
+    for k in 0..lowest {
+        copy(drive, k, lowest);
+    }
+    for k in highest + 1..knots {
+        copy(drive, k, highest);
     }
 }
 
@@ -752,6 +785,51 @@ mod tests {
         assert!(rel(fit.law.compliance[1], r) < 1e-6);
         assert!(!fit.compliance_clamped);
         assert!(fit.slip_residual_ss < 1e-8 * fit.slip_spread_ss);
+    }
+
+    #[test]
+    fn the_drive_is_held_beyond_the_tensions_the_design_reached() {
+        // samples above x = -0.8 only (the strokes' floor of a range from slack): the lowest
+        // knot's hat is never moved, and the drive below the knot at -5/6 stays at its value
+        // there, where the fit inside the reached range is the free fit's
+        let truth: Vec<f64> = (0..DRIVE_FEATURES)
+            .map(|i| 1e-6 * ((i as f64 * 1.3).sin() + 0.2))
+            .collect();
+        let (g, r) = (3e-8, 0.4);
+        let mut acc = FitAccumulator::new(1, 0, StickStiffness::PerNewton(STICK));
+        for i in 0..400 {
+            let (x, y, [(_, f_n, f_t)]) = structure_sample(i, &truth, [g, r]);
+            let x = -0.8 + 0.9 * (x + 1.0);
+            let d: f64 = drive_features(x, y)
+                .iter()
+                .zip(&truth)
+                .map(|(p, q)| p * q)
+                .sum();
+            let s = d - g * f_t - r * f_t / (STICK * f_n);
+            acc.add(x, y, 1.0, &[(s, f_n, f_t)], &[]);
+        }
+        let fit = acc.contact_fits()[0];
+        assert!((fit.law.compliance[0] - g).abs() < 1e-6 * g);
+        assert!((fit.law.compliance[1] - r).abs() < 1e-6 * r);
+        let truth_drive: [f64; DRIVE_FEATURES] = truth.clone().try_into().unwrap();
+        let knot_1 = TENSION_KNOTS[1];
+        for y in [-0.9, -0.3, 0.0, 0.4, 1.0] {
+            let at_knot = drive_dot(&fit.law.drive, knot_1, y);
+            for x in [-1.0, -0.95, -0.9, knot_1 - 1e-9] {
+                let below = drive_dot(&fit.law.drive, x, y);
+                assert!(
+                    (below - at_knot).abs() <= 1e-12 * at_knot.abs().max(1e-12),
+                    "drive at x = {x}, y = {y}: {below} against {at_knot} at the knot"
+                );
+            }
+            // inside the reached range the drive's changes are the truth's
+            let fitted = drive_dot(&fit.law.drive, -0.5, y) - drive_dot(&fit.law.drive, 0.3, y);
+            let truth_d = drive_dot(&truth_drive, -0.5, y) - drive_dot(&truth_drive, 0.3, y);
+            assert!(
+                (fitted - truth_d).abs() < 1e-5 * truth_d.abs().max(1e-7),
+                "{fitted} vs {truth_d}"
+            );
+        }
     }
 
     #[test]

@@ -45,6 +45,21 @@ pub(crate) const MODE_POINTS: [(f64, f64); 7] = [
     (0.9, 0.0),
 ];
 
+/// [`MODE_POINTS`] with every tension at least `x_floor`, those below it moved up to it and
+/// merged into one: the knots of a calibration whose design stops at `x_floor`
+/// ([`super::design::LowestTension`]). A floor at or below the lowest point leaves them as
+/// they are.
+pub(crate) fn mode_points(x_floor: f64) -> Vec<(f64, f64)> {
+    let mut points: Vec<(f64, f64)> = Vec::with_capacity(MODE_POINTS.len());
+    for &(x, y) in &MODE_POINTS {
+        let point = (x.max(x_floor), y);
+        if points.last() != Some(&point) {
+            points.push(point);
+        }
+    }
+    points
+}
+
 /// The checkpoints of a run and the last sample's contacts; with `stop_after`, the run
 /// stops after that many segments.
 #[derive(Default)]
