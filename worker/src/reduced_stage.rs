@@ -30,7 +30,6 @@ use moorfret_solver::strand::history::{
 };
 use moorfret_solver::strand::model::StrandModel;
 use moorfret_solver::strand::profile::Strand;
-use moorfret_solver::strand::reduced::design::design_strain_floor;
 use moorfret_solver::strand::reduced::{
     calibrate, model_key, run_reduced, CalibrationOptions, LoadRange, ReducedError, ReducedStrand,
 };
@@ -221,7 +220,7 @@ fn calibration_result(
         "axial_stiffness": stiffness.job_result(),
         "load_range": loads,
         "calibrated_range": calibration.range,
-        "design_strain_floor": design_strain_floor(&calibration.range),
+        "design_strain_floor": calibration.lowest_designed_strain(),
         "model_key": calibration.model_key,
         "calibration_sha256": artifact.sha256,
     })
@@ -449,7 +448,7 @@ pub fn run_strand_reduced(
             permanent(FailureClass::StrandHistory, e)
         }
     })?;
-    let floor = design_strain_floor(&reduced.range);
+    let floor = reduced.lowest_designed_strain();
     let below = load.samples.iter().filter(|s| s.strain < floor).count();
     clock.lap("response");
     let mut results = strand_results(inputs, payload, &strand, &load, &result, artifacts)?;

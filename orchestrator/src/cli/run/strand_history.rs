@@ -65,7 +65,6 @@ use super::strand_reduced::{
     ReducedArgs,
 };
 use moorfret_orchestrator::plot::{strand_history_svgs, LoadPlot};
-use moorfret_solver::strand::reduced::design::design_strain_floor;
 use moorfret_solver::strand::reduced::run_reduced;
 
 /// Options of a history run (`--load`).
@@ -634,7 +633,7 @@ impl ReducedRun<'_> {
             &mut observer,
         )?;
         observer.finish();
-        let floor = design_strain_floor(&reduced.range);
+        let floor = reduced.lowest_designed_strain();
         source.samples_below_design_strain =
             self.samples.iter().filter(|s| s.strain < floor).count();
         let result = run_reduced(&reduced, self.samples, self.options)

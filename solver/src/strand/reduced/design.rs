@@ -107,7 +107,7 @@ pub fn design_strain_floor(range: &LoadRange) -> f64 {
 
 /// How low in tension a calibration's FE runs go.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum LowestTension {
+pub enum LowestTension {
     /// Down to the near-slack probes at [`design_strain_floor`], and the collective modes
     /// from the lowest of [`super::modes::MODE_POINTS`].
     NearSlack,
@@ -122,7 +122,7 @@ pub(crate) enum LowestTension {
 
 impl LowestTension {
     /// The lowest strain of the design over `range`.
-    pub(crate) fn strain(self, range: &LoadRange) -> f64 {
+    pub fn strain(self, range: &LoadRange) -> f64 {
         match self {
             Self::NearSlack => design_strain_floor(range),
             Self::StrokeFloor => stroke_strain_floor(range),
@@ -130,7 +130,7 @@ impl LowestTension {
     }
 
     /// The lowest scaled tension of the modes' knots over `range`.
-    pub(crate) fn mode_floor(self, range: &LoadRange) -> f64 {
+    pub fn mode_floor(self, range: &LoadRange) -> f64 {
         match self {
             Self::NearSlack => -1.0,
             Self::StrokeFloor => {

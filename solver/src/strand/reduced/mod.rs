@@ -738,6 +738,19 @@ impl ModeCoupling {
 }
 
 impl ReducedStrand {
+    /// The lowest strain its calibration's design visited: below it the fitted laws are
+    /// continued (the drive held at its lowest fitted knot, the normal forces' quadratics
+    /// clipped at zero). Under the Cattaneo–Mindlin law the design stops at the strokes' floor
+    /// ([`design::LowestTension::StrokeFloor`]).
+    pub fn lowest_designed_strain(&self) -> f64 {
+        let lowest = if self.cattaneo_mindlin.is_some() {
+            design::LowestTension::StrokeFloor
+        } else {
+            design::LowestTension::NearSlack
+        };
+        lowest.strain(&self.range)
+    }
+
     /// A stored calibration read from its JSON and checked ([`ReducedStrand::validated`]); a
     /// file of another format is refused as such before its fields are read (their shapes
     /// change between formats).
