@@ -79,31 +79,30 @@ impl StoreConfig {
             .with_context(|| format!("opening the store {}", self.db))
     }
 
+    /// Where the artifact directory of this store is: `--artifacts`, or beside an SQLite
+    /// store file; `None` for a PostgreSQL store without `--artifacts`.
+    fn artifact_dir(&self) -> anyhow::Result<Option<PathBuf>> {
+        Ok(match (&self.artifacts, StoreLocation::parse(&self.db)?) {
+            (Some(dir), _) => Some(dir.clone()),
+            (None, StoreLocation::Sqlite(path)) => Some(ArtifactStore::path_beside_database(&path)),
+            (None, StoreLocation::Postgres(_)) => None,
+        })
+    }
+
     /// The artifact store of this store.
     pub fn artifact_store(&self) -> anyhow::Result<ArtifactStore> {
-        if let Some(dir) = &self.artifacts {
-            return ArtifactStore::open(dir)
-                .with_context(|| format!("opening the artifact directory {}", dir.display()));
-        }
-        match StoreLocation::parse(&self.db)? {
-            StoreLocation::Sqlite(path) => {
-                ArtifactStore::beside_database(&path).with_context(|| {
-                    format!("opening the artifact directory beside {}", path.display())
-                })
-            }
-            StoreLocation::Postgres(_) => {
-                anyhow::bail!("--artifacts DIR is required with a PostgreSQL store (a directory every worker shares)")
-            }
-        }
+        let Some(dir) = self.artifact_dir()? else {
+            anyhow::bail!("--artifacts DIR is required with a PostgreSQL store (a directory every worker shares)")
+        };
+        ArtifactStore::open(&dir)
+            .with_context(|| format!("opening the artifact directory {}", dir.display()))
     }
 
     /// Checks, without creating anything or opening the store, that what already stands where
     /// the artifact directory goes can take files (see [`ArtifactStore::check_existing`]).
     pub fn check_existing_artifacts(&self) -> anyhow::Result<()> {
-        let dir = match (&self.artifacts, StoreLocation::parse(&self.db)?) {
-            (Some(dir), _) => dir.clone(),
-            (None, StoreLocation::Sqlite(path)) => ArtifactStore::path_beside_database(&path),
-            (None, StoreLocation::Postgres(_)) => return Ok(()),
+        let Some(dir) = self.artifact_dir()? else {
+            return Ok(());
         };
         ArtifactStore::check_existing(&dir)
             .with_context(|| format!("the artifact directory {} cannot take files", dir.display()))

@@ -254,13 +254,12 @@ type Designed = (
     Vec<Vec<f64>>,
 );
 
-/// How low in tension the calibration of `model` goes: to the strokes' floor under the
-/// Cattaneo–Mindlin law ([`LowestTension::StrokeFloor`]), near slack under the others.
+/// How low in tension the calibration of `model` goes ([`LowestTension::of_law`]).
 fn lowest_tension_of(model: &StrandModel) -> LowestTension {
-    match model.contact_parameters.tangential {
-        TangentialLaw::CattaneoMindlin => LowestTension::StrokeFloor,
-        TangentialLaw::ElasticSlip { .. } | TangentialLaw::Mindlin => LowestTension::NearSlack,
-    }
+    LowestTension::of_law(matches!(
+        model.contact_parameters.tangential,
+        TangentialLaw::CattaneoMindlin
+    ))
 }
 
 fn designed(

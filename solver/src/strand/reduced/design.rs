@@ -121,6 +121,16 @@ pub enum LowestTension {
 }
 
 impl LowestTension {
+    /// How low the calibration of a model goes: to the strokes' floor under the
+    /// Cattaneo–Mindlin law, near slack under the others.
+    pub fn of_law(cattaneo_mindlin: bool) -> Self {
+        if cattaneo_mindlin {
+            Self::StrokeFloor
+        } else {
+            Self::NearSlack
+        }
+    }
+
     /// The lowest strain of the design over `range`.
     pub fn strain(self, range: &LoadRange) -> f64 {
         match self {

@@ -744,13 +744,21 @@ mod tests {
         let (x, y) = ((i as f64 * 0.37).sin(), (i as f64 * 0.53).cos());
         let f_n = 100.0 + 30.0 * x;
         let f_t = 40.0 * (i as f64 * 1.7).sin();
+        (
+            x,
+            y,
+            [(structure_slip(x, y, f_n, f_t, drive, [g, r]), f_n, f_t)],
+        )
+    }
+
+    /// The slip `s = ψ(x, y)·drive − g f_T − r s_e` with `s_e = f_T / (STICK f_N)`.
+    fn structure_slip(x: f64, y: f64, f_n: f64, f_t: f64, drive: &[f64], [g, r]: [f64; 2]) -> f64 {
         let d: f64 = drive_features(x, y)
             .iter()
             .zip(drive)
             .map(|(p, q)| p * q)
             .sum();
-        let s = d - g * f_t - r * f_t / (STICK * f_n);
-        (x, y, [(s, f_n, f_t)])
+        d - g * f_t - r * f_t / (STICK * f_n)
     }
 
     #[test]
@@ -800,12 +808,7 @@ mod tests {
         for i in 0..400 {
             let (x, y, [(_, f_n, f_t)]) = structure_sample(i, &truth, [g, r]);
             let x = -0.8 + 0.9 * (x + 1.0);
-            let d: f64 = drive_features(x, y)
-                .iter()
-                .zip(&truth)
-                .map(|(p, q)| p * q)
-                .sum();
-            let s = d - g * f_t - r * f_t / (STICK * f_n);
+            let s = structure_slip(x, y, f_n, f_t, &truth, [g, r]);
             acc.add(x, y, 1.0, &[(s, f_n, f_t)], &[]);
         }
         let fit = acc.contact_fits()[0];

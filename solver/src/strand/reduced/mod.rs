@@ -743,12 +743,7 @@ impl ReducedStrand {
     /// clipped at zero). Under the Cattaneo–Mindlin law the design stops at the strokes' floor
     /// ([`design::LowestTension::StrokeFloor`]).
     pub fn lowest_designed_strain(&self) -> f64 {
-        let lowest = if self.cattaneo_mindlin.is_some() {
-            design::LowestTension::StrokeFloor
-        } else {
-            design::LowestTension::NearSlack
-        };
-        lowest.strain(&self.range)
+        design::LowestTension::of_law(self.cattaneo_mindlin.is_some()).strain(&self.range)
     }
 
     /// A stored calibration read from its JSON and checked ([`ReducedStrand::validated`]); a
