@@ -102,9 +102,10 @@ impl MildSeas {
         self.skipped.binary_search(&sea_state_index).is_ok()
     }
 
-    /// 1 / (1 − q): the bound on the hot spot's damage over the damage of the sea states run.
+    /// The bound on the hot spot's damage over the damage of the sea states run
+    /// ([`damage_factor`] of its proxy share).
     pub fn damage_factor(&self) -> f64 {
-        1.0 / (1.0 - self.proxy_share)
+        damage_factor(self.proxy_share)
     }
 
     fn none(share: f64, sea_states: usize) -> MildSeas {
@@ -117,6 +118,12 @@ impl MildSeas {
             sea_states,
         }
     }
+}
+
+/// 1 / (1 − q): the bound on a hot spot's damage over the damage of the sea states it ran, when
+/// the skipped ones hold the share q of its proxy.
+pub fn damage_factor(proxy_share: f64) -> f64 {
+    1.0 / (1.0 - proxy_share)
 }
 
 /// The mild sea states of one hot spot under share `share` (module docs). Deterministic for

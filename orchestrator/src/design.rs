@@ -349,7 +349,7 @@ async fn mild_skips(store: &Store, campaign: CampaignId) -> anyhow::Result<Vec<M
             sea_states: n as usize,
             year_share: year,
             proxy_share: q,
-            damage_factor: 1.0 / (1.0 - q),
+            damage_factor: moorfret_campaign::mild_seas::damage_factor(q),
         });
     }
     Ok(per_hot_spot.into_values().collect())
