@@ -2,7 +2,7 @@
 
 use std::fmt::Write;
 
-use super::data::{select_columns, ReportData};
+use super::data::{select_columns, CriticalClass, ReportData};
 use super::plots;
 use crate::query::significant as number;
 use crate::query::Table;
@@ -419,6 +419,7 @@ fn fidelity_section(data: &ReportData) -> String {
         body += "<p class=\"empty\">No sea state ran both fidelities.</p>\n";
         return body;
     }
+    body += &agreement_paragraph(&class_agreement(&data.comparison), data.critical.as_ref());
     body += "<p>Reduced against FE on the sea states that ran both (relative difference = \
              (reduced − FE) / FE):</p>\n";
     body += &table_html(&select_columns(
@@ -439,6 +440,162 @@ fn fidelity_section(data: &ReportData) -> String {
         ],
     ));
     body
+}
+
+/// A class whose reduced damage rate lies more than this factor from the FE's, on a sea state
+/// that ran both, is named in the report: its lifetime figures rest on a reduced response the
+/// FE check does not confirm. The paper campaign's regularised laws keep every class within
+/// 1.34 (docs/paper-campaign.md); a factor 2 is a disagreement, not scatter.
+const AGREEMENT_FACTOR: f64 = 2.0;
+
+/// Reduced against FE for one contact class over the sea states that ran both.
+#[derive(Debug, Clone, PartialEq)]
+struct ClassAgreement {
+    hot_spot_index: i64,
+    layer_interface: i64,
+    angular_position: String,
+    /// The largest factor between the two damage rates of the most damaged contact (≥ 1;
+    /// infinite where one of them is zero and the other is not).
+    factor_max: f64,
+    /// The same for the class mean.
+    factor_mean: f64,
+}
+
+/// A factor ≥ 1 with three significant digits ("∞" when infinite).
+fn factor_text(x: f64) -> String {
+    match x {
+        x if x.is_infinite() => "∞".into(),
+        x if x < 10.0 => format!("{x:.2}"),
+        x if x < 100.0 => format!("{x:.1}"),
+        x => format!("{x:.0}"),
+    }
+}
+
+/// max(r, 1/r) of r = reduced / FE; 1 when both are zero.
+fn factor_between(fe: f64, reduced: f64) -> f64 {
+    if fe == reduced {
+        return 1.0;
+    }
+    let r = reduced / fe;
+    if r.is_nan() {
+        return f64::INFINITY;
+    }
+    r.max(1.0 / r)
+}
+
+/// Per contact class of the `query fidelity` rows, the largest factor between the reduced and
+/// the FE damage rates over the sea states that ran both, largest first.
+fn class_agreement(comparison: &Table) -> Vec<ClassAgreement> {
+    let column = |name: &str| comparison.columns.iter().position(|c| c == name);
+    let (
+        Some(hot),
+        Some(iface),
+        Some(pos),
+        Some(fe_max),
+        Some(red_max),
+        Some(fe_mean),
+        Some(red_mean),
+    ) = (
+        column("hot_spot_index"),
+        column("layer_interface"),
+        column("angular_position"),
+        column("fe_damage_rate_max_per_s"),
+        column("reduced_damage_rate_max_per_s"),
+        column("fe_damage_rate_mean_per_s"),
+        column("reduced_damage_rate_mean_per_s"),
+    )
+    else {
+        return Vec::new();
+    };
+    let mut classes: Vec<ClassAgreement> = Vec::new();
+    for row in &comparison.rows {
+        let int = |i: usize| row[i].as_i64().unwrap_or(-1);
+        let real = |i: usize| row[i].as_f64().unwrap_or(f64::NAN);
+        let position = row[pos].as_str().unwrap_or_default().to_owned();
+        let (f_max, f_mean) = (
+            factor_between(real(fe_max), real(red_max)),
+            factor_between(real(fe_mean), real(red_mean)),
+        );
+        let key = (int(hot), int(iface), position);
+        match classes.iter_mut().find(|c| {
+            (c.hot_spot_index, c.layer_interface, &c.angular_position) == (key.0, key.1, &key.2)
+        }) {
+            Some(c) => {
+                c.factor_max = c.factor_max.max(f_max);
+                c.factor_mean = c.factor_mean.max(f_mean);
+            }
+            None => classes.push(ClassAgreement {
+                hot_spot_index: key.0,
+                layer_interface: key.1,
+                angular_position: key.2,
+                factor_max: f_max,
+                factor_mean: f_mean,
+            }),
+        }
+    }
+    classes.sort_by(|a, b| {
+        b.factor_max
+            .max(b.factor_mean)
+            .total_cmp(&a.factor_max.max(a.factor_mean))
+    });
+    classes
+}
+
+/// What the FE check says of the lifetime figures: every class within [`AGREEMENT_FACTOR`], or
+/// the classes beyond it, the critical one first named as such.
+fn agreement_paragraph(classes: &[ClassAgreement], critical: Option<&CriticalClass>) -> String {
+    if classes.is_empty() {
+        return String::new();
+    }
+    let worst = |c: &ClassAgreement| c.factor_max.max(c.factor_mean);
+    let beyond: Vec<&ClassAgreement> = classes
+        .iter()
+        .filter(|c| worst(c) > AGREEMENT_FACTOR || worst(c).is_nan())
+        .collect();
+    if beyond.is_empty() {
+        let largest = classes.iter().map(worst).fold(1.0, f64::max);
+        return format!(
+            "<p>FE check: on every contact class the reduced damage rates (most damaged contact \
+             and class mean) lie within a factor {} of the FE's on the sea states that ran both \
+             (largest {}).</p>\n",
+            AGREEMENT_FACTOR,
+            factor_text(largest)
+        );
+    }
+    let is_critical = |c: &ClassAgreement| {
+        critical.is_some_and(|k| {
+            k.hot_spot_index == c.hot_spot_index
+                && k.layer_interface == c.layer_interface
+                && k.angular_position.as_str() == c.angular_position
+        })
+    };
+    let names: Vec<String> = beyond
+        .iter()
+        .map(|c| {
+            format!(
+                "{}hot spot {}, interface {} / {} (most damaged contact ×{}, class mean ×{})",
+                if is_critical(c) {
+                    "<strong>the critical class</strong>, "
+                } else {
+                    ""
+                },
+                c.hot_spot_index,
+                c.layer_interface,
+                escape(&c.angular_position),
+                factor_text(c.factor_max),
+                factor_text(c.factor_mean)
+            )
+        })
+        .collect();
+    format!(
+        "<p class=\"warning\">FE check: on {} of {} contact classes the reduced damage rate lies \
+         more than a factor {} from the FE's on a sea state that ran both: {}. Their lifetime \
+         figures rest on a reduced response that the FE check does not confirm.</p>\n",
+        beyond.len(),
+        classes.len(),
+        AGREEMENT_FACTOR,
+        names.join("; ")
+    )
 }
 
 /// The energy every sea state's wave cut-off keeps: the least, and the sea states flagged
@@ -693,7 +850,132 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
          .verdict {{ display: inline-block; padding: 4px 10px; margin: 2px; font-weight: bold; \
          border-radius: 4px; color: white; }}\n\
          .pass {{ background: #2e7d32; }} .fail {{ background: #c62828; }} \
-         .incomplete {{ background: #9e9e9e; }}\n</style>\n</head>\n<body>\n{body}\
+         .incomplete {{ background: #9e9e9e; }}\n\
+         .warning {{ border-left: 4px solid #c62828; padding-left: 8px; }}\n</style>\n</head>\n<body>\n{body}\
          </body>\n</html>\n"
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use moorfret_solver::fretting::AngularPosition;
+    use serde_json::json;
+
+    /// `query fidelity` rows: (sea state, interface, position, FE max, reduced max, FE mean,
+    /// reduced mean).
+    fn comparison(rows: &[(i64, i64, &str, f64, f64, f64, f64)]) -> Table {
+        Table {
+            columns: [
+                "sea_state_index",
+                "hot_spot_index",
+                "layer_interface",
+                "angular_position",
+                "fe_damage_rate_max_per_s",
+                "reduced_damage_rate_max_per_s",
+                "fe_damage_rate_mean_per_s",
+                "reduced_damage_rate_mean_per_s",
+            ]
+            .map(String::from)
+            .to_vec(),
+            rows: rows
+                .iter()
+                .map(|r| {
+                    vec![
+                        json!(r.0),
+                        json!(0),
+                        json!(r.1),
+                        json!(r.2),
+                        json!(r.3),
+                        json!(r.4),
+                        json!(r.5),
+                        json!(r.6),
+                    ]
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn each_class_keeps_its_largest_factor_over_the_sea_states_either_way() {
+        let table = comparison(&[
+            (
+                130,
+                1,
+                "neutral_axis",
+                4.481e-12,
+                1.368e-10,
+                7.087e-14,
+                1.067e-12,
+            ),
+            (
+                135,
+                1,
+                "neutral_axis",
+                2.046e-11,
+                2.443e-10,
+                3.208e-13,
+                2.049e-12,
+            ),
+            (130, 4, "between", 4.537e-14, 2.269e-14, 4.258e-16, 4.0e-16),
+            (135, 4, "between", 8.0e-14, 8.8e-14, 0.0, 0.0),
+            (130, 0, "outer_arc", 0.0, 1e-20, 1e-16, 1e-16),
+        ]);
+        let classes = class_agreement(&table);
+        assert_eq!(classes.len(), 3);
+        // sorted largest first: the zero FE rate against a non-zero reduced one is infinite
+        assert_eq!(classes[0].layer_interface, 0);
+        assert_eq!(classes[0].factor_max, f64::INFINITY);
+        assert_eq!(classes[0].factor_mean, 1.0);
+        let i1 = &classes[1];
+        assert_eq!(
+            (i1.layer_interface, i1.angular_position.as_str()),
+            (1, "neutral_axis")
+        );
+        assert!((i1.factor_max - 1.368e-10 / 4.481e-12).abs() < 1e-9);
+        assert!((i1.factor_mean - 1.067e-12 / 7.087e-14).abs() < 1e-9);
+        // a reduced rate below the FE's counts as FE / reduced; both zero is agreement
+        let i4 = &classes[2];
+        assert!((i4.factor_max - 4.537e-14 / 2.269e-14).abs() < 1e-12);
+        assert!((i4.factor_mean - 4.258e-16 / 4.0e-16).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_report_names_the_classes_the_fe_check_does_not_confirm() {
+        let table = comparison(&[
+            (
+                130,
+                1,
+                "neutral_axis",
+                4.481e-12,
+                1.368e-10,
+                7.087e-14,
+                1.067e-12,
+            ),
+            (130, 2, "between", 1.0e-12, 1.3e-12, 1.0e-14, 0.9e-14),
+        ]);
+        let critical = CriticalClass {
+            hot_spot_index: 0,
+            layer_interface: 1,
+            angular_position: AngularPosition::NeutralAxis,
+            annual_damage: 1.2e-5,
+        };
+        let text = agreement_paragraph(&class_agreement(&table), Some(&critical));
+        assert!(text.contains("on 1 of 2 contact classes"), "{text}");
+        assert!(
+            text.contains(
+                "<strong>the critical class</strong>, hot spot 0, interface 1 / neutral_axis"
+            ),
+            "{text}"
+        );
+        assert!(!text.contains("interface 2"), "{text}");
+
+        // within the factor everywhere: one sentence with the largest factor
+        let close = comparison(&[(130, 2, "between", 1.0e-12, 1.3e-12, 1.0e-14, 0.9e-14)]);
+        let text = agreement_paragraph(&class_agreement(&close), Some(&critical));
+        assert!(text.contains("within a factor 2"), "{text}");
+        assert!(text.contains("largest 1.30"), "{text}");
+        assert!(!text.contains("warning"), "{text}");
+        assert_eq!(agreement_paragraph(&[], None), "");
+    }
 }
