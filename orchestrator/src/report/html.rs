@@ -472,7 +472,8 @@ fn factor_text(x: f64) -> String {
     }
 }
 
-/// max(r, 1/r) of r = reduced / FE; 1 when both are zero.
+/// max(r, 1/r) of r = reduced / FE; 1 when both are equal (zero included), infinite when a
+/// rate is missing (NaN): a class without both rates is not confirmed.
 fn factor_between(fe: f64, reduced: f64) -> f64 {
     if fe == reduced {
         return 1.0;
@@ -543,7 +544,7 @@ fn class_agreement(comparison: &Table) -> Vec<ClassAgreement> {
 }
 
 /// What the FE check says of the lifetime figures: every class within [`AGREEMENT_FACTOR`], or
-/// the classes beyond it, the critical one first named as such.
+/// the classes beyond it, largest factor first, the critical one marked.
 fn agreement_paragraph(classes: &[ClassAgreement], critical: Option<&CriticalClass>) -> String {
     if classes.is_empty() {
         return String::new();
