@@ -336,10 +336,15 @@ async fn seeds(store: &Store, campaign: CampaignId, measure: &str) -> anyhow::Re
     Ok(table)
 }
 
-/// The `fidelity_comparison` rows with the relative difference (reduced − FE) / FE of each
-/// compared quantity (empty where the FE value is 0).
+/// The `fidelity_comparison` rows of a campaign as [`fidelity_table`] lays them out.
 async fn fidelity(store: &Store, campaign: CampaignId) -> anyhow::Result<Table> {
-    let rows = store.fidelity_comparison(campaign).await?;
+    fidelity_table(&store.fidelity_comparison(campaign).await?)
+}
+
+/// `fidelity_comparison` rows with the relative difference (reduced − FE) / FE of each
+/// compared quantity (empty where the FE value is 0): the `query fidelity` table, which the
+/// report reads too.
+pub(crate) fn fidelity_table(rows: &[moorfret_store::FidelityComparison]) -> anyhow::Result<Table> {
     let mut table = Table::from_rows(
         &[
             "sea_state_index",
@@ -359,7 +364,7 @@ async fn fidelity(store: &Store, campaign: CampaignId) -> anyhow::Result<Table> 
             "fe_slip_cycles_per_hour",
             "reduced_slip_cycles_per_hour",
         ],
-        &rows,
+        rows,
     )?;
     let relative = |f: fn(&moorfret_store::FidelityComparison) -> (f64, f64)| -> Vec<Value> {
         rows.iter()

@@ -862,66 +862,56 @@ pub(crate) fn page(data: &ReportData) -> anyhow::Result<String> {
 mod tests {
     use super::*;
     use moorfret_solver::fretting::AngularPosition;
-    use serde_json::json;
+    use moorfret_store::FidelityComparison;
 
-    /// `query fidelity` rows: (sea state, interface, position, FE max, reduced max, FE mean,
-    /// reduced mean).
-    fn comparison(rows: &[(i64, i64, &str, f64, f64, f64, f64)]) -> Table {
-        Table {
-            columns: [
-                "sea_state_index",
-                "hot_spot_index",
-                "layer_interface",
-                "angular_position",
-                "fe_damage_rate_max_per_s",
-                "reduced_damage_rate_max_per_s",
-                "fe_damage_rate_mean_per_s",
-                "reduced_damage_rate_mean_per_s",
-            ]
-            .map(String::from)
-            .to_vec(),
-            rows: rows
-                .iter()
-                .map(|r| {
-                    vec![
-                        json!(r.0),
-                        json!(0),
-                        json!(r.1),
-                        json!(r.2),
-                        json!(r.3),
-                        json!(r.4),
-                        json!(r.5),
-                        json!(r.6),
-                    ]
-                })
-                .collect(),
-        }
+    /// The `query fidelity` table of rows (sea state, interface, position, (FE max, reduced
+    /// max, FE mean, reduced mean)) of hot spot 0.
+    fn comparison(rows: &[(i64, i64, AngularPosition, Rates)]) -> Table {
+        let rows: Vec<FidelityComparison> = rows
+            .iter()
+            .map(|r| FidelityComparison {
+                sea_state_index: r.0,
+                hs_m: 6.25,
+                tp_s: 16.0,
+                occurrence_fraction: 7.7e-4,
+                seed_index: 0,
+                hot_spot_index: 0,
+                layer_interface: r.1,
+                angular_position: r.2,
+                reduced_damage_rate_max_per_s: r.3 .1,
+                fe_damage_rate_max_per_s: r.3 .0,
+                reduced_damage_rate_mean_per_s: r.3 .3,
+                fe_damage_rate_mean_per_s: r.3 .2,
+                reduced_slip_amplitude_max_m: 1e-6,
+                fe_slip_amplitude_max_m: 1e-6,
+                reduced_slip_cycles_per_hour: 1e3,
+                fe_slip_cycles_per_hour: 1e3,
+            })
+            .collect();
+        crate::query::fidelity_table(&rows).unwrap()
     }
+
+    /// (FE max, reduced max, FE mean, reduced mean) damage rates of a class (1/s).
+    type Rates = (f64, f64, f64, f64);
+
+    /// Interface 1 near the neutral axis in the paper campaign at γ_e = 1 µm, Hs 6.25 m, Tp
+    /// 16 s: (FE max, reduced max, FE mean, reduced mean).
+    const INTERFACE_1: Rates = (4.481e-12, 1.368e-10, 7.087e-14, 1.067e-12);
 
     #[test]
     fn each_class_keeps_its_largest_factor_over_the_sea_states_either_way() {
+        use AngularPosition::{Between, NeutralAxis, OuterArc};
         let table = comparison(&[
-            (
-                130,
-                1,
-                "neutral_axis",
-                4.481e-12,
-                1.368e-10,
-                7.087e-14,
-                1.067e-12,
-            ),
+            (130, 1, NeutralAxis, INTERFACE_1),
             (
                 135,
                 1,
-                "neutral_axis",
-                2.046e-11,
-                2.443e-10,
-                3.208e-13,
-                2.049e-12,
+                NeutralAxis,
+                (2.046e-11, 2.443e-10, 3.208e-13, 2.049e-12),
             ),
-            (130, 4, "between", 4.537e-14, 2.269e-14, 4.258e-16, 4.0e-16),
-            (135, 4, "between", 8.0e-14, 8.8e-14, 0.0, 0.0),
-            (130, 0, "outer_arc", 0.0, 1e-20, 1e-16, 1e-16),
+            (130, 4, Between, (4.537e-14, 2.269e-14, 4.258e-16, 4.0e-16)),
+            (135, 4, Between, (8.0e-14, 8.8e-14, 0.0, 0.0)),
+            (130, 0, OuterArc, (0.0, 1e-20, 1e-16, 1e-16)),
         ]);
         let classes = class_agreement(&table);
         assert_eq!(classes.len(), 3);
@@ -934,8 +924,8 @@ mod tests {
             (i1.layer_interface, i1.angular_position.as_str()),
             (1, "neutral_axis")
         );
-        assert!((i1.factor_max - 1.368e-10 / 4.481e-12).abs() < 1e-9);
-        assert!((i1.factor_mean - 1.067e-12 / 7.087e-14).abs() < 1e-9);
+        assert!((i1.factor_max - INTERFACE_1.1 / INTERFACE_1.0).abs() < 1e-9);
+        assert!((i1.factor_mean - INTERFACE_1.3 / INTERFACE_1.2).abs() < 1e-9);
         // a reduced rate below the FE's counts as FE / reduced; both zero is agreement
         let i4 = &classes[2];
         assert!((i4.factor_max - 4.537e-14 / 2.269e-14).abs() < 1e-12);
@@ -944,22 +934,13 @@ mod tests {
 
     #[test]
     fn the_report_names_the_classes_the_fe_check_does_not_confirm() {
-        let table = comparison(&[
-            (
-                130,
-                1,
-                "neutral_axis",
-                4.481e-12,
-                1.368e-10,
-                7.087e-14,
-                1.067e-12,
-            ),
-            (130, 2, "between", 1.0e-12, 1.3e-12, 1.0e-14, 0.9e-14),
-        ]);
+        use AngularPosition::{Between, NeutralAxis};
+        let close = (130, 2, Between, (1.0e-12, 1.3e-12, 1.0e-14, 0.9e-14));
+        let table = comparison(&[(130, 1, NeutralAxis, INTERFACE_1), close]);
         let critical = CriticalClass {
             hot_spot_index: 0,
             layer_interface: 1,
-            angular_position: AngularPosition::NeutralAxis,
+            angular_position: NeutralAxis,
             annual_damage: 1.2e-5,
         };
         let text = agreement_paragraph(&class_agreement(&table), Some(&critical));
@@ -973,8 +954,7 @@ mod tests {
         assert!(!text.contains("interface 2"), "{text}");
 
         // within the factor everywhere: one sentence with the largest factor
-        let close = comparison(&[(130, 2, "between", 1.0e-12, 1.3e-12, 1.0e-14, 0.9e-14)]);
-        let text = agreement_paragraph(&class_agreement(&close), Some(&critical));
+        let text = agreement_paragraph(&class_agreement(&comparison(&[close])), Some(&critical));
         assert!(text.contains("within a factor 2"), "{text}");
         assert!(text.contains("largest 1.30"), "{text}");
         assert!(!text.contains("warning"), "{text}");
