@@ -1,6 +1,7 @@
 //! Every campaign file shipped in `campaigns/` resolves, and the paper's case with the stiffer
-//! elastic slip (`paper_slip_1um.json`) stays the paper's case but for that one law constant, so
-//! that its lifetime figures beside `paper.json`'s measure the law and nothing else.
+//! elastic slip (`paper_slip_1um.json`) or without the periodic seam (`paper_seamless.json`)
+//! stays the paper's case but for that one setting, so that its lifetime figures beside
+//! `paper.json`'s measure that setting and nothing else.
 
 use std::path::{Path, PathBuf};
 
@@ -37,6 +38,7 @@ fn every_shipped_campaign_file_resolves() {
     for name in [
         "demo.json",
         "paper.json",
+        "paper_seamless.json",
         "paper_slip_1um.json",
         "whole_year.json",
     ] {
@@ -47,25 +49,44 @@ fn every_shipped_campaign_file_resolves() {
     }
 }
 
-#[test]
-fn the_stiff_slip_campaign_is_the_paper_case_but_for_its_elastic_slip() {
-    let (mut paper, mut stiff) = (read_json("paper.json"), read_json("paper_slip_1um.json"));
-    assert_eq!(paper["strand"]["elastic_slip_m"].as_f64(), Some(1e-5));
-    assert_eq!(stiff["strand"]["elastic_slip_m"].as_f64(), Some(1e-6));
-    for v in [&mut paper, &mut stiff] {
+/// `variant` is `paper.json` but for `_about`, `name` and the strand setting `key`, whose values
+/// are `paper_value` there and `variant_value` in `variant`; its global jobs are the paper's.
+fn assert_paper_but_for(variant: &str, key: &str, paper_value: Value, variant_value: Value) {
+    let (mut paper, mut other) = (read_json("paper.json"), read_json(variant));
+    assert_eq!(paper["strand"].get(key).cloned().unwrap_or(Value::Null), paper_value);
+    assert_eq!(other["strand"][key], variant_value);
+    for v in [&mut paper, &mut other] {
         let o = v.as_object_mut().unwrap();
         o.remove("_about");
         o.remove("name");
-        o["strand"]
-            .as_object_mut()
-            .unwrap()
-            .remove("elastic_slip_m");
+        o["strand"].as_object_mut().unwrap().remove(key);
     }
-    assert_eq!(paper, stiff);
+    assert_eq!(paper, other, "{variant}");
 
     // the same global jobs: one store runs them once for both campaigns
     let inputs = |name: &str| resolve(&campaigns_dir().join(name)).unwrap().inputs;
-    let (paper, stiff) = (inputs("paper.json"), inputs("paper_slip_1um.json"));
-    assert_eq!(paper.global_sha256(), stiff.global_sha256());
-    assert_ne!(paper.results_sha256(), stiff.results_sha256());
+    let (paper, other) = (inputs("paper.json"), inputs(variant));
+    assert_eq!(paper.global_sha256(), other.global_sha256());
+    assert_ne!(paper.results_sha256(), other.results_sha256());
+}
+
+#[test]
+fn the_stiff_slip_campaign_is_the_paper_case_but_for_its_elastic_slip() {
+    assert_paper_but_for(
+        "paper_slip_1um.json",
+        "elastic_slip_m",
+        Value::from(1e-5),
+        Value::from(1e-6),
+    );
+}
+
+#[test]
+fn the_seamless_campaign_is_the_paper_case_but_for_its_ends() {
+    // paper.json leaves `ends` at its default, `periodic`
+    assert_paper_but_for(
+        "paper_seamless.json",
+        "ends",
+        Value::Null,
+        Value::from("periodic_rotations"),
+    );
 }
