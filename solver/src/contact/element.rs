@@ -159,6 +159,8 @@ struct Kernel<S> {
     ft: V3<S>,
     n: V3<S>,
     kt: f64,
+    /// The Cattaneo–Mindlin law's ∂f_T/∂g_T for the preconditioner (`None` for the others).
+    tangent_plane: Option<Matrix3<f64>>,
     status: ContactStatus,
     /// Elastic gap and element stretches of the Cattaneo–Mindlin law.
     memory: Option<MemoryState>,
@@ -363,8 +365,9 @@ impl ContactPair {
                 };
                 let bn = SVector::<f64, NDOF>::from_column_slice(&k.gap.d);
                 let bt = nalgebra::SMatrix::<f64, 3, NDOF>::from_fn(|i, j| k.gt.c[i].d[j]);
-                let c = match k.status {
-                    ContactStatus::Slip => {
+                let c = match (k.status, k.tangent_plane) {
+                    (_, Some(c)) => c,
+                    (ContactStatus::Slip, None) => {
                         let g = k.gt.val();
                         let gn = g.norm();
                         let u = g / gn;
@@ -442,6 +445,7 @@ impl ContactPair {
                 ft: z,
                 n,
                 kt: 0.0,
+                tangent_plane: None,
                 status: ContactStatus::Open,
                 memory: None,
             };
@@ -473,7 +477,7 @@ impl ContactPair {
             }),
             _ => None,
         };
-        let (ft, status, kt, memory) = if let Some(k0) = k0 {
+        let (ft, status, kt, tangent_plane, memory) = if let Some(k0) = k0 {
             let m = &h.tangential_memory;
             let trial = memory::evaluate(m, h.elastic_gap_m, &gt, &t1, &t2, fnorm, k0, mu);
             let state = MemoryState {
@@ -485,7 +489,14 @@ impl ContactPair {
             } else {
                 ContactStatus::Stick
             };
-            (trial.force, status, trial.stiffness, Some(state))
+            let jacobian = trial.jacobian;
+            (
+                trial.force,
+                status,
+                trial.stiffness,
+                Some(jacobian),
+                Some(state),
+            )
         } else {
             let kt = match self.laws.tangential {
                 ResolvedTangential::ElasticSlip(ge) => fnorm * (mu / ge),
@@ -499,7 +510,7 @@ impl ContactPair {
             } else {
                 (gt.scale(limit / gt.norm()), ContactStatus::Slip)
             };
-            (ft, status, kt.val(), None)
+            (ft, status, kt.val(), None, None)
         };
         // Normal and tangential terms share their structure: with
         // M = (σ/|t₁ × t₂|)(f_N P d + (n·v) f_T) and φ = f_T,
@@ -525,6 +536,7 @@ impl ContactPair {
             ft,
             n,
             kt,
+            tangent_plane,
             status,
             memory,
         }

@@ -175,8 +175,12 @@ pub(crate) struct Trial<S> {
     pub stretches: [Vector3<f64>; KEPT],
     /// Stretch of element N after the return: the elastic gap to keep (m).
     pub elastic: Vector3<f64>,
-    /// Sum of the stiffnesses of the elements that stick (N/m), for preconditioning.
+    /// Sum of the stiffnesses of the elements that stick (N/m).
     pub stiffness: f64,
+    /// ∂f/∂g at fixed tangents, normal force and k₀: the elements' stiffnesses, each sliding
+    /// one's only across its sliding direction (symmetric, positive semi-definite), for
+    /// preconditioning.
+    pub jacobian: Matrix3<f64>,
 }
 
 /// `m (v − v₀)` with `v` carrying derivatives and `m`, `v₀` plain.
@@ -210,6 +214,7 @@ pub(crate) fn evaluate<S: Scalar>(
             stretches: none,
             elastic: Vector3::zeros(),
             stiffness: 0.0,
+            jacobian: Matrix3::zeros(),
         };
     }
     let (gv, t1v, t2v) = (g.val(), t1.val(), t2.val());
@@ -273,6 +278,7 @@ pub(crate) fn evaluate<S: Scalar>(
         stretches,
         elastic: elastic_out,
         stiffness,
+        jacobian: a,
     }
 }
 
@@ -329,6 +335,51 @@ mod tests {
         assert!(
             err.to_string().contains("tangential_memory.stretches"),
             "{err}"
+        );
+    }
+
+    /// The preconditioner's ∂f/∂g of a bank in partial slip, loaded along t₁ and then turned
+    /// across it: central differences of the force at fixed tangents, P and k₀; symmetric, and
+    /// not the isotropic stiffness of the sticking elements (the sliding ones resist across
+    /// their sliding direction).
+    #[test]
+    fn the_preconditioner_jacobian_is_the_force_derivative_in_partial_slip() {
+        let (mu, p, k0) = (0.3, 100.0, 3e7);
+        let delta_s = 1.5 * mu * p / k0;
+        let (t1, t2) = (Vector3::x(), Vector3::y());
+        let at = |m: &TangentialMemory, e: [f64; 2], g: Vector3<f64>| {
+            evaluate::<f64>(m, e, &V3::cst(&g), &V3::cst(&t1), &V3::cst(&t2), p, k0, mu)
+        };
+        let virgin = TangentialMemory::default();
+        let loaded = at(&virgin, [0.0, 0.0], Vector3::new(0.6 * delta_s, 0.0, 0.0));
+        let mut memory = TangentialMemory::default();
+        for (kept, s) in memory.stretches.iter_mut().zip(&loaded.stretches) {
+            *kept = [s.x, s.y];
+        }
+        let elastic = [loaded.elastic.x, loaded.elastic.y];
+        let g = loaded.elastic + Vector3::new(0.1, 0.25, 0.0) * delta_s;
+        let trial = at(&memory, elastic, g);
+        assert!(!trial.slip);
+        let j = trial.jacobian;
+        let h = 1e-7 * delta_s;
+        for c in 0..3 {
+            let mut e = Vector3::zeros();
+            e[c] = h;
+            let fd = (at(&memory, elastic, g + e).force.val()
+                - at(&memory, elastic, g - e).force.val())
+                / (2.0 * h);
+            let err = (j.column(c) - fd).norm();
+            assert!(
+                err <= 1e-6 * j.norm(),
+                "column {c}: {} against {fd}",
+                j.column(c)
+            );
+        }
+        assert!((j - j.transpose()).norm() <= 1e-12 * j.norm());
+        let isotropic = Matrix3::identity() * trial.stiffness;
+        assert!(
+            (j - isotropic).norm() > 0.05 * j.norm(),
+            "{j} against {isotropic}"
         );
     }
 }

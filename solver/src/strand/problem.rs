@@ -5,10 +5,13 @@
 //! applied loads, the problem is driven by the prescribed core motion and the tie targets.
 //! When the driver asks for a load factor other than the trial one, every node first receives
 //! the increment of the rigid section motion between the two load factors (predictor: the
-//! plane-section, i.e. stick, solution), and the core nodes are set exactly. Contact history
-//! changes only in [`NonlinearProblem::commit`] (converged steps); [`NonlinearProblem::restore`]
-//! returns to the committed state. The force scale of the convergence test is the Euclidean norm
-//! of the contact normal forces and tie forces.
+//! plane-section, i.e. stick, solution), and the core nodes are set exactly. With a
+//! [`SegmentPredictor`] the wire motion beyond the plane sections over the last load segment
+//! follows, scaled by the share of that segment's load change the new load repeats (a secant
+//! predictor; after a turning point the share is negative: a contact's Masing branch mirrors
+//! its last one). Contact history changes only in [`NonlinearProblem::commit`] (converged
+//! steps); [`NonlinearProblem::restore`] returns to the committed state. The force scale of the
+//! convergence test is the Euclidean norm of the contact normal forces and tie forces.
 
 use std::sync::Arc;
 
@@ -21,6 +24,7 @@ use super::model::StrandModel;
 use crate::beam::frame::{
     assemble_frame, assemble_frame_parallel, FrameError, FrameState, FrameWorkspace,
 };
+use crate::beam::rotation::{exp_so3, log_so3};
 use crate::contact::{
     ContactHistory, ContactResponse, ElementMatrix, ElementVector, NodeKinematics,
 };
@@ -64,6 +68,7 @@ pub struct StrandProblem<'a> {
     /// Element work on a thread pool ([`StrandProblem::with_threads`]); `None`: on the calling
     /// thread.
     parallel: Option<ParallelElements>,
+    predictor: Option<SegmentPredictor>,
 }
 
 /// Thread pool and per-element buffers of the parallel element work: the kernels of the beams
@@ -131,6 +136,91 @@ impl ContactWork {
     }
 }
 
+/// The secant predictor of a load segment: the wire motion beyond the plane sections over the
+/// last segment, scaled by the share of that segment's load change the new load repeats
+/// (negative after a turning point).
+#[derive(Debug, Clone)]
+pub(crate) struct SegmentPredictor {
+    /// Section motion where the current segment started.
+    start: SectionMotion,
+    /// The last segment's change of (ε, κ), weighted.
+    change: [f64; 2],
+    weights: [f64; 2],
+    positions: Vec<Vector3<f64>>,
+    rotations: Vec<Vector3<f64>>,
+}
+
+impl SegmentPredictor {
+    /// The wire motion beyond the plane sections of `model` between the committed states
+    /// `start`, at section motion `from`, and `end`, at `to`; `weights` scale the strain and
+    /// curvature changes to comparable units (the sub-step limits' inverses).
+    pub(crate) fn between(
+        model: &StrandModel,
+        start: &FrameState,
+        end: &FrameState,
+        from: SectionMotion,
+        to: SectionMotion,
+        weights: [f64; 2],
+    ) -> Self {
+        let reference = model.frame.reference_positions();
+        let mut positions = vec![Vector3::zeros(); reference.len()];
+        let mut rotations = vec![Vector3::zeros(); reference.len()];
+        for (i, x_ref) in reference.iter().enumerate() {
+            if model.prescribed[i] {
+                continue;
+            }
+            let z = x_ref.z;
+            positions[i] =
+                end.positions[i] - start.positions[i] - (to.map(x_ref) - from.map(x_ref));
+            // end = exp(θ) R_to R_fromᵀ start, the plane-section predictor's composition
+            let r = end.rotations[i]
+                * start.rotations[i].transpose()
+                * from.rotation(z)
+                * to.rotation(z).transpose();
+            rotations[i] = log_so3(&r);
+        }
+        Self {
+            start: to,
+            change: [
+                (to.strain - from.strain) * weights[0],
+                (to.curvature_per_m - from.curvature_per_m) * weights[1],
+            ],
+            weights,
+            positions,
+            rotations,
+        }
+    }
+
+    /// The same wire motion for a sub-step that starts at section motion `start`.
+    pub(crate) fn anchored_at(mut self, start: SectionMotion) -> Self {
+        self.start = start;
+        self
+    }
+
+    /// The wire motion beyond the plane sections: node displacements and rotation vectors.
+    #[cfg(test)]
+    pub(crate) fn wire_motion(&self) -> (&[Vector3<f64>], &[Vector3<f64>]) {
+        (&self.positions, &self.rotations)
+    }
+
+    /// The share of the earlier sub-step's load change that the section motion `at` repeats
+    /// from where the current sub-step started: the projection on that change, within ±1 (a
+    /// larger sub-step than the earlier one gets no more than its wire motion, so that a small
+    /// sub-step's motion is never amplified).
+    pub(crate) fn share(&self, at: &SectionMotion) -> f64 {
+        let d = [
+            (at.strain - self.start.strain) * self.weights[0],
+            (at.curvature_per_m - self.start.curvature_per_m) * self.weights[1],
+        ];
+        let n2 = self.change[0] * self.change[0] + self.change[1] * self.change[1];
+        if n2 > 0.0 {
+            ((d[0] * self.change[0] + d[1] * self.change[1]) / n2).clamp(-1.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+}
+
 /// Buffers of the extended system assembled before the periodic elimination.
 #[derive(Debug, Clone, Default)]
 struct ExtendedScratch {
@@ -170,7 +260,14 @@ impl<'a> StrandProblem<'a> {
                 }),
             surrogate: vec![0.0; model.pattern.nnz()],
             parallel: None,
+            predictor: None,
         }
+    }
+
+    /// Carries the wire motion beyond the plane sections of an earlier sub-step into the next
+    /// one (see [`SegmentPredictor`]); `None`: the plane-section predictor alone.
+    pub(crate) fn set_predictor(&mut self, predictor: Option<SegmentPredictor>) {
+        self.predictor = predictor;
     }
 
     /// The element work (beams and contacts) on `threads` threads from now on (1: on the
@@ -268,6 +365,18 @@ impl<'a> StrandProblem<'a> {
                 self.trial.positions[i] += new.map(x_ref) - old.map(x_ref);
                 self.trial.rotations[i] =
                     new.rotation(z) * old.rotation(z).transpose() * self.trial.rotations[i];
+            }
+        }
+        if let Some(pr) = &self.predictor {
+            let ds = pr.share(&new) - pr.share(&old);
+            if ds != 0.0 {
+                for (i, _) in reference.iter().enumerate() {
+                    if !self.model.prescribed[i] {
+                        self.trial.positions[i] += pr.positions[i] * ds;
+                        self.trial.rotations[i] =
+                            exp_so3(&(pr.rotations[i] * ds)) * self.trial.rotations[i];
+                    }
+                }
             }
         }
         if let Some(p) = &self.model.periodic {

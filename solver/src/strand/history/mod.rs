@@ -186,6 +186,12 @@ pub struct HistoryOptions {
     /// Precision in which the LDLᵀ preconditioner of the GMRES solves is applied
     /// ([`crate::linalg::SupernodalSolve`]).
     pub preconditioner_precision: FactorPrecision,
+    /// Whether each sub-step starts from an earlier sub-step's wire motion beyond the plane
+    /// sections, scaled by the share of its load change the new one repeats: a segment's first
+    /// sub-step from the last segment's first one (mirrored after a turning point), a later
+    /// sub-step from the one before it. `None`: under the contact-mechanics tangential laws
+    /// only ([`StrandModel::predicts_from_last_segment`]).
+    pub segment_predictor: Option<bool>,
 }
 
 impl Default for HistoryOptions {
@@ -244,6 +250,7 @@ impl Default for HistoryOptions {
             // GMRES iterations do not change (2 706 against 2 707 over 100 s of the showcase
             // load; studies/src/bin/strand_history_tolerance.rs, README "Strand solver")
             preconditioner_precision: FactorPrecision::Single,
+            segment_predictor: None,
         }
     }
 }

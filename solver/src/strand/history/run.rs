@@ -19,7 +19,7 @@ use crate::contact::TangentialLaw;
 use crate::linalg::{solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace, SplitSolver};
 use crate::strand::loading::{LoadSegment, SectionMotion};
 use crate::strand::model::StrandModel;
-use crate::strand::problem::StrandProblem;
+use crate::strand::problem::{SegmentPredictor, StrandProblem};
 
 /// The solver side: problem, factorisation, workspace, counts.
 pub(super) struct Runner<'a> {
@@ -30,6 +30,10 @@ pub(super) struct Runner<'a> {
     newton: NewtonParams,
     max_strain: f64,
     max_curvature: f64,
+    /// Whether each sub-step starts from an earlier one's wire motion (`HistoryOptions`).
+    segment_predictor: bool,
+    /// The wire motion of the last segment's first sub-step.
+    first_substep: Option<SegmentPredictor>,
     pub(super) stats: HistoryStats,
 }
 
@@ -50,6 +54,10 @@ impl<'a> Runner<'a> {
             newton: options.newton,
             max_strain: options.max_substep_strain,
             max_curvature: options.max_substep_curvature_per_m,
+            segment_predictor: options
+                .segment_predictor
+                .unwrap_or_else(|| model.predicts_from_last_segment()),
+            first_substep: None,
             stats: HistoryStats::default(),
         })
     }
@@ -75,10 +83,20 @@ impl<'a> Runner<'a> {
             ((de / self.max_strain).max(dk / self.max_curvature).ceil() as usize).max(1)
         };
         let segment = LoadSegment { from, to };
+        let weights = [1.0 / self.max_strain, 1.0 / self.max_curvature];
         let mut out = Vec::with_capacity(if channels.is_some() { substeps } else { 0 });
         for k in 1..=substeps {
             let start = self.problem.motion();
             let target = segment.at(k as f64 / substeps as f64);
+            if self.segment_predictor && k == 1 {
+                // a segment's first sub-step repeats the last segment's first one (mirrored
+                // after a turning point: Masing), a later sub-step the one before it
+                let first = self.first_substep.clone().map(|p| p.anchored_at(start));
+                self.problem.set_predictor(first);
+            }
+            let start_state = self
+                .segment_predictor
+                .then(|| self.problem.committed_state().clone());
             self.problem.start_segment(target);
             let mut stats = NewtonStats::default();
             let mut timed = TimedProblem {
@@ -109,6 +127,14 @@ impl<'a> Runner<'a> {
                 to_curvature: target.curvature_per_m,
                 source: Box::new(source),
             })?;
+            if let Some(state) = start_state {
+                let end = self.problem.committed_state();
+                let p = SegmentPredictor::between(self.model, &state, end, start, target, weights);
+                if k == 1 {
+                    self.first_substep = Some(p.clone());
+                }
+                self.problem.set_predictor(Some(p));
+            }
             if let Some(ch) = channels {
                 out.push(self.snapshot(ch)?);
             }
@@ -279,6 +305,9 @@ pub fn run_history_from(
             // a resumed run starts here with a new solver: keep the preconditioner history
             // of both runs alike from this point on
             runner.solver.inner.reset();
+            // nor does it know the last segment's wire motion
+            runner.problem.set_predictor(None);
+            runner.first_substep = None;
         }
         if done < segments && observer.should_stop() {
             return Err(HistoryError::Stopped {

@@ -242,6 +242,43 @@ impl HistoryObserver for KeepFirst {
     }
 }
 
+/// The benchmark strand under the contact-mechanics laws.
+fn contact_mechanics_model() -> StrandModel {
+    let strand = profile_from_json(BENCHMARK)
+        .expect("benchmark profile parses")
+        .validate()
+        .expect("benchmark profile is valid");
+    let params = StrandModelParameters::contact_mechanics(EndKind::PenaltyTies);
+    StrandModel::new(&strand, &params).expect("benchmark model builds")
+}
+
+/// Under the contact-mechanics laws each sub-step starts from an earlier one's wire motion,
+/// which a checkpoint does not keep: the uninterrupted run forgets it there too.
+#[test]
+fn a_run_with_the_segment_predictor_resumed_from_its_checkpoint_gives_identical_results() {
+    let model = contact_mechanics_model();
+    let options = HistoryOptions {
+        checkpoint_interval_segments: 2,
+        ..HistoryOptions::default()
+    };
+    let h = bending_cycles(3e-2, 2);
+    let full = run_history(&model, &h, &options, &mut NoObserver).unwrap();
+    assert!(full.kept_samples.len() >= 5);
+    let mut stopper = KeepFirst {
+        bytes: None,
+        stop: true,
+    };
+    assert!(matches!(
+        run_history(&model, &h, &options, &mut stopper),
+        Err(HistoryError::Stopped { segment: 2, .. })
+    ));
+    let bytes = stopper.bytes.expect("a checkpoint was written");
+    let cp = checkpoint::HistoryCheckpoint::from_bytes(&bytes).unwrap();
+    let resumed = run_history_from(&model, &h, &options, Some(&cp), &mut NoObserver).unwrap();
+    assert_eq!(resumed.contacts, full.contacts);
+    assert_eq!(resumed.monitors, full.monitors);
+}
+
 #[test]
 fn a_run_stopped_and_resumed_from_its_checkpoint_gives_identical_results() {
     let model = model();
@@ -371,4 +408,122 @@ fn strain_is_tension_over_axial_stiffness_at_every_stride_sample() {
             other => panic!("tension {bad} accepted: {other:?}"),
         }
     }
+}
+
+#[test]
+fn a_segment_predictor_recovers_the_wire_motion_beyond_the_plane_sections() {
+    use crate::beam::frame::FrameState;
+    use crate::beam::rotation::exp_so3;
+    use crate::strand::problem::SegmentPredictor;
+    use nalgebra::Vector3;
+    let model = model();
+    let start = FrameState::reference(&model.frame);
+    let from = SectionMotion {
+        strain: 1e-3,
+        curvature_per_m: 0.0,
+    };
+    let to = SectionMotion {
+        strain: 1.2e-3,
+        curvature_per_m: 1e-2,
+    };
+    // the end state: the plane-section motion from `from` to `to`, then a known wire motion
+    let mut end = start.clone();
+    let extra = |i: usize| {
+        let a = i as f64;
+        (
+            Vector3::new(a.sin(), a.cos(), 0.5) * 1e-7,
+            Vector3::new(a.cos(), 0.3, a.sin()) * 1e-5,
+        )
+    };
+    for (i, x) in model.frame.reference_positions().iter().enumerate() {
+        let (dx, dtheta) = extra(i);
+        end.positions[i] += to.map(x) - from.map(x) + dx;
+        end.rotations[i] = exp_so3(&dtheta)
+            * to.rotation(x.z)
+            * from.rotation(x.z).transpose()
+            * start.rotations[i];
+    }
+    let weights = [1.0 / 5e-4, 1.0 / 5e-3];
+    let p = SegmentPredictor::between(&model, &start, &end, from, to, weights);
+    let (positions, rotations) = p.wire_motion();
+    let mut free = 0;
+    for (i, prescribed) in model.prescribed.iter().enumerate() {
+        let (dx, dtheta) = extra(i);
+        if *prescribed {
+            assert_eq!(positions[i], Vector3::zeros());
+            continue;
+        }
+        free += 1;
+        // round-off of positions of centimetres and of unit rotations
+        assert!(
+            (positions[i] - dx).norm() < 1e-15,
+            "node {i}: {}",
+            positions[i]
+        );
+        assert!(
+            (rotations[i] - dtheta).norm() < 1e-14,
+            "node {i}: {}",
+            rotations[i]
+        );
+    }
+    assert!(free > 0);
+    // the segment that repeats the change gets all of it, the way back its mirror image, a
+    // change across it none
+    let step = |s: f64, c: f64| SectionMotion {
+        strain: to.strain + s,
+        curvature_per_m: to.curvature_per_m + c,
+    };
+    assert!((p.share(&step(2e-4, 1e-2)) - 1.0).abs() < 1e-12);
+    assert!((p.share(&from) + 1.0).abs() < 1e-12);
+    assert!((p.share(&step(1e-4, 0.5e-2)) - 0.5).abs() < 1e-12);
+    // never more than the earlier change
+    assert_eq!(p.share(&step(6e-4, 3e-2)), 1.0);
+    assert!(
+        p.share(&step(
+            1e-2 * weights[1] / weights[0],
+            -2e-4 * weights[0] / weights[1]
+        ))
+        .abs()
+            < 1e-12
+    );
+}
+
+#[test]
+fn the_segment_predictor_under_cattaneo_mindlin_saves_iterations_and_keeps_the_slips() {
+    let model = contact_mechanics_model();
+    assert!(model.predicts_from_last_segment());
+    assert!(!self::model().predicts_from_last_segment());
+    let h = bending_cycles(3e-2, 2);
+    let run = |predictor: Option<bool>| {
+        let options = HistoryOptions {
+            segment_predictor: predictor,
+            ..HistoryOptions::default()
+        };
+        run_history(&model, &h, &options, &mut NoObserver).unwrap()
+    };
+    let (with, without) = (run(None), run(Some(false)));
+    let largest = |r: &HistoryResult| {
+        r.contacts
+            .iter()
+            .map(|c| c.max_slip_range_m())
+            .fold(0.0, f64::max)
+    };
+    let worst = with
+        .contacts
+        .iter()
+        .zip(&without.contacts)
+        .map(|(a, b)| (a.max_slip_range_m() - b.max_slip_range_m()).abs())
+        .fold(0.0, f64::max);
+    eprintln!(
+        "largest slip range {:.4e} m (with) {:.4e} m (without); largest difference {worst:.3e} m; \
+         Newton iterations {} against {}",
+        largest(&with),
+        largest(&without),
+        with.stats.iterations,
+        without.stats.iterations
+    );
+    // both converged to 0.01 N: the slips agree to a ten-thousandth of the largest
+    assert!(largest(&without) > 1e-6);
+    assert!(worst < 1e-4 * largest(&without), "{worst}");
+    assert!(with.stats.iterations < without.stats.iterations);
 }
