@@ -743,7 +743,8 @@ impl CampaignSpec {
             return Err(invalid(
                 "strand.fidelity",
                 format!("{:?}", st.fidelity).to_lowercase(),
-                "the reduced strand response is calibrated for the regularised laws only; \
+                "the reduced strand response under the contact-mechanics laws is not yet within \
+                 10 % of the FE model per contact class (docs/contact-laws.md); \
                  strand.contact_laws \"contact_mechanics\" needs fidelity \"fe\"",
             ));
         }
@@ -970,7 +971,8 @@ mod tests {
             .unwrap(),
         );
         assert_eq!(f, "strand.fidelity");
-        assert!(why.contains("regularised laws only"), "{why}");
+        assert!(why.contains("not yet within 10 %"), "{why}");
+        assert!(why.contains("needs fidelity \"fe\""), "{why}");
         let (f, why) = field(with(serde_json::json!({"elastic_slip_m": null})).unwrap());
         assert_eq!(f, "strand.elastic_slip_m");
         assert!(why.contains("required"), "{why}");
