@@ -158,6 +158,8 @@ struct Kernel<S> {
     gt: V3<S>,
     ft: V3<S>,
     n: V3<S>,
+    /// k_T of the elastic-slip and Mindlin laws (0 under Cattaneo–Mindlin, whose stiffness is
+    /// `tangent_plane`).
     kt: f64,
     /// The Cattaneo–Mindlin law's ∂f_T/∂g_T for the preconditioner (`None` for the others).
     tangent_plane: Option<Matrix3<f64>>,
@@ -489,14 +491,8 @@ impl ContactPair {
             } else {
                 ContactStatus::Stick
             };
-            let jacobian = trial.jacobian;
-            (
-                trial.force,
-                status,
-                trial.stiffness,
-                Some(jacobian),
-                Some(state),
-            )
+            let plane = Some(trial.jacobian);
+            (trial.force, status, 0.0, plane, Some(state))
         } else {
             let kt = match self.laws.tangential {
                 ResolvedTangential::ElasticSlip(ge) => fnorm * (mu / ge),

@@ -175,8 +175,6 @@ pub(crate) struct Trial<S> {
     pub stretches: [Vector3<f64>; KEPT],
     /// Stretch of element N after the return: the elastic gap to keep (m).
     pub elastic: Vector3<f64>,
-    /// Sum of the stiffnesses of the elements that stick (N/m).
-    pub stiffness: f64,
     /// ∂f/∂g at fixed tangents, normal force and k₀: the elements' stiffnesses, each sliding
     /// one's only across its sliding direction (symmetric, positive semi-definite), for
     /// preconditioning.
@@ -213,7 +211,6 @@ pub(crate) fn evaluate<S: Scalar>(
             slip: g.norm().val() > 0.0,
             stretches: none,
             elastic: Vector3::zeros(),
-            stiffness: 0.0,
             jacobian: Matrix3::zeros(),
         };
     }
@@ -227,7 +224,7 @@ pub(crate) fn evaluate<S: Scalar>(
     let (mut d_p, mut d_k0) = (Vector3::zeros(), Vector3::zeros());
     let mut stretches = none;
     let mut elastic_out = Vector3::zeros();
-    let (mut slip, mut stiffness) = (false, 0.0);
+    let mut slip = false;
     for (i, element) in iwan_elements().iter().enumerate() {
         // the stretch's offset from the gap, (eᵢ − e_N) on (t₁, t₂)
         let offset = match memory.stretches.get(i) {
@@ -240,7 +237,6 @@ pub(crate) fn evaluate<S: Scalar>(
         let limit = element.stiffness_fraction * element.yield_fraction * k0v * delta_s;
         let norm = trial.norm();
         let (f, jacobian, kept) = if k * norm <= limit {
-            stiffness += k;
             d_k0 += trial * element.stiffness_fraction;
             (trial * k, Matrix3::identity() * k, trial)
         } else {
@@ -277,7 +273,6 @@ pub(crate) fn evaluate<S: Scalar>(
         slip,
         stretches,
         elastic: elastic_out,
-        stiffness,
         jacobian: a,
     }
 }
@@ -376,7 +371,20 @@ mod tests {
             );
         }
         assert!((j - j.transpose()).norm() <= 1e-12 * j.norm());
-        let isotropic = Matrix3::identity() * trial.stiffness;
+        // the sum of the sticking elements' stiffnesses (a sliding one's stretch is at its
+        // limit, a sticking one's within it)
+        let stretches = trial
+            .stretches
+            .iter()
+            .chain(std::iter::once(&trial.elastic));
+        let sticking: f64 = iwan_elements()
+            .iter()
+            .zip(stretches)
+            .filter(|(e, s)| s.norm() < e.yield_fraction * delta_s * (1.0 - 1e-9))
+            .map(|(e, _)| e.stiffness_fraction * k0)
+            .sum();
+        assert!(sticking > 0.0);
+        let isotropic = Matrix3::identity() * sticking;
         assert!(
             (j - isotropic).norm() > 0.05 * j.norm(),
             "{j} against {isotropic}"

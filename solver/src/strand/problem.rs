@@ -370,8 +370,8 @@ impl<'a> StrandProblem<'a> {
         if let Some(pr) = &self.predictor {
             let ds = pr.share(&new) - pr.share(&old);
             if ds != 0.0 {
-                for (i, _) in reference.iter().enumerate() {
-                    if !self.model.prescribed[i] {
+                for (i, &prescribed) in self.model.prescribed.iter().enumerate() {
+                    if !prescribed {
                         self.trial.positions[i] += pr.positions[i] * ds;
                         self.trial.rotations[i] =
                             exp_so3(&(pr.rotations[i] * ds)) * self.trial.rotations[i];

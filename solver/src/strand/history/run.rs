@@ -91,7 +91,7 @@ impl<'a> Runner<'a> {
             if self.segment_predictor && k == 1 {
                 // a segment's first sub-step repeats the last segment's first one (mirrored
                 // after a turning point: Masing), a later sub-step the one before it
-                let first = self.first_substep.clone().map(|p| p.anchored_at(start));
+                let first = self.first_substep.take().map(|p| p.anchored_at(start));
                 self.problem.set_predictor(first);
             }
             let start_state = self

@@ -19,12 +19,26 @@ const BENCHMARK: &str = include_str!(concat!(
 ));
 
 fn model() -> StrandModel {
+    benchmark_model(&StrandModelParameters::penalty_contact(
+        2e8,
+        1e-7,
+        EndKind::PenaltyTies,
+    ))
+}
+
+/// The benchmark strand under the contact-mechanics laws.
+fn contact_mechanics_model() -> StrandModel {
+    benchmark_model(&StrandModelParameters::contact_mechanics(
+        EndKind::PenaltyTies,
+    ))
+}
+
+fn benchmark_model(params: &StrandModelParameters) -> StrandModel {
     let strand = profile_from_json(BENCHMARK)
         .expect("benchmark profile parses")
         .validate()
         .expect("benchmark profile is valid");
-    let params = StrandModelParameters::penalty_contact(2e8, 1e-7, EndKind::PenaltyTies);
-    StrandModel::new(&strand, &params).expect("benchmark model builds")
+    StrandModel::new(&strand, params).expect("benchmark model builds")
 }
 
 /// ε = 1e-3, κ = amplitude · sin(2π t / 10 s), `cycles` periods sampled every 0.5 s.
@@ -242,14 +256,34 @@ impl HistoryObserver for KeepFirst {
     }
 }
 
-/// The benchmark strand under the contact-mechanics laws.
-fn contact_mechanics_model() -> StrandModel {
-    let strand = profile_from_json(BENCHMARK)
-        .expect("benchmark profile parses")
-        .validate()
-        .expect("benchmark profile is valid");
-    let params = StrandModelParameters::contact_mechanics(EndKind::PenaltyTies);
-    StrandModel::new(&strand, &params).expect("benchmark model builds")
+/// Runs `h` whole, then again until the observer stops it after the first checkpoint, which
+/// must be written after `segment` segments; resumes from that checkpoint and checks that the
+/// resumed run's records and monitors are the whole run's, to the bit. Returns the whole run,
+/// the checkpoint and its bytes.
+fn whole_and_resumed_runs_agree(
+    model: &StrandModel,
+    h: &[LoadSample],
+    options: &HistoryOptions,
+    segment: usize,
+) -> (HistoryResult, checkpoint::HistoryCheckpoint, Vec<u8>) {
+    let full = run_history(model, h, options, &mut NoObserver).unwrap();
+    let mut stopper = KeepFirst {
+        bytes: None,
+        stop: true,
+    };
+    match run_history(model, h, options, &mut stopper) {
+        Err(HistoryError::Stopped { segment: s, .. }) if s == segment => {}
+        other => panic!(
+            "expected a stop after segment {segment}, got {:?}",
+            other.map(|r| r.stats)
+        ),
+    }
+    let bytes = stopper.bytes.expect("a checkpoint was written");
+    let cp = checkpoint::HistoryCheckpoint::from_bytes(&bytes).unwrap();
+    let resumed = run_history_from(model, h, options, Some(&cp), &mut NoObserver).unwrap();
+    assert_eq!(resumed.contacts, full.contacts);
+    assert_eq!(resumed.monitors, full.monitors);
+    (full, cp, bytes)
 }
 
 /// Under the contact-mechanics laws each sub-step starts from an earlier one's wire motion,
@@ -262,21 +296,8 @@ fn a_run_with_the_segment_predictor_resumed_from_its_checkpoint_gives_identical_
         ..HistoryOptions::default()
     };
     let h = bending_cycles(3e-2, 2);
-    let full = run_history(&model, &h, &options, &mut NoObserver).unwrap();
+    let (full, _, _) = whole_and_resumed_runs_agree(&model, &h, &options, 2);
     assert!(full.kept_samples.len() >= 5);
-    let mut stopper = KeepFirst {
-        bytes: None,
-        stop: true,
-    };
-    assert!(matches!(
-        run_history(&model, &h, &options, &mut stopper),
-        Err(HistoryError::Stopped { segment: 2, .. })
-    ));
-    let bytes = stopper.bytes.expect("a checkpoint was written");
-    let cp = checkpoint::HistoryCheckpoint::from_bytes(&bytes).unwrap();
-    let resumed = run_history_from(&model, &h, &options, Some(&cp), &mut NoObserver).unwrap();
-    assert_eq!(resumed.contacts, full.contacts);
-    assert_eq!(resumed.monitors, full.monitors);
 }
 
 #[test]
@@ -287,30 +308,14 @@ fn a_run_stopped_and_resumed_from_its_checkpoint_gives_identical_results() {
         ..HistoryOptions::default()
     };
     let h = bending_cycles(3e-2, 1);
-    let full = run_history(&model, &h, &options, &mut NoObserver).unwrap();
+    let (full, cp, bytes) = whole_and_resumed_runs_agree(&model, &h, &options, 1);
     assert!(full.kept_samples.len() >= 3);
-    let mut stopper = KeepFirst {
-        bytes: None,
-        stop: true,
-    };
-    match run_history(&model, &h, &options, &mut stopper) {
-        Err(HistoryError::Stopped { segment: 1, .. }) => {}
-        other => panic!(
-            "expected a stop after segment 1, got {:?}",
-            other.map(|r| r.stats)
-        ),
-    }
-    let bytes = stopper.bytes.expect("a checkpoint was written");
-    let cp = checkpoint::HistoryCheckpoint::from_bytes(&bytes).unwrap();
     // the bare bincode of a checkpoint (the form of the builds before the format header) is
     // refused, not misread
     assert!(matches!(
         checkpoint::HistoryCheckpoint::from_bytes(&bytes[8..]),
         Err(HistoryError::Checkpoint { .. })
     ));
-    let resumed = run_history_from(&model, &h, &options, Some(&cp), &mut NoObserver).unwrap();
-    assert_eq!(resumed.contacts, full.contacts);
-    assert_eq!(resumed.monitors, full.monitors);
     // a checkpoint of another history is refused
     let other = bending_cycles(3e-2, 2);
     assert!(matches!(
