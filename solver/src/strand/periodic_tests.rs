@@ -481,3 +481,36 @@ fn end_force_deviation(ends: EndKind, tension_bound: f64, bending_bound: f64) {
         100.0 * worst[1]
     );
 }
+
+/// The stalled-step diagnostic of the strand problem (trace level): between a state and itself
+/// nothing changes; between the tensioned and the bent strand at least as many contacts change
+/// state as the numbers of sliding ones differ by, and the largest move of a tangential force
+/// is the largest difference of the two states' forces.
+#[test]
+fn contact_state_changes_between_two_evaluations_are_counted() {
+    use crate::strand::problem::StateChanges;
+    let model = periodic_model();
+    let tensioned = solved(&model, 2e-3, 0.0);
+    let bent = solved(&model, 2e-3, 0.6);
+    let pairs = |a: &StrandProblem<'_>, b: &StrandProblem<'_>| {
+        let mut changes = StateChanges::default();
+        for (c, (x, y)) in a.responses().iter().zip(b.responses()).enumerate() {
+            changes.add(c, x.as_ref().unwrap(), y.as_ref().unwrap());
+        }
+        changes
+    };
+    assert_eq!(pairs(&bent, &bent), StateChanges::default());
+    let changes = pairs(&tensioned, &bent);
+    let (slipping_t, slipping_b) = (slipping_contacts(&tensioned), slipping_contacts(&bent));
+    assert_ne!(slipping_t, slipping_b, "the bending makes contacts slide");
+    assert!(changes.state_changes >= slipping_t.abs_diff(slipping_b));
+    let largest = tensioned
+        .responses()
+        .iter()
+        .zip(bent.responses())
+        .map(|(x, y)| (x.unwrap().tangential_force - y.unwrap().tangential_force).norm())
+        .fold(0.0, f64::max);
+    assert!(largest > StateChanges::TANGENTIAL_MOVE_N);
+    assert!(changes.tangential_moves >= 1);
+    assert_eq!(changes.largest.0, largest);
+}

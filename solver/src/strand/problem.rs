@@ -136,6 +136,41 @@ impl ContactWork {
     }
 }
 
+/// How the contacts changed between two evaluations: those whose state (open, stick, gross
+/// slip) changed, those whose tangential force moved by more than
+/// [`StateChanges::TANGENTIAL_MOVE_N`], and the largest move of the tangential force with its
+/// contact.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(super) struct StateChanges {
+    pub(super) state_changes: usize,
+    pub(super) tangential_moves: usize,
+    pub(super) largest: (f64, usize),
+}
+
+impl StateChanges {
+    /// A move of the tangential force that counts (N): ten times the residual tolerance of
+    /// the history runs.
+    pub(super) const TANGENTIAL_MOVE_N: f64 = 0.1;
+
+    pub(super) fn add(
+        &mut self,
+        contact: usize,
+        before: &ContactResponse,
+        after: &ContactResponse,
+    ) {
+        if before.status != after.status {
+            self.state_changes += 1;
+        }
+        let moved = (after.tangential_force - before.tangential_force).norm();
+        if moved > Self::TANGENTIAL_MOVE_N {
+            self.tangential_moves += 1;
+        }
+        if moved > self.largest.0 {
+            self.largest = (moved, contact);
+        }
+    }
+}
+
 /// The secant predictor of a load segment: the wire motion beyond the plane sections over the
 /// last segment, scaled by the share of that segment's load change the new load repeats
 /// (negative after a turning point).
@@ -529,6 +564,9 @@ impl StrandProblem<'_> {
         }
         // contacts added in contact order, evaluated above on the pool or here one by one
         let mut scale2 = 0.0;
+        // what the contacts did since the previous evaluation, at trace level only (where a
+        // Newton step stalls: `docs/notes/2026-12-06-newton-stalls-under-cattaneo-mindlin.md`)
+        let mut changes = tracing::enabled!(tracing::Level::TRACE).then(StateChanges::default);
         let mut scratch = ContactWork::default();
         for c in 0..model.contacts.len() {
             let w = match self.parallel.as_ref() {
@@ -545,7 +583,20 @@ impl StrandProblem<'_> {
                 &mut tangent,
             );
             scale2 += response.normal_force_n * response.normal_force_n;
+            if let (Some(changes), Some(before)) = (changes.as_mut(), &self.responses[c]) {
+                changes.add(c, before, &response);
+            }
             self.responses[c] = Some(response);
+        }
+        if let Some(changes) = changes {
+            tracing::trace!(
+                with_tangent,
+                state_changes = changes.state_changes,
+                tangential_moves = changes.tangential_moves,
+                largest_move_contact = changes.largest.1,
+                largest_move_n = changes.largest.0,
+                "contacts against the previous evaluation"
+            );
         }
         self.assemble_ties(load_factor, residual, tangent, scale2)
     }
