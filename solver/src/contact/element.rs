@@ -287,6 +287,7 @@ impl ContactPair {
             V3::cst(&t2),
             V3::cst(&n1),
             V3::cst(&n2),
+            0.0,
         );
         force.as_mut_slice().copy_from_slice(&k.force);
         self.respond(history, &k, node1, node2, &d, &t1, &t2)
@@ -301,7 +302,7 @@ impl ContactPair {
         force: &mut ElementVector,
         tangent: &mut ElementMatrix,
     ) -> ContactResponse {
-        self.evaluate_with_tangent(history, node1, node2, force, tangent, None)
+        self.evaluate_with_tangent(history, node1, node2, force, tangent, None, 0.0)
     }
 
     /// As [`Self::residual_and_tangent`], plus a symmetric positive semi-definite surrogate of
@@ -311,6 +312,13 @@ impl ContactPair {
     /// tangent non-symmetric or indefinite: the dependence of the friction force on the normal
     /// force (μ ∂f_N/∂g_N, as large as μ times the normal stiffness) and the curvature terms
     /// f_N ∂²g_N/∂q², f_T·∂²g_T/∂q² of the contact geometry.
+    ///
+    /// `sliding` > 0 stiffens the tangent (not the force, nor the surrogate) of a
+    /// Cattaneo–Mindlin contact in gross slip along its sliding direction d by
+    /// k_s = `sliding` · k₀: the tangent becomes ∂f_int/∂q + k_s (∂f_int/∂f_T) d dᵀ ∂g_T/∂q,
+    /// as if the contact resisted its sliding with a fraction of its initial stiffness. A Newton
+    /// iteration matrix, not a derivative ([`crate::linalg::NonlinearProblem::begin_iteration`]).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn residual_tangent_and_surrogate(
         &self,
         history: &ContactHistory,
@@ -319,10 +327,20 @@ impl ContactPair {
         force: &mut ElementVector,
         tangent: &mut ElementMatrix,
         surrogate: &mut ElementMatrix,
+        sliding: f64,
     ) -> ContactResponse {
-        self.evaluate_with_tangent(history, node1, node2, force, tangent, Some(surrogate))
+        self.evaluate_with_tangent(
+            history,
+            node1,
+            node2,
+            force,
+            tangent,
+            Some(surrogate),
+            sliding,
+        )
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn evaluate_with_tangent(
         &self,
         history: &ContactHistory,
@@ -331,6 +349,7 @@ impl ContactPair {
         force: &mut ElementVector,
         tangent: &mut ElementMatrix,
         surrogate: Option<&mut ElementMatrix>,
+        sliding: f64,
     ) -> ContactResponse {
         let (t1, t2) = (
             node1.rotation * self.tangent1,
@@ -349,6 +368,7 @@ impl ContactPair {
             director(&t2, 9),
             director(&n1, 3),
             director(&n2, 9),
+            sliding,
         );
         for i in 0..NDOF {
             force[i] = k.force[i].v;
@@ -412,10 +432,12 @@ impl ContactPair {
             V3::cst(&t2),
             V3::cst(&n1),
             V3::cst(&n2),
+            0.0,
         );
         (k.gap, k.gt.val())
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn kernel<S: Scalar>(
         &self,
         h: &ContactHistory,
@@ -424,6 +446,7 @@ impl ContactPair {
         t2: V3<S>,
         n1: V3<S>,
         n2: V3<S>,
+        sliding: f64,
     ) -> Kernel<S> {
         let (r1, r2) = (self.radius1_m, self.radius2_m);
         let w = t1.cross(&t2);
@@ -492,7 +515,25 @@ impl ContactPair {
                 ContactStatus::Stick
             };
             let plane = Some(trial.jacobian);
-            (trial.force, status, 0.0, plane, Some(state))
+            let force = if trial.slip && sliding > 0.0 {
+                // k_s (d · (g_T − g_T⁰)) d: zero in value, k_s d dᵀ in the derivative
+                let f0 = trial.force.val();
+                let d = f0 / f0.norm().max(f64::MIN_POSITIVE);
+                let g0 = gt.val();
+                let along = (gt.c[0] + (-g0[0])) * d[0]
+                    + (gt.c[1] + (-g0[1])) * d[1]
+                    + (gt.c[2] + (-g0[2])) * d[2];
+                let ks = sliding * k0.val();
+                trial.force
+                    + V3::new(
+                        along * (ks * d[0]),
+                        along * (ks * d[1]),
+                        along * (ks * d[2]),
+                    )
+            } else {
+                trial.force
+            };
+            (force, status, 0.0, plane, Some(state))
         } else {
             let kt = match self.laws.tangential {
                 ResolvedTangential::ElasticSlip(ge) => fnorm * (mu / ge),

@@ -478,14 +478,7 @@ fn preconditioning_surrogate_is_the_stiffness_of_the_gaps_without_coupling_or_cu
             },
         ));
         let (h, a, b) = loaded(&s, slide, 1e-3);
-        let (mut f, mut k, mut p) = (
-            ElementVector::zeros(),
-            ElementMatrix::zeros(),
-            ElementMatrix::zeros(),
-        );
-        let r = s
-            .pair
-            .residual_tangent_and_surrogate(&h, &a, &b, &mut f, &mut k, &mut p);
+        let (r, _, _, p) = with_surrogate(&s, &h, &a, &b, 0.0);
         assert_eq!(r.status, status);
         assert!((p - p.transpose()).norm() <= 1e-12 * p.norm());
         let eig = p.symmetric_eigenvalues();
@@ -687,4 +680,96 @@ fn tangent_matches_finite_differences_for_steps_across_the_branch() {
         assert_eq!(r.status, ContactStatus::Stick);
         check_tangent(&s, &h, &a, &b2, ContactStatus::Stick);
     }
+}
+
+/// The sliding stiffness of the Newton iteration matrix: on a Cattaneo–Mindlin contact in gross
+/// slip it leaves the force (and the preconditioner's surrogate) as they are, to the bit, and
+/// adds k_s (∂f_int/∂f_T) d dᵀ ∂g_T/∂q to the tangent, k_s = fraction · k₀ with
+/// k₀ = c f_N^{1/3}; its translational rows are −k_s d wᵀ (f_int = −f_T there) with
+/// w = ∂(d · g_T)/∂q, here from central differences of the gap. A sticking contact's tangent does
+/// not change.
+#[test]
+fn sliding_stiffness_stiffens_only_a_gross_slipping_contact_along_its_slip() {
+    use super::laws::ResolvedTangential;
+    let s = setup(&params(NormalLaw::Hertz, TangentialLaw::CattaneoMindlin));
+    let ResolvedTangential::CattaneoMindlinPoint(coefficient) = s.pair.laws().tangential else {
+        panic!("a Hertz crossing gets the point law");
+    };
+    let fraction = 0.1;
+    let evaluate = |a: &NodeKinematics, b: &NodeKinematics, sliding: f64| {
+        with_surrogate(&s, &s.history, a, b, sliding)
+    };
+    let (a, b) = cm_config(&s, 0.0);
+    let delta_s = {
+        let mut f = ElementVector::zeros();
+        let r = s.pair.residual(&s.history, &a, &b, &mut f);
+        1.5 * 0.3 * r.normal_force_n / (coefficient * r.normal_force_n.cbrt())
+    };
+    for (x, slipping) in [(0.4, false), (-2.0, true)] {
+        let (a, b) = cm_config(&s, x * delta_s);
+        let (r0, f0, k0_tangent, p0) = evaluate(&a, &b, 0.0);
+        let (r1, f1, k1_tangent, p1) = evaluate(&a, &b, fraction);
+        assert_eq!(r0.status == ContactStatus::Slip, slipping, "x = {x}");
+        assert_eq!(f0, f1);
+        assert_eq!(p0, p1);
+        assert_eq!(r0.tangential_force, r1.tangential_force);
+        let added = k1_tangent - k0_tangent;
+        if !slipping {
+            assert_eq!(added, ElementMatrix::zeros());
+            continue;
+        }
+        let d = r0.tangential_force / r0.tangential_force_n;
+        let ks = fraction * coefficient * r0.normal_force_n.cbrt();
+        for j in 0..12 {
+            let hj = step_size(j);
+            let (ap, bp) = perturbed(&a, &b, j, hj);
+            let (am, bm) = perturbed(&a, &b, j, -hj);
+            let w = (d.dot(&s.pair.gaps(&s.history, &ap, &bp).1)
+                - d.dot(&s.pair.gaps(&s.history, &am, &bm).1))
+                / (2.0 * hj);
+            let expected = -ks * w * d;
+            let column = Vector3::new(added[(0, j)], added[(1, j)], added[(2, j)]);
+            assert!(
+                (column - expected).norm() <= 1e-6 * expected.norm().max(1e-6 * ks),
+                "column {j}: {column} against {expected}"
+            );
+        }
+        // rank one: every column is a multiple of the one with the largest entry
+        let (jmax, _) = (0..12)
+            .map(|j| (j, added.column(j).amax()))
+            .fold((0, 0.0), |m, c| if c.1 > m.1 { c } else { m });
+        let u = added.column(jmax) / added.column(jmax).norm();
+        for j in 0..12 {
+            let c = added.column(j);
+            assert!(
+                (c - u * u.dot(&c)).norm() <= 1e-9 * added.amax(),
+                "column {j}"
+            );
+        }
+    }
+}
+
+/// Response, force, tangent and preconditioning surrogate of the pair of `s` at (`a`, `b`)
+/// from history `h`, with the Newton matrix's sliding stiffness `sliding`.
+fn with_surrogate(
+    s: &Setup,
+    h: &ContactHistory,
+    a: &NodeKinematics,
+    b: &NodeKinematics,
+    sliding: f64,
+) -> (
+    super::element::ContactResponse,
+    ElementVector,
+    ElementMatrix,
+    ElementMatrix,
+) {
+    let (mut f, mut k, mut p) = (
+        ElementVector::zeros(),
+        ElementMatrix::zeros(),
+        ElementMatrix::zeros(),
+    );
+    let r = s
+        .pair
+        .residual_tangent_and_surrogate(h, a, b, &mut f, &mut k, &mut p, sliding);
+    (r, f, k, p)
 }

@@ -49,6 +49,12 @@ pub trait NonlinearProblem {
     /// Discards the trial state and returns to the last committed one.
     fn restore(&mut self);
 
+    /// Called at the start of every Newton iteration of a load step (0 for its first
+    /// correction; a cut-back attempt starts again from 0), before the evaluation whose
+    /// tangent the iteration factorises: a problem may use an iteration matrix that depends on
+    /// it. The default does nothing.
+    fn begin_iteration(&mut self, _iteration: usize) {}
+
     /// Weights W of the line-search merit ½ rᵀ W r, one per equation, making forces and
     /// moments commensurate (e.g. 1 for a force equation, 1/ℓ² for a moment equation with ℓ a
     /// length of the problem); `None` weighs every equation by 1.
@@ -663,6 +669,7 @@ fn newton_step<P: NonlinearProblem, S: LinearSolver>(
                 return Ok(iteration);
             }
         }
+        problem.begin_iteration(iteration);
         let mut fresh = iteration == 0 || age >= params.max_tangent_age;
         let (mut norm, mut scale) = evaluate(problem, load_factor, ws, fresh, stats)
             .map_err(|source| Failure::Problem { iteration, source })?;

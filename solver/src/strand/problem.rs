@@ -69,6 +69,11 @@ pub struct StrandProblem<'a> {
     /// thread.
     parallel: Option<ParallelElements>,
     predictor: Option<SegmentPredictor>,
+    /// Sliding stiffness of the first Newton correction of a step, as a fraction of each
+    /// gross-slipping Cattaneo–Mindlin contact's k₀ ([`StrandProblem::with_sliding_stiffness`]).
+    sliding_stiffness: f64,
+    /// The fraction of the current Newton iteration.
+    sliding_now: f64,
 }
 
 /// Thread pool and per-element buffers of the parallel element work: the kernels of the beams
@@ -100,6 +105,7 @@ impl ContactWork {
         histories: &[ContactHistory],
         c: usize,
         with_tangent: bool,
+        sliding: f64,
     ) {
         let pair = &model.contacts[c];
         let [a, b] = model.mesh.contacts[c].nodes;
@@ -112,6 +118,7 @@ impl ContactWork {
                 &mut self.force,
                 &mut self.tangent,
                 &mut self.surrogate,
+                sliding,
             )
         } else {
             pair.residual(&histories[c], &k1, &k2, &mut self.force)
@@ -135,6 +142,11 @@ impl ContactWork {
         self.response.expect("contact evaluated before it is added")
     }
 }
+
+/// What the sliding stiffness of the Newton iteration matrix is multiplied by from one
+/// correction to the next ([`StrandProblem::with_sliding_stiffness`]): 4e-3 of the first
+/// correction's at the fifth, so the last corrections of a step are Newton's.
+pub const SLIDING_STIFFNESS_DECAY: f64 = 0.25;
 
 /// How the contacts changed between two evaluations: those whose state (open, stick, gross
 /// slip) changed, those whose tangential force moved by more than
@@ -296,6 +308,8 @@ impl<'a> StrandProblem<'a> {
             surrogate: vec![0.0; model.pattern.nnz()],
             parallel: None,
             predictor: None,
+            sliding_stiffness: 0.0,
+            sliding_now: 0.0,
         }
     }
 
@@ -324,6 +338,18 @@ impl<'a> StrandProblem<'a> {
             None
         };
         Ok(self)
+    }
+
+    /// The Newton iteration matrix gives every Cattaneo–Mindlin contact in gross slip a
+    /// stiffness along its sliding direction of `fraction` · k₀ at a step's first correction,
+    /// [`SLIDING_STIFFNESS_DECAY`] times less at each further one (0: the consistent tangent).
+    /// The residual is unchanged, so is the converged state; the corrections no longer carry
+    /// lightly loaded sliding wires micrometres along their free directions, where every
+    /// contact they cross would reverse
+    /// (`docs/notes/2026-12-06-newton-stalls-under-cattaneo-mindlin.md`).
+    pub(crate) fn with_sliding_stiffness(mut self, fraction: f64) -> Self {
+        self.sliding_stiffness = fraction;
+        self
     }
 
     /// Current (trial) configuration; the committed one after a converged solve.
@@ -513,6 +539,14 @@ impl NonlinearProblem for StrandProblem<'_> {
         self.trial_load_factor = self.committed_load_factor;
     }
 
+    fn begin_iteration(&mut self, iteration: usize) {
+        self.sliding_now = if self.sliding_stiffness > 0.0 {
+            self.sliding_stiffness * SLIDING_STIFFNESS_DECAY.powi(iteration.min(64) as i32)
+        } else {
+            0.0
+        };
+    }
+
     fn merit_weights(&self) -> Option<&[f64]> {
         Some(&self.model.merit_weights)
     }
@@ -536,6 +570,7 @@ impl StrandProblem<'_> {
         let pattern = model.assembly_pattern();
         let with_tangent = tangent.is_some();
         let (trial, histories) = (&self.trial, &self.histories);
+        let sliding = self.sliding_now;
         let frame_tangent = tangent.as_mut().map(|(t, _)| &mut **t);
         match self.parallel.as_mut() {
             Some(parallel) => {
@@ -554,7 +589,9 @@ impl StrandProblem<'_> {
                         .contacts
                         .par_iter_mut()
                         .enumerate()
-                        .for_each(|(c, w)| w.evaluate(model, trial, histories, c, with_tangent));
+                        .for_each(|(c, w)| {
+                            w.evaluate(model, trial, histories, c, with_tangent, sliding)
+                        });
                 });
             }
             None => assemble_frame(&model.frame, trial, pattern, 0, residual, frame_tangent)?,
@@ -572,7 +609,14 @@ impl StrandProblem<'_> {
             let w = match self.parallel.as_ref() {
                 Some(parallel) => &parallel.contacts[c],
                 None => {
-                    scratch.evaluate(model, &self.trial, &self.histories, c, with_tangent);
+                    scratch.evaluate(
+                        model,
+                        &self.trial,
+                        &self.histories,
+                        c,
+                        with_tangent,
+                        self.sliding_now,
+                    );
                     &scratch
                 }
             };

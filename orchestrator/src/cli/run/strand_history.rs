@@ -84,6 +84,12 @@ pub(crate) struct HistoryArgs {
     /// curvature (1/m); a channel whose range is smaller is reduced as if its range were this.
     #[arg(long, num_args = 2, value_names = ["STRAIN", "CURVATURE_PER_M"])]
     pub(crate) turning_point_scale: Option<Vec<f64>>,
+    /// Stiffness along the sliding direction that the Newton iteration matrix gives every
+    /// Cattaneo–Mindlin contact in gross slip at a step's first correction, as a fraction of
+    /// its initial stiffness k₀ (a quarter of it at each further correction); the converged
+    /// state is the law's own. 0: the consistent tangent. Other laws ignore it.
+    #[arg(long, default_value_t = 0.0)]
+    pub(crate) sliding_stiffness: f64,
     /// Threads of the sparse factorisation and solves (results equal to round-off).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=MAX_STRAND_THREADS as i64))]
     pub(crate) threads: u16,
@@ -237,6 +243,8 @@ struct Summary<'a> {
     axial_stiffness: Option<AxialStiffness>,
     turning_point_tolerance: f64,
     turning_point_scale: [f64; 2],
+    /// The Newton matrix's sliding stiffness (`--sliding-stiffness`).
+    sliding_stiffness: f64,
     resumed_from_checkpoint: bool,
     checkpoints_written: usize,
     history: &'a HistoryStats,
@@ -447,7 +455,7 @@ pub(super) fn execute(
     if fidelity == Fidelity::Fe {
         lazy.get()?;
     }
-    let options = HistorySettings {
+    let settings = HistorySettings {
         threads: usize::from(h.threads),
         turning_point_tolerance: h.turning_point_tolerance,
         turning_point_scale: match h.turning_point_scale.as_deref() {
@@ -459,8 +467,11 @@ pub(super) fn execute(
         } else {
             0
         },
+    };
+    let options = HistoryOptions {
+        sliding_stiffness: h.sliding_stiffness,
+        ..settings.options()
     }
-    .options()
     .validated()?;
     let (samples, stiffness, slack_samples) =
         samples_of(&table, &mut lazy, &h.stiffness, &options)?;
@@ -538,6 +549,7 @@ pub(super) fn execute(
         axial_stiffness: stiffness,
         turning_point_tolerance: options.turning_point_tolerance,
         turning_point_scale: options.turning_point_scale,
+        sliding_stiffness: options.sliding_stiffness,
         resumed_from_checkpoint: resume.is_some(),
         checkpoints_written: observer.checkpoints.written(),
         history: &result.stats,
@@ -660,6 +672,7 @@ impl ReducedRun<'_> {
             axial_stiffness: self.stiffness,
             turning_point_tolerance: self.options.turning_point_tolerance,
             turning_point_scale: self.options.turning_point_scale,
+            sliding_stiffness: self.options.sliding_stiffness,
             resumed_from_checkpoint: false,
             checkpoints_written: 0,
             history: &result.stats,

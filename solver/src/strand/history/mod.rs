@@ -192,6 +192,12 @@ pub struct HistoryOptions {
     /// sub-step from the one before it. `None`: under the contact-mechanics tangential laws
     /// only ([`StrandModel::predicts_from_last_segment`]).
     pub segment_predictor: Option<bool>,
+    /// Stiffness along the sliding direction that the Newton iteration matrix gives every
+    /// Cattaneo–Mindlin contact in gross slip at a step's first correction, as a fraction of
+    /// its k₀, a quarter of it at each further correction; the residual and so the converged
+    /// state are unchanged (`StrandProblem::with_sliding_stiffness`). 0: the consistent
+    /// tangent. The other tangential laws ignore it.
+    pub sliding_stiffness: f64,
 }
 
 impl Default for HistoryOptions {
@@ -251,6 +257,12 @@ impl Default for HistoryOptions {
             // load; studies/src/bin/strand_history_tolerance.rs, README "Strand solver")
             preconditioner_precision: FactorPrecision::Single,
             segment_predictor: None,
+            // off until measured on a whole history: with 0.1, the showcase's 20 s with the
+            // slack dip take 161 s instead of 318 s (Newton iterations 876 → 578, largest slip
+            // ranges per interface within 0.34 %), the first 100 s of the severe cell 181 s
+            // instead of 184 s, and bending cycles of the 1+6+1 strand in gross slip 8-28 %
+            // more iterations (docs/notes/2026-12-06-newton-stalls-under-cattaneo-mindlin.md)
+            sliding_stiffness: 0.0,
         }
     }
 }
@@ -337,6 +349,12 @@ impl HistoryOptions {
             self.initialisation_shift >= 0.0 && self.initialisation_shift.is_finite(),
             "initialisation_shift",
             self.initialisation_shift,
+            "must be finite and ≥ 0",
+        )?;
+        check(
+            self.sliding_stiffness >= 0.0 && self.sliding_stiffness.is_finite(),
+            "sliding_stiffness",
+            self.sliding_stiffness,
             "must be finite and ≥ 0",
         )?;
         check(

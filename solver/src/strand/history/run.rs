@@ -44,7 +44,8 @@ impl<'a> Runner<'a> {
     ) -> Result<Self, HistoryError> {
         Ok(Self {
             model,
-            problem: reference_problem(model, options.threads)?,
+            problem: reference_problem(model, options.threads)?
+                .with_sliding_stiffness(options.sliding_stiffness),
             solver: TimedSolver {
                 inner: model
                     .linear_solver_threads(options.threads, options.preconditioner_precision)?,

@@ -107,6 +107,10 @@ impl<P: NonlinearProblem> NonlinearProblem for TimedProblem<'_, P> {
         self.inner.restore();
     }
 
+    fn begin_iteration(&mut self, iteration: usize) {
+        self.inner.begin_iteration(iteration);
+    }
+
     fn merit_weights(&self) -> Option<&[f64]> {
         self.inner.merit_weights()
     }
