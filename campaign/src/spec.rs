@@ -219,6 +219,12 @@ pub struct StrandSpec {
     /// with them.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub elastic_slip_m: Option<f64>,
+    /// Stiffness along the sliding direction that the Newton iteration matrix gives every
+    /// gross-slipping contact, as a fraction of its initial tangential stiffness (`run strand
+    /// --sliding-stiffness`); `contact_mechanics` laws only (default: the solver's). It
+    /// changes the path of the iterations, not the converged state.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sliding_stiffness: Option<f64>,
     /// Sampling interval of the load history fed to the strand (s); a multiple of the
     /// global output interval.
     pub load_interval_s: f64,
@@ -396,6 +402,7 @@ impl StrandSpec {
                 .turning_point_scale
                 .map(|s| [s.strain, s.curvature_per_m]),
             checkpoint_interval_segments: self.checkpoint_every_segments,
+            sliding_stiffness: self.sliding_stiffness,
         }
         .options()
     }
@@ -415,6 +422,8 @@ pub struct HistorySettings {
     pub turning_point_scale: Option<[f64; 2]>,
     /// History segments between two checkpoints handed to the observer (0: none).
     pub checkpoint_interval_segments: usize,
+    /// The Newton matrix's sliding stiffness (the solver's default when `None`).
+    pub sliding_stiffness: Option<f64>,
 }
 
 impl HistorySettings {
@@ -430,6 +439,7 @@ impl HistorySettings {
             turning_point_scale: self
                 .turning_point_scale
                 .unwrap_or(defaults.turning_point_scale),
+            sliding_stiffness: self.sliding_stiffness.unwrap_or(defaults.sliding_stiffness),
             ..defaults
         }
     }
@@ -739,6 +749,14 @@ impl CampaignSpec {
                 (StrandContactLaws::ContactMechanics, None) => {}
             }
         }
+        if let (StrandContactLaws::Regularised, Some(v)) = (st.contact_laws, st.sliding_stiffness) {
+            return Err(invalid(
+                "strand.sliding_stiffness",
+                Num(v),
+                "is used by strand.contact_laws \"contact_mechanics\" only (it acts on the \
+                 Cattaneo–Mindlin contacts): remove it",
+            ));
+        }
         if st.contact_laws == StrandContactLaws::ContactMechanics && st.fidelity.uses_reduced() {
             return Err(invalid(
                 "strand.fidelity",
@@ -983,6 +1001,27 @@ mod tests {
             err.contains("regularised") && err.contains("contact_mechanics"),
             "{err}"
         );
+        // the Newton matrix's sliding stiffness: the contact-mechanics laws' option, bounded,
+        // carried to the history options
+        let cm_with = |sliding: serde_json::Value| {
+            with(serde_json::json!({"contact_laws": "contact_mechanics",
+                "normal_penalty_n_per_m": null, "elastic_slip_m": null, "fidelity": "fe",
+                "sliding_stiffness": sliding}))
+            .unwrap()
+        };
+        let set = cm_with(serde_json::json!(0.3));
+        assert!(set.validate().is_ok());
+        assert_eq!(set.strand.history_options().sliding_stiffness, 0.3);
+        assert_eq!(
+            cm.strand.history_options().sliding_stiffness,
+            HistoryOptions::default().sliding_stiffness
+        );
+        let (f, why) = field(cm_with(serde_json::json!(-0.1)));
+        assert_eq!(f, "strand.sliding_stiffness");
+        assert!(!why.is_empty());
+        let (f, why) = field(with(serde_json::json!({"sliding_stiffness": 0.1})).unwrap());
+        assert_eq!(f, "strand.sliding_stiffness");
+        assert!(why.contains("contact_mechanics"), "{why}");
     }
 
     #[test]

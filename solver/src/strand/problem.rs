@@ -540,11 +540,8 @@ impl NonlinearProblem for StrandProblem<'_> {
     }
 
     fn begin_iteration(&mut self, iteration: usize) {
-        self.sliding_now = if self.sliding_stiffness > 0.0 {
-            self.sliding_stiffness * SLIDING_STIFFNESS_DECAY.powi(iteration.min(64) as i32)
-        } else {
-            0.0
-        };
+        self.sliding_now =
+            self.sliding_stiffness * SLIDING_STIFFNESS_DECAY.powi(iteration.min(64) as i32);
     }
 
     fn merit_weights(&self) -> Option<&[f64]> {
@@ -615,7 +612,7 @@ impl StrandProblem<'_> {
                         &self.histories,
                         c,
                         with_tangent,
-                        self.sliding_now,
+                        sliding,
                     );
                     &scratch
                 }

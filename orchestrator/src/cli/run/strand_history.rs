@@ -87,9 +87,10 @@ pub(crate) struct HistoryArgs {
     /// Stiffness along the sliding direction that the Newton iteration matrix gives every
     /// Cattaneo–Mindlin contact in gross slip at a step's first correction, as a fraction of
     /// its initial stiffness k₀ (a quarter of it at each further correction); the converged
-    /// state is the law's own. 0: the consistent tangent. Other laws ignore it.
-    #[arg(long, default_value_t = 0.0)]
-    pub(crate) sliding_stiffness: f64,
+    /// state is the law's own. 0: the consistent tangent. Other laws ignore it. [default:
+    /// 0.1]
+    #[arg(long)]
+    pub(crate) sliding_stiffness: Option<f64>,
     /// Threads of the sparse factorisation and solves (results equal to round-off).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u16).range(1..=MAX_STRAND_THREADS as i64))]
     pub(crate) threads: u16,
@@ -467,12 +468,9 @@ pub(super) fn execute(
         } else {
             0
         },
-    };
-    let options = HistoryOptions {
         sliding_stiffness: h.sliding_stiffness,
-        ..settings.options()
-    }
-    .validated()?;
+    };
+    let options = settings.options().validated()?;
     let (samples, stiffness, slack_samples) =
         samples_of(&table, &mut lazy, &h.stiffness, &options)?;
     if fidelity == Fidelity::Reduced {

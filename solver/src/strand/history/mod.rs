@@ -196,7 +196,7 @@ pub struct HistoryOptions {
     /// Cattaneo–Mindlin contact in gross slip at a step's first correction, as a fraction of
     /// its k₀, a quarter of it at each further correction; the residual and so the converged
     /// state are unchanged (`StrandProblem::with_sliding_stiffness`). 0: the consistent
-    /// tangent. The other tangential laws ignore it.
+    /// tangent. The other tangential laws ignore it. Default 0.1.
     pub sliding_stiffness: f64,
 }
 
@@ -257,12 +257,12 @@ impl Default for HistoryOptions {
             // load; studies/src/bin/strand_history_tolerance.rs, README "Strand solver")
             preconditioner_precision: FactorPrecision::Single,
             segment_predictor: None,
-            // off until measured on a whole history: with 0.1, the showcase's 20 s with the
-            // slack dip take 161 s instead of 318 s (Newton iterations 876 → 578, largest slip
-            // ranges per interface within 0.34 %), the first 100 s of the severe cell 181 s
-            // instead of 184 s, and bending cycles of the 1+6+1 strand in gross slip 8-28 %
-            // more iterations (docs/notes/2026-12-06-newton-stalls-under-cattaneo-mindlin.md)
-            sliding_stiffness: 0.0,
+            // the 1 000 s showcase in 2 171 s against the consistent tangent's 2 954 s (Newton
+            // iterations 6 310 against 7 362, cut-backs 5 against 24), the largest slip ranges
+            // per interface within 0.08 %; bending cycles of the 1+6+1 strand in gross slip
+            // cost 8-28 % more iterations
+            // (docs/notes/2026-12-06-newton-stalls-under-cattaneo-mindlin.md)
+            sliding_stiffness: 0.1,
         }
     }
 }
