@@ -400,6 +400,32 @@ fn hertz_mindlin_laws_run_and_refuse_a_regularisation() {
     assert!(rows.iter().flatten().all(|v| v.is_finite()));
 }
 
+/// The Newton matrix's sliding stiffness acts on Cattaneo–Mindlin contacts only: under the
+/// other laws the option is refused before anything is built or written, as campaign files
+/// refuse `strand.sliding_stiffness` there.
+#[test]
+fn the_sliding_stiffness_is_refused_under_laws_without_cattaneo_mindlin_contacts() {
+    let dir = tempfile::tempdir().unwrap();
+    let load = dir.path().join("load.csv");
+    std::fs::write(&load, tension_history()).unwrap();
+    let out = dir.path().join("out");
+    for laws in ["regularised", "hertz-mindlin"] {
+        let o = run(
+            &load,
+            &out,
+            &["--contact-laws", laws, "--sliding-stiffness", "0.1"],
+        );
+        assert!(!o.status.success(), "{laws}");
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            e.contains("--sliding-stiffness acts on the Cattaneo–Mindlin contacts")
+                && e.contains(&format!("--contact-laws {laws} has none")),
+            "{laws}: {e}"
+        );
+        assert!(!out.exists(), "{laws}");
+    }
+}
+
 #[test]
 fn negative_option_values_are_refused_by_range_naming_the_option() {
     let dir = tempfile::tempdir().unwrap();

@@ -59,7 +59,7 @@ use moorfret_worker::strand::load::{self as strand_load, read_load, StiffnessOpt
 use moorfret_worker::strand::{run_fe, AxialStiffness, LazyModel, RefusedCheckpoint};
 use serde::Serialize;
 
-use super::strand_model::{load_strand, ModelArgs, ModelSizes};
+use super::strand_model::{load_strand, ContactLawsArg, ModelArgs, ModelSizes};
 use super::strand_reduced::{
     cache_root, calibration_for, range_of, CalibrationRequest, CalibrationSource, Fidelity,
     ReducedArgs,
@@ -87,8 +87,8 @@ pub(crate) struct HistoryArgs {
     /// Stiffness along the sliding direction that the Newton iteration matrix gives every
     /// Cattaneo–Mindlin contact in gross slip at a step's first correction, as a fraction of
     /// its initial stiffness k₀ (a quarter of it at each further correction); the converged
-    /// state is the law's own. 0: the consistent tangent. Other laws ignore it. [default:
-    /// 0.1]
+    /// state is the law's own. 0: the consistent tangent. Refused under the other laws.
+    /// [default: 0.1]
     #[arg(long)]
     pub(crate) sliding_stiffness: Option<f64>,
     /// Threads of the sparse factorisation and solves (results equal to round-off).
@@ -449,6 +449,13 @@ pub(super) fn execute(
     out: &Path,
 ) -> anyhow::Result<()> {
     let start = Instant::now();
+    if h.sliding_stiffness.is_some() && args.contact_laws != ContactLawsArg::ContactMechanics {
+        bail!(
+            "--sliding-stiffness acts on the Cattaneo–Mindlin contacts of --contact-laws \
+             contact-mechanics only; --contact-laws {} has none",
+            args.contact_laws.name()
+        );
+    }
     let table = read_load(load, h.slack_as_zero, h.hot_spot)?;
     let (_, strand, params) = load_strand(args)?;
     let mut lazy = LazyModel::new(&strand, &params);

@@ -52,6 +52,14 @@ pub(crate) enum ContactLawsArg {
     HertzMindlin,
 }
 
+impl ContactLawsArg {
+    /// The value of `--contact-laws` that selects these laws.
+    pub(crate) fn name(self) -> String {
+        self.to_possible_value()
+            .map_or_else(String::new, |v| v.get_name().to_owned())
+    }
+}
+
 impl ModelArgs {
     /// The contact laws as a run's summary names them.
     pub(crate) fn regularisation_name(&self) -> String {
@@ -145,9 +153,7 @@ pub(crate) fn load_strand(
             bail!(
                 "--contact-regularisation is not used by --contact-laws {} (its laws have no \
                  regularisation)",
-                args.contact_laws
-                    .to_possible_value()
-                    .map_or_else(String::new, |v| v.get_name().to_owned())
+                args.contact_laws.name()
             );
         }
         let mut params = StrandModelParameters::contact_mechanics(args.ends.end_kind());

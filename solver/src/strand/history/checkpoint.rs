@@ -46,8 +46,8 @@ pub struct HistoryCheckpoint {
 
 /// The first bytes of a checkpoint's binary form: its format. bincode is not self-describing,
 /// so a checkpoint of another layout (the contact histories' tangential memory changed with
-/// format 2) would be misread rather than refused without it.
-const FORMAT: &[u8; 8] = b"mfchk002";
+/// format 2, the work counts with format 3) would be misread rather than refused without it.
+const FORMAT: &[u8; 8] = b"mfchk003";
 
 impl HistoryCheckpoint {
     /// Compact binary form: [`FORMAT`], then bincode.

@@ -435,6 +435,10 @@ pub struct HistoryStats {
     /// Sub-steps of the initialisation (included in `substeps`).
     #[serde(default)]
     pub initialisation_substeps: usize,
+    /// The initialisation's share of the counts above (included in them): what the history
+    /// alone cost is the difference.
+    #[serde(default)]
+    pub initialisation: InitialisationCounts,
     /// Wall time of the Newton solves of the history (s).
     pub solve_time_s: f64,
     /// Wall time of result extraction, interpolation and rainflow counting (s).
@@ -449,7 +453,33 @@ pub struct HistoryStats {
     pub linear: SplitStats,
 }
 
+/// Work counts of a history run's initialisation ([`HistoryStats::initialisation`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct InitialisationCounts {
+    /// Accepted Newton load steps.
+    pub newton_steps: usize,
+    /// Rejected attempts (cut-backs).
+    pub cutbacks: usize,
+    /// Newton iterations (linear solves).
+    pub iterations: usize,
+    /// Residual evaluations.
+    pub evaluations: usize,
+    /// Work of the linear solver.
+    pub linear: SplitStats,
+}
+
 impl HistoryStats {
+    /// The counts so far as the initialisation's.
+    fn initialisation_counts(&self) -> InitialisationCounts {
+        InitialisationCounts {
+            newton_steps: self.newton_steps,
+            cutbacks: self.cutbacks,
+            iterations: self.iterations,
+            evaluations: self.evaluations,
+            linear: self.linear,
+        }
+    }
+
     fn add(&mut self, s: &NewtonStats) {
         self.substeps += 1;
         self.newton_steps += s.steps;

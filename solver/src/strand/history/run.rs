@@ -235,6 +235,7 @@ pub fn run_history_from(
             initialise(&mut runner, first, &options)?;
             runner.stats.initialisation_time_s = t_start.elapsed().as_secs_f64();
             runner.stats.initialisation_substeps = runner.stats.substeps;
+            runner.stats.initialisation = runner.stats().initialisation_counts();
             let mut recorder = Recorder::new(model.contacts.len(), options.slip_gate_m, channels)?;
             let t_out = Instant::now();
             let previous = runner.snapshot(&recorder.monitors.channels)?;

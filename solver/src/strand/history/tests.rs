@@ -283,6 +283,18 @@ fn whole_and_resumed_runs_agree(
     let resumed = run_history_from(model, h, options, Some(&cp), &mut NoObserver).unwrap();
     assert_eq!(resumed.contacts, full.contacts);
     assert_eq!(resumed.monitors, full.monitors);
+    // the initialisation's share of the counts: part of the totals, carried by the checkpoint
+    let (init, total) = (full.stats.initialisation, &full.stats);
+    assert_eq!(resumed.stats.initialisation, init);
+    assert!(
+        init.newton_steps >= total.initialisation_substeps,
+        "{total:?}"
+    );
+    assert!(init.iterations > 0 && init.iterations < total.iterations);
+    assert!(init.evaluations > init.iterations && init.evaluations < total.evaluations);
+    assert!(init.linear.solves > 0 && init.linear.solves < total.linear.solves);
+    assert!(init.linear.factorisations <= total.linear.factorisations);
+    assert!(init.cutbacks <= total.cutbacks);
     (full, cp, bytes)
 }
 
