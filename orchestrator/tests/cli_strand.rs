@@ -43,6 +43,14 @@ fn tension_history() -> String {
     s
 }
 
+/// A temporary directory holding [`tension_history`] as `load.csv`, and that file's path.
+fn tension_load() -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let load = dir.path().join("load.csv");
+    std::fs::write(&load, tension_history()).unwrap();
+    (dir, load)
+}
+
 /// `moorfret run strand` on the benchmark profile; the EA cache lives beside `out`.
 fn run(load: &Path, out: &Path, extra: &[&str]) -> Output {
     moorfret()
@@ -98,9 +106,7 @@ fn fit(x1: &[f64], x2: &[f64], y: &[f64]) -> (f64, f64) {
 
 #[test]
 fn a_tension_history_writes_physical_outputs_and_resumes_identically() {
-    let dir = tempfile::tempdir().unwrap();
-    let load = dir.path().join("load.csv");
-    std::fs::write(&load, tension_history()).unwrap();
+    let (dir, load) = tension_load();
     let samples = 49;
 
     // uninterrupted run, checkpoints written on the way
@@ -346,9 +352,7 @@ fn refused(header: &str, line: usize, replacement: &str) -> String {
 
 #[test]
 fn a_given_axial_stiffness_must_be_positive() {
-    let dir = tempfile::tempdir().unwrap();
-    let load = dir.path().join("load.csv");
-    std::fs::write(&load, tension_history()).unwrap();
+    let (dir, load) = tension_load();
     let out = dir.path().join("out");
     let o = run(&load, &out, &["--axial-stiffness-n=-2e7"]);
     assert!(!o.status.success());
@@ -360,9 +364,7 @@ fn a_given_axial_stiffness_must_be_positive() {
 
 #[test]
 fn hertz_mindlin_laws_run_and_refuse_a_regularisation() {
-    let dir = tempfile::tempdir().unwrap();
-    let load = dir.path().join("load.csv");
-    std::fs::write(&load, tension_history()).unwrap();
+    let (dir, load) = tension_load();
     let out = dir.path().join("refused");
     let o = run(
         &load,
@@ -405,9 +407,7 @@ fn hertz_mindlin_laws_run_and_refuse_a_regularisation() {
 /// refuse `strand.sliding_stiffness` there.
 #[test]
 fn the_sliding_stiffness_is_refused_under_laws_without_cattaneo_mindlin_contacts() {
-    let dir = tempfile::tempdir().unwrap();
-    let load = dir.path().join("load.csv");
-    std::fs::write(&load, tension_history()).unwrap();
+    let (dir, load) = tension_load();
     let out = dir.path().join("out");
     for laws in ["regularised", "hertz-mindlin"] {
         let o = run(
@@ -428,9 +428,7 @@ fn the_sliding_stiffness_is_refused_under_laws_without_cattaneo_mindlin_contacts
 
 #[test]
 fn negative_option_values_are_refused_by_range_naming_the_option() {
-    let dir = tempfile::tempdir().unwrap();
-    let load = dir.path().join("load.csv");
-    std::fs::write(&load, tension_history()).unwrap();
+    let (dir, load) = tension_load();
     let out = dir.path().join("out");
     for (args, named) in [
         (["--axial-stiffness-n", "-2e7"], "--axial-stiffness-n"),
@@ -527,9 +525,7 @@ fn a_strain_history_is_imposed_as_given() {
 
 #[test]
 fn a_profile_is_picked_by_name_from_a_file_of_profiles_or_refused_by_name() {
-    let dir = tempfile::tempdir().unwrap();
-    let load = dir.path().join("load.csv");
-    std::fs::write(&load, tension_history()).unwrap();
+    let (dir, load) = tension_load();
     let profiles = campaign_file("data/strand_profiles.json");
     let out = dir.path().join("out");
     let o = moorfret()
