@@ -110,10 +110,11 @@ struct ChainProgress {
 /// Feeds every sample of one chain's FE run to its fit, passes progress to the calling thread,
 /// and stops when asked to. The fit takes the collective modes' answer off the FE slips: while
 /// the modes are still being measured on another thread, the samples wait in `pending`.
+/// `modes` holds `None` once known to be absent (a calibration without them).
 struct Learner<'a> {
     chain: usize,
     prepared: &'a Prepared,
-    modes: &'a OnceLock<ModeCoupling>,
+    modes: &'a OnceLock<Option<ModeCoupling>>,
     fitter: Option<Fitter<'a>>,
     pending: Vec<RecordedSample>,
     progress: mpsc::Sender<ChainProgress>,
@@ -127,7 +128,7 @@ impl<'a> Learner<'a> {
             return;
         }
         if let Some(modes) = self.modes.get() {
-            let mut fitter = self.prepared.fitter(self.chain, Some(modes));
+            let mut fitter = self.prepared.fitter(self.chain, modes.as_ref());
             for (sample, contacts, elements) in self.pending.drain(..) {
                 fitter.add(&sample, &contacts, &elements);
             }
@@ -225,7 +226,9 @@ pub fn measure_modes(
     p.design.clear();
     p.weights.clear();
     let (modes, _, _) = run_chains(model, &p, &mut NoObserver)?;
-    Ok(modes)
+    modes.ok_or(ReducedError::Calibration {
+        reason: "no load point at which to measure the collective modes".into(),
+    })
 }
 
 impl Prepared {
@@ -253,6 +256,19 @@ type Designed = (
     Vec<Vec<LoadSample>>,
     Vec<Vec<f64>>,
 );
+
+/// Whether the calibration of `model` measures the layer interfaces' collective modes: under
+/// the elastic-slip law, not under the Cattaneo–Mindlin law. Under that law the reduced
+/// response follows the FE model closer without them, on a mild, a medium and a severe cell
+/// of the paper's diagram (`docs/reduced-strand.md`): the irreversible slip that would feed
+/// them, s − f_T/k, is the micro-slip of every contact in partial slip, local to its contact,
+/// and the modes then move contacts that the FE model holds still.
+fn measures_modes(model: &StrandModel) -> bool {
+    !matches!(
+        model.contact_parameters.tangential,
+        TangentialLaw::CattaneoMindlin
+    )
+}
 
 /// How low in tension the calibration of `model` goes ([`LowestTension::of_law`]).
 fn lowest_tension_of(model: &StrandModel) -> LowestTension {
@@ -365,12 +381,13 @@ enum Task {
 /// chains left. A chain that runs while the modes are still being measured keeps its samples
 /// until they are known, then fits them in order: the sums, and so the results, do not depend
 /// on the threads. `observer` sees the samples done over all chains and may stop the runs.
+/// Without knots there is no stroke and no modes: every chain fits as it runs.
 /// Returns the modes, the chains' runs and the wall time until the modes were known (s).
 fn run_chains(
     model: &StrandModel,
     p: &Prepared,
     observer: &mut dyn HistoryObserver,
-) -> Result<(ModeCoupling, Vec<ChainRun>, f64), ReducedError> {
+) -> Result<(Option<ModeCoupling>, Vec<ChainRun>, f64), ReducedError> {
     let start = Instant::now();
     let knots = &p.mode_points[..];
     let chains = p.design.len();
@@ -386,15 +403,21 @@ fn run_chains(
         threads: (p.history.threads / concurrent).max(1),
         ..p.history
     };
+    let with_modes = !knots.is_empty();
     let queue: Mutex<VecDeque<Task>> = Mutex::new(
-        std::iter::once(Task::Stroke)
+        with_modes
+            .then_some(Task::Stroke)
+            .into_iter()
             .chain((0..chains).map(Task::Chain))
             .collect(),
     );
     let stroke: OnceLock<super::modes::Stroke> = OnceLock::new();
-    let stroke_pending = AtomicBool::new(true);
+    let stroke_pending = AtomicBool::new(with_modes);
     let knots_left = AtomicUsize::new(knots.len());
-    let modes: OnceLock<ModeCoupling> = OnceLock::new();
+    let modes: OnceLock<Option<ModeCoupling>> = OnceLock::new();
+    if !with_modes {
+        let _ = modes.set(None);
+    }
     let modes_known_s = Mutex::new(0.0);
     let stop = AtomicBool::new(false);
     let results: Vec<Mutex<Option<Result<Done, ReducedError>>>> =
@@ -468,10 +491,10 @@ fn run_chains(
                                             _ => None,
                                         })
                                         .collect();
-                                    let _ = modes.set(ModeCoupling {
+                                    let _ = modes.set(Some(ModeCoupling {
                                         knots: knots.iter().map(|k| k.0).collect(),
                                         amplification,
-                                    });
+                                    }));
                                     if let Ok(mut t) = modes_known_s.lock() {
                                         *t = start.elapsed().as_secs_f64();
                                     }
@@ -537,7 +560,7 @@ fn run_chains(
     for (task, slot) in results.into_iter().enumerate() {
         let chain = task.saturating_sub(1 + knots.len());
         let slot = slot.into_inner().ok().flatten();
-        if task == 0 && slot.is_none() && stroke.get().is_some() {
+        if task == 0 && slot.is_none() && (!with_modes || stroke.get().is_some()) {
             continue;
         }
         match slot {
@@ -579,7 +602,7 @@ fn run_chains(
                 wall_time_s,
             } = *chain_done;
             // a chain that ended before the modes were known fits its samples now
-            let mut fitter = fitter.unwrap_or_else(|| p.fitter(chain, Some(&modes)));
+            let mut fitter = fitter.unwrap_or_else(|| p.fitter(chain, modes.as_ref()));
             for (sample, contacts, elements) in pending {
                 fitter.add(&sample, &contacts, &elements);
             }
@@ -603,8 +626,11 @@ pub fn calibrate(
 ) -> Result<ReducedStrand, ReducedError> {
     let start = Instant::now();
     let mut p = prepare(model, range, options)?;
+    if !measures_modes(model) {
+        p.mode_points.clear();
+    }
     let (modes, runs, modes_wall_time_s) = run_chains(model, &p, observer)?;
-    p.modes = Some(modes);
+    p.modes = modes;
     let mut fit = p.accumulator();
     let mut costs = Vec::with_capacity(runs.len());
     for (chain, run) in runs.iter().enumerate() {

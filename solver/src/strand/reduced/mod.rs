@@ -74,6 +74,11 @@
 //! FE model at seven tensions (`modes.rs`) and their answer taken off the FE slips before the
 //! contact laws are fitted. A run solves the amplitudes at every sample by Newton's method.
 //!
+//! Under the Cattaneo–Mindlin law a calibration measures no modes and its contacts run alone:
+//! there the irreversible slip s − f_T/k that would feed the modes is the micro-slip of every
+//! contact in partial slip, local to its crossing, and the reduced response follows the FE
+//! model closer without them (docs/reduced-strand.md).
+//!
 //! What it leaves out, by construction: the interaction of contacts beyond `g`, `r` and the
 //! interfaces' three modes (higher patterns round the strand, and neighbours along a wire).
 //! Its error against
@@ -105,7 +110,7 @@ pub use run::{contact_series, run_reduced};
 /// Version of the stored calibration and of the fit that made it; a file of another version is
 /// refused. Part of the cache key of a calibration, so every change to the model, the design or
 /// the fit bumps it.
-pub(crate) const FORMAT_VERSION: u32 = 10;
+pub(crate) const FORMAT_VERSION: u32 = 11;
 
 /// Slack of the calibrated range, as a fraction of each channel's range: a sample this far
 /// outside is still accepted (round-off of the tension-to-strain conversion).
