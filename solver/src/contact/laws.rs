@@ -128,6 +128,16 @@ pub struct ContactParameters {
     pub poisson_ratio: f64,
 }
 
+impl ContactParameters {
+    /// Whether the tangential law is Cattaneo–Mindlin's: a bank of Iwan elements per contact
+    /// whose state remembers the load path, with a compliance that follows the normal force.
+    /// The callers that treat that law apart (the calibration's design and modes, the history
+    /// run's initialisation) ask this one question.
+    pub fn is_cattaneo_mindlin(&self) -> bool {
+        self.tangential == TangentialLaw::CattaneoMindlin
+    }
+}
+
 impl Default for ContactParameters {
     /// The paper's regularisation for comparison with the analytical solution (Sec. 2.2:
     /// ε_N = 2e5 N/mm, γ_e = 1e-4 mm), steel wires, μ = 0.12 (the paper's Sec. 2.4).

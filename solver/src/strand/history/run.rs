@@ -15,7 +15,6 @@ use super::{
     motion_of, reference_problem, validate_samples, HistoryError, HistoryObserver, HistoryOptions,
     HistoryProgress, HistoryResult, HistoryStats, LoadSample,
 };
-use crate::contact::TangentialLaw;
 use crate::linalg::{solve_load_path, NewtonParams, NewtonStats, NewtonWorkspace, SplitSolver};
 use crate::strand::loading::{LoadSegment, SectionMotion};
 use crate::strand::model::StrandModel;
@@ -361,7 +360,7 @@ fn initialise(
     // stage keeps the shift (six-layer strand, first 100 s of the severe history: 81 s of
     // initialisation with it, 533 s and 12 cut-backs without; docs/contact-laws.md).
     let history_newton = runner.newton;
-    let memory_laws = runner.model.contact_parameters.tangential == TangentialLaw::CattaneoMindlin;
+    let memory_laws = runner.model.contact_parameters.is_cattaneo_mindlin();
     for (i, (stage, strain, curvature_per_m)) in stages.into_iter().enumerate() {
         runner.newton = if i == 0 || memory_laws {
             options.initialisation_newton()

@@ -264,18 +264,12 @@ type Designed = (
 /// them, s − f_T/k, is the micro-slip of every contact in partial slip, local to its contact,
 /// and the modes then move contacts that the FE model holds still.
 fn measures_modes(model: &StrandModel) -> bool {
-    !matches!(
-        model.contact_parameters.tangential,
-        TangentialLaw::CattaneoMindlin
-    )
+    !model.contact_parameters.is_cattaneo_mindlin()
 }
 
 /// How low in tension the calibration of `model` goes ([`LowestTension::of_law`]).
 fn lowest_tension_of(model: &StrandModel) -> LowestTension {
-    LowestTension::of_law(matches!(
-        model.contact_parameters.tangential,
-        TangentialLaw::CattaneoMindlin
-    ))
+    LowestTension::of_law(model.contact_parameters.is_cattaneo_mindlin())
 }
 
 fn designed(

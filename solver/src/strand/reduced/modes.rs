@@ -15,7 +15,6 @@
 //! short strand with tied ends they do not.
 
 use super::{LoadScaling, ReducedError, MODES};
-use crate::contact::TangentialLaw;
 use crate::fretting::ContactSample;
 use crate::strand::history::checkpoint::HistoryCheckpoint;
 use crate::strand::history::monitors::{contact_sites, ContactSite};
@@ -236,10 +235,7 @@ impl Probe<'_> {
     fn answer(&self, w: &dyn Fn(usize, &ContactSite) -> f64) -> Result<Vec<f64>, ReducedError> {
         let mut cp = self.checkpoint.clone();
         // with the Cattaneo-Mindlin law every Iwan element's anchor moves with the slide
-        let iwan = matches!(
-            self.model.contact_parameters.tangential,
-            TangentialLaw::CattaneoMindlin
-        );
+        let iwan = self.model.contact_parameters.is_cattaneo_mindlin();
         let pattern = if iwan {
             PATTERN_SLIP_IWAN_M
         } else {
