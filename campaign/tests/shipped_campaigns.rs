@@ -1,11 +1,13 @@
 //! Every campaign file shipped in `campaigns/` resolves, and the paper's case with the stiffer
 //! elastic slip (`paper_slip_1um.json`) or without the periodic seam (`paper_seamless.json`)
 //! stays the paper's case but for that one setting, so that its lifetime figures beside
-//! `paper.json`'s measure that setting and nothing else.
+//! `paper.json`'s measure that setting and nothing else. The two campaigns on the lumped diagram
+//! differ in their contact laws alone, and that diagram is the paper's, lumped by its stated rule.
 
 use std::path::{Path, PathBuf};
 
 use moorfret_campaign::resolve;
+use moorfret_solver::waves::scatter::{ScatterCell, ScatterTable};
 use serde_json::Value;
 
 fn campaigns_dir() -> PathBuf {
@@ -38,6 +40,8 @@ fn every_shipped_campaign_file_resolves() {
     for name in [
         "demo.json",
         "paper.json",
+        "paper_lumped_contact_mechanics.json",
+        "paper_lumped_regularised.json",
         "paper_seamless.json",
         "paper_slip_1um.json",
         "whole_year.json",
@@ -90,4 +94,94 @@ fn the_seamless_campaign_is_the_paper_case_but_for_its_ends() {
         Value::Null,
         Value::from("periodic_rotations"),
     );
+}
+
+#[test]
+fn the_lumped_campaigns_differ_in_their_contact_laws_alone() {
+    let (mut cm, mut reg) = (
+        read_json("paper_lumped_contact_mechanics.json"),
+        read_json("paper_lumped_regularised.json"),
+    );
+    let paper = read_json("paper.json");
+    assert_eq!(cm["strand"]["contact_laws"], "contact_mechanics");
+    // the regularised one keeps the paper's laws
+    assert_eq!(reg["strand"]["contact_laws"], Value::Null);
+    for key in ["normal_penalty_n_per_m", "elastic_slip_m"] {
+        assert_eq!(reg["strand"][key], paper["strand"][key], "{key}");
+        assert_eq!(cm["strand"][key], Value::Null, "{key}");
+    }
+    for v in [&mut cm, &mut reg] {
+        let o = v.as_object_mut().unwrap();
+        o.remove("_about");
+        o.remove("name");
+        let strand = o["strand"].as_object_mut().unwrap();
+        for key in ["contact_laws", "normal_penalty_n_per_m", "elastic_slip_m"] {
+            strand.remove(key);
+        }
+    }
+    assert_eq!(cm, reg);
+    // every block's sea state runs under both laws from one set of global jobs
+    let inputs = |name: &str| resolve(&campaigns_dir().join(name)).unwrap().inputs;
+    let (cm, reg) = (
+        inputs("paper_lumped_contact_mechanics.json"),
+        inputs("paper_lumped_regularised.json"),
+    );
+    assert_eq!(cm.global_sha256(), reg.global_sha256());
+    assert_ne!(cm.results_sha256(), reg.results_sha256());
+}
+
+/// The lumped diagram's rows are the blocks of the paper's diagram that its header states: a
+/// block's occurrence is the sum of its cells', its Hs (the row's bin midpoint) is
+/// (Σ p Hs^4.8 / Σ p)^(1/4.8) to the printed 0.01 m, its Tp the column nearest the mean Tp
+/// weighted by p Hs^4.8.
+#[test]
+fn the_lumped_diagram_is_the_papers_by_its_rule() {
+    let read = |name: &str| {
+        let text = std::fs::read_to_string(campaigns_dir().join("data").join(name)).unwrap();
+        ScatterTable::parse(&text).unwrap()
+    };
+    let full = read("wsd_argoss_sector.tsv").cells();
+    let lumped = read("wsd_argoss_sector_lumped8.csv").cells();
+    type Block = fn(f64, f64) -> bool;
+    let blocks: [Block; 8] = [
+        |hs, _| hs < 2.0,
+        |hs, _| (2.0..4.0).contains(&hs),
+        |hs, tp| (4.0..5.5).contains(&hs) && tp <= 13.0,
+        |hs, tp| (4.0..5.5).contains(&hs) && tp >= 14.0,
+        |hs, tp| (5.5..7.0).contains(&hs) && tp <= 13.0,
+        |hs, tp| (5.5..7.0).contains(&hs) && tp >= 14.0,
+        |hs, tp| hs >= 7.0 && tp <= 13.0,
+        |hs, tp| hs >= 7.0 && tp >= 14.0,
+    ];
+    let mid = |lo: f64, hi: f64| 0.5 * (lo + hi);
+    let mut rows: Vec<_> = lumped.iter().filter(|c| c.value > 0.0).collect();
+    rows.sort_by(|a, b| a.hs_lower_m.total_cmp(&b.hs_lower_m));
+    assert_eq!(rows.len(), blocks.len());
+    let mut covered = 0;
+    for (row, inside) in rows.iter().zip(blocks) {
+        let cells: Vec<_> = full
+            .iter()
+            .filter(|c| c.value > 0.0 && inside(mid(c.hs_lower_m, c.hs_upper_m), c.tp_s))
+            .collect();
+        covered += cells.len();
+        let p: f64 = cells.iter().map(|c| c.value).sum();
+        let weight = |c: &ScatterCell| c.value * mid(c.hs_lower_m, c.hs_upper_m).powf(4.8);
+        let w: f64 = cells.iter().map(|c| weight(c)).sum();
+        let hs = (w / p).powf(1.0 / 4.8);
+        let tp = cells.iter().map(|c| weight(c) * c.tp_s).sum::<f64>() / w;
+        assert!(
+            (row.value - p).abs() < 5e-4,
+            "block at Hs {hs}: {} against {p}",
+            row.value
+        );
+        assert!(
+            (mid(row.hs_lower_m, row.hs_upper_m) - hs).abs() < 5e-3 + 1e-9,
+            "row {}-{}: Hs_eq {hs}",
+            row.hs_lower_m,
+            row.hs_upper_m
+        );
+        assert_eq!(row.tp_s, tp.round(), "block at Hs {hs}: mean Tp {tp}");
+    }
+    // the blocks share out every occupied cell once
+    assert_eq!(covered, full.iter().filter(|c| c.value > 0.0).count());
 }
