@@ -53,26 +53,34 @@ fn every_shipped_campaign_file_resolves() {
     }
 }
 
-/// `variant` is `paper.json` but for `_about`, `name` and the strand setting `key`, whose values
-/// are `paper_value` there and `variant_value` in `variant`; its global jobs are the paper's.
-fn assert_paper_but_for(variant: &str, key: &str, paper_value: Value, variant_value: Value) {
-    let (mut paper, mut other) = (read_json("paper.json"), read_json(variant));
-    // a missing setting indexes as null
-    assert_eq!(paper["strand"][key], paper_value);
-    assert_eq!(other["strand"][key], variant_value);
-    for v in [&mut paper, &mut other] {
+/// `first` and `second` are equal but for `_about`, `name` and the strand settings `keys`, and
+/// their global jobs are the same (one store runs them once for both) while their results differ.
+fn assert_equal_but_for(first: &str, second: &str, keys: &[&str]) {
+    let (mut a, mut b) = (read_json(first), read_json(second));
+    for v in [&mut a, &mut b] {
         let o = v.as_object_mut().unwrap();
         o.remove("_about");
         o.remove("name");
-        o["strand"].as_object_mut().unwrap().remove(key);
+        let strand = o["strand"].as_object_mut().unwrap();
+        for key in keys {
+            strand.remove(*key);
+        }
     }
-    assert_eq!(paper, other, "{variant}");
+    assert_eq!(a, b, "{first} against {second}");
 
-    // the same global jobs: one store runs them once for both campaigns
     let inputs = |name: &str| resolve(&campaigns_dir().join(name)).unwrap().inputs;
-    let (paper, other) = (inputs("paper.json"), inputs(variant));
-    assert_eq!(paper.global_sha256(), other.global_sha256());
-    assert_ne!(paper.results_sha256(), other.results_sha256());
+    let (a, b) = (inputs(first), inputs(second));
+    assert_eq!(a.global_sha256(), b.global_sha256());
+    assert_ne!(a.results_sha256(), b.results_sha256());
+}
+
+/// `variant` is `paper.json` but for `_about`, `name` and the strand setting `key`, whose values
+/// are `paper_value` there and `variant_value` in `variant`; its global jobs are the paper's.
+fn assert_paper_but_for(variant: &str, key: &str, paper_value: Value, variant_value: Value) {
+    // a missing setting indexes as null
+    assert_eq!(read_json("paper.json")["strand"][key], paper_value);
+    assert_eq!(read_json(variant)["strand"][key], variant_value);
+    assert_equal_but_for("paper.json", variant, &[key]);
 }
 
 #[test]
@@ -98,11 +106,11 @@ fn the_seamless_campaign_is_the_paper_case_but_for_its_ends() {
 
 #[test]
 fn the_lumped_campaigns_differ_in_their_contact_laws_alone() {
-    let (mut cm, mut reg) = (
+    let (cm, reg, paper) = (
         read_json("paper_lumped_contact_mechanics.json"),
         read_json("paper_lumped_regularised.json"),
+        read_json("paper.json"),
     );
-    let paper = read_json("paper.json");
     assert_eq!(cm["strand"]["contact_laws"], "contact_mechanics");
     // the regularised one keeps the paper's laws
     assert_eq!(reg["strand"]["contact_laws"], Value::Null);
@@ -110,24 +118,12 @@ fn the_lumped_campaigns_differ_in_their_contact_laws_alone() {
         assert_eq!(reg["strand"][key], paper["strand"][key], "{key}");
         assert_eq!(cm["strand"][key], Value::Null, "{key}");
     }
-    for v in [&mut cm, &mut reg] {
-        let o = v.as_object_mut().unwrap();
-        o.remove("_about");
-        o.remove("name");
-        let strand = o["strand"].as_object_mut().unwrap();
-        for key in ["contact_laws", "normal_penalty_n_per_m", "elastic_slip_m"] {
-            strand.remove(key);
-        }
-    }
-    assert_eq!(cm, reg);
     // every block's sea state runs under both laws from one set of global jobs
-    let inputs = |name: &str| resolve(&campaigns_dir().join(name)).unwrap().inputs;
-    let (cm, reg) = (
-        inputs("paper_lumped_contact_mechanics.json"),
-        inputs("paper_lumped_regularised.json"),
+    assert_equal_but_for(
+        "paper_lumped_contact_mechanics.json",
+        "paper_lumped_regularised.json",
+        &["contact_laws", "normal_penalty_n_per_m", "elastic_slip_m"],
     );
-    assert_eq!(cm.global_sha256(), reg.global_sha256());
-    assert_ne!(cm.results_sha256(), reg.results_sha256());
 }
 
 /// The lumped diagram's rows are the blocks of the paper's diagram that its header states: a
