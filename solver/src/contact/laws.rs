@@ -92,12 +92,6 @@ impl ContactLaws {
             tangential: TangentialLaw::CattaneoMindlin,
         }
     }
-
-    /// Whether these are the contact-mechanics laws (normal law from elasticity and a
-    /// tangential law with memory).
-    pub fn is_contact_mechanics(&self) -> bool {
-        self.tangential == TangentialLaw::CattaneoMindlin
-    }
 }
 
 impl Default for ContactLaws {
